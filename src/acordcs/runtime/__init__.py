@@ -1,0 +1,1 @@
+"""The ACORD-CS runtime: containers, components, connectors, monitors, policy sets and rule engines."""
