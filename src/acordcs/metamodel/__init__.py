@@ -1,12 +1,17 @@
-"""The ACORD-CS metamodel, loaded by pyecore from ``acordcs.ecore`` (its only declaration)."""
+"""The ACORD-CS metamodel, loaded by pyecore from ``acordcs.ecore`` (its only declaration).
+
+pyecore is imported on first use, not at import time: ``acordcs-gen validate`` reads the profile and the
+rule grammar from this package and must not pay pyecore's start-up on every run.
+"""
 
 from __future__ import annotations
 
 from functools import cache
 from importlib import resources
+from typing import TYPE_CHECKING
 
-from pyecore.ecore import EClass, EPackage
-from pyecore.resources import URI, ResourceSet
+if TYPE_CHECKING:
+    from pyecore.ecore import EClass, EPackage
 
 ECORE_FILE = "acordcs.ecore"
 NS_URI = "http://acordcs.org/acordcs/1.0"
@@ -21,6 +26,8 @@ def ecore_path() -> str:
 @cache
 def load() -> EPackage:
     """The metamodel's root EPackage (loaded once per process)."""
+    from pyecore.resources import URI, ResourceSet
+
     rset = ResourceSet()
     resource = rset.get_resource(URI(ecore_path()))
     return resource.contents[0]
@@ -28,6 +35,8 @@ def load() -> EPackage:
 
 def eclass(name: str) -> EClass:
     """An EClass of the metamodel by name; KeyError names the known ones."""
+    from pyecore.ecore import EClass
+
     found = load().getEClassifier(name)
     if not isinstance(found, EClass):
         known = ", ".join(c.name for c in load().eClassifiers if isinstance(c, EClass))
@@ -50,6 +59,8 @@ def create(class_name: str, /, **features: object):
 
 def save_model(root, path: str) -> None:
     """Write an ACORD-CS model (an ``Application``) as an XMI instance file EMF can load."""
+    from pyecore.resources import URI, ResourceSet
+
     rset = ResourceSet()
     rset.metamodel_registry[NS_URI] = load()
     resource = rset.create_resource(URI(str(path)))
@@ -59,6 +70,8 @@ def save_model(root, path: str) -> None:
 
 def load_model(path: str):
     """Read an ACORD-CS model instance file written by :func:`save_model` (or by EMF)."""
+    from pyecore.resources import URI, ResourceSet
+
     rset = ResourceSet()
     rset.metamodel_registry[NS_URI] = load()
     return rset.get_resource(URI(str(path))).contents[0]

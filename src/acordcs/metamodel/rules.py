@@ -27,7 +27,24 @@ from acordcs.errors import AcordError
 RuleKind = Literal["fuzzy", "crisp"]
 HEDGES = ("not", "very", "somewhat")
 KEYWORDS = frozenset(
-    "if then and or not is with true false very somewhat trape trian gauss gbell sigm".split()
+    [
+        "if",
+        "then",
+        "and",
+        "or",
+        "not",
+        "is",
+        "with",
+        "true",
+        "false",
+        "very",
+        "somewhat",
+        "trape",
+        "trian",
+        "gauss",
+        "gbell",
+        "sigm",
+    ]
 )
 
 
@@ -138,7 +155,7 @@ class Rule:
 
     def variables_read(self) -> list[Name]:
         """Variables the condition reads, in order of appearance (for fuzzy: inputs)."""
-        return _names_in(self.condition)
+        return names_in(self.condition)
 
     def variables_written(self) -> list[Name]:
         """Variables the actions assign (for fuzzy: outputs)."""
@@ -166,14 +183,13 @@ class RuleLine:
     label: str | None = field(default=None)
 
 
-def _names_in(node: object) -> list[Name]:
+def names_in(node: object) -> list[Name]:
+    """Variables an expression or condition reads, in order of appearance."""
     out: list[Name] = []
     stack = [node]
     while stack:
         n = stack.pop()
-        if isinstance(n, Is):
-            out.append(n.var)
-        elif isinstance(n, VarRef):
+        if isinstance(n, Is | VarRef):
             out.append(n.var)
         elif isinstance(n, BoolOp | Compare | Arith):
             stack.extend((n.right, n.left))
@@ -322,7 +338,7 @@ _EXPECT_WORDS = {
 def _describe_expected(expected: set[str]) -> str:
     words = sorted({_EXPECT_WORDS.get(e, e.lower()) for e in expected})
     if len(words) > 6:
-        words = words[:6] + ["..."]
+        words = [*words[:6], "..."]
     return ", ".join(words)
 
 
@@ -334,7 +350,11 @@ def _syntax_error(err: UnexpectedInput, text: str) -> RuleSyntaxError:
             column = len(text) + 1
         msg = f"unexpected {found}; expected {_describe_expected(set(err.expected))}"
     elif isinstance(err, UnexpectedCharacters):
-        msg = f"unexpected character {text[err.pos_in_stream]!r}" if err.pos_in_stream < len(text) else "unexpected end"
+        msg = (
+            f"unexpected character {text[err.pos_in_stream]!r}"
+            if err.pos_in_stream < len(text)
+            else "unexpected end"
+        )
     else:
         msg = "syntax error"
     return RuleSyntaxError(msg, column=column or None)
@@ -342,7 +362,9 @@ def _syntax_error(err: UnexpectedInput, text: str) -> RuleSyntaxError:
 
 def _parse(start: str, text: str):
     if "\n" in text or "\r" in text:
-        raise RuleSyntaxError("a rule is one line; put each rule on its own line", column=text.find("\n") + 1)
+        raise RuleSyntaxError(
+            "a rule is one line; put each rule on its own line", column=text.find("\n") + 1
+        )
     try:
         return _parser(start).parse(text)
     except UnexpectedInput as err:

@@ -13,8 +13,6 @@ from __future__ import annotations
 from dataclasses import dataclass
 from functools import cache
 
-from pyecore.ecore import EAttribute, EClass, EEnum
-
 from acordcs import metamodel
 
 PROFILE_NAME = "ACORDCS"
@@ -60,57 +58,83 @@ class Stereotype:
         return None
 
 
-def _doc(element) -> str:
-    ann = element.getEAnnotation("http://www.eclipse.org/emf/2002/GenModel")
-    return ann.details.get("documentation", "") if ann else ""
+_GENMODEL = "http://www.eclipse.org/emf/2002/GenModel"
+_XSI_TYPE = "{http://www.w3.org/2001/XMLSchema-instance}type"
 
 
-def _tag(feature) -> Tag | None:
-    ann = feature.getEAnnotation(metamodel.PROFILE_SOURCE)
-    if ann is None or "tag" not in ann.details:
+def _details(element, source: str) -> dict[str, str]:
+    for ann in element.iterfind("eAnnotations"):
+        if ann.get("source") == source:
+            return {d.get("key"): d.get("value", "") for d in ann.iterfind("details")}
+    return {}
+
+
+def _type_name(etype: str) -> str:
+    """``ecore:EDataType http://...Ecore#//EDouble`` or ``#//PortKind`` -> ``EDouble`` / ``PortKind``."""
+    return etype.rpartition("//")[2]
+
+
+def _tag(feature, enums: dict[str, tuple[str, ...]]) -> Tag | None:
+    details = _details(feature, metamodel.PROFILE_SOURCE)
+    if "tag" not in details:
         return None
-    syntax = ann.details.get("syntax")
-    etype = feature.eType
+    syntax = details.get("syntax")
+    etype = _type_name(feature.get("eType", ""))
     values: tuple[str, ...] = ()
     if syntax:
         type_name = "String"
-    elif isinstance(etype, EEnum):
-        type_name = etype.name
-        values = tuple(lit.name for lit in etype.eLiterals)
+    elif etype in enums:
+        type_name, values = etype, enums[etype]
     else:
-        type_name = _TYPE_NAMES.get(etype.name, etype.name)
-    default = None
-    if isinstance(feature, EAttribute) and feature.defaultValueLiteral is not None:
-        default = feature.defaultValueLiteral
+        type_name = _TYPE_NAMES.get(etype, etype)
     return Tag(
-        name=ann.details["tag"],
+        name=details["tag"],
         type=type_name,
-        default=default,
+        default=feature.get("defaultValueLiteral"),
         values=values,
-        feature=feature.name,
+        feature=feature.get("name"),
         syntax=syntax,
-        prefix=ann.details.get("prefix") == "true",
-        doc=_doc(feature),
+        prefix=details.get("prefix") == "true",
+        doc=_details(feature, _GENMODEL).get("documentation", ""),
     )
 
 
 @cache
 def profile() -> tuple[Stereotype, ...]:
-    """Every stereotype of the profile, in metamodel order."""
+    """Every stereotype of the profile, in metamodel order.
+
+    Read straight from ``acordcs.ecore`` with lxml rather than through pyecore: the validator needs the
+    profile on every run and pyecore's import alone would cost more than validating a small model.
+    """
+    from lxml import etree
+
+    root = etree.parse(metamodel.ecore_path(), etree.XMLParser(resolve_entities=False)).getroot()
+    classifiers = root.findall("eClassifiers")
+    enums = {
+        c.get("name"): tuple(lit.get("name") for lit in c.iterfind("eLiterals"))
+        for c in classifiers
+        if c.get(_XSI_TYPE) == "ecore:EEnum"
+    }
+    by_name = {c.get("name"): c for c in classifiers}
+
+    def features(eclass) -> list:
+        inherited = []
+        for sup in (eclass.get("eSuperTypes") or "").split():
+            inherited += features(by_name[_type_name(sup)])
+        return inherited + eclass.findall("eStructuralFeatures")
+
     out = []
-    for classifier in metamodel.load().eClassifiers:
-        if not isinstance(classifier, EClass):
+    for classifier in classifiers:
+        details = _details(classifier, metamodel.PROFILE_SOURCE)
+        if "stereotype" not in details:
             continue
-        ann = classifier.getEAnnotation(metamodel.PROFILE_SOURCE)
-        if ann is None or "stereotype" not in ann.details:
-            continue
-        tags = tuple(t for f in classifier.eAllStructuralFeatures() if (t := _tag(f)))
+        tags = tuple(t for f in features(classifier) if (t := _tag(f, enums)))
         out.append(
             Stereotype(
-                name=ann.details["stereotype"],
-                metaclasses=tuple(ann.details.get("metaclasses", "Class").split()),
+                name=details["stereotype"],
+                metaclasses=tuple(details.get("metaclasses", "Class").split()),
                 tags=tags,
-                doc=_doc(classifier),
+                doc=_details(classifier, _GENMODEL).get("documentation", ""),
             )
         )
     return tuple(out)

@@ -1,0 +1,248 @@
+"""Tagged values: known tags, types, permitted values, positive frequencies, linguistic variables."""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Iterator
+from itertools import pairwise
+
+from acordcs.generator.architecture import MONITOR, POLICY_SET, VARIABLE, Role
+from acordcs.generator.checks import Context, check
+from acordcs.generator.diagnostics import Diagnostic
+from acordcs.metamodel.rules import RuleSyntaxError, TermDef, parse_terms
+
+
+def parse_real(text: str) -> float | None:
+    try:
+        value = float(text.strip())
+    except ValueError:
+        return None
+    return value if math.isfinite(value) else None
+
+
+def parse_integer(text: str) -> int | None:
+    try:
+        return int(text.strip())
+    except ValueError:
+        return None
+
+
+_PARSERS = {
+    "Real": parse_real,
+    "Integer": parse_integer,
+    "Boolean": lambda t: {"true": True, "false": False}.get(t.strip().lower()),
+}
+
+
+@check
+def tag_values(ctx: Context) -> Iterator[Diagnostic]:
+    for role in ctx.arch.roles.values():
+        for name, value in role.tags.items():
+            declared = role.stereotype.tag(name)
+            line = role.tag_line(name)
+            if declared is None:
+                known = ", ".join(t.name for t in role.stereotype.tags) or "none"
+                yield ctx.diag(
+                    "T303",
+                    f"<<{role.kind}>> has no tag {name!r} (its tags: {known}); it is ignored",
+                    role,
+                    line=line,
+                )
+                continue
+            parser = _PARSERS.get(declared.type)
+            if parser is not None and value.strip() and parser(value) is None:
+                yield ctx.diag(
+                    "T304",
+                    f"tag {name!r} must be a {declared.type}, not {value!r}",
+                    role,
+                    line=line,
+                )
+            elif declared.values and value not in declared.values:
+                yield ctx.diag(
+                    "T305",
+                    f"tag {name!r} is {value!r}; permitted: {', '.join(declared.values)}",
+                    role,
+                    line=line,
+                )
+        if role.kind in (MONITOR, POLICY_SET):
+            frequency = role.tags.get("frequency", "").strip()
+            value = parse_real(frequency) if frequency else None
+            if value is not None and value <= 0:
+                yield ctx.diag(
+                    "T306",
+                    f"frequency is {frequency} Hz; it must be positive (leave it unset for an "
+                    "event-driven element)",
+                    role,
+                    line=role.tag_line("frequency"),
+                )
+
+
+def variable_terms(role: Role) -> list[TermDef]:
+    """The terms of a CtxVariable role; [] when missing or unparseable (reported by the check)."""
+    try:
+        return parse_terms(role.tags.get("terms", ""))
+    except RuleSyntaxError:
+        return []
+
+
+def variable_range(role: Role) -> tuple[float, float] | None:
+    lo = parse_real(role.tags.get("min", ""))
+    hi = parse_real(role.tags.get("max", ""))
+    return (lo, hi) if lo is not None and hi is not None and lo < hi else None
+
+
+@check
+def linguistic_variables(ctx: Context) -> Iterator[Diagnostic]:
+    for role in ctx.arch.of_kind(VARIABLE):
+        line = role.tag_line("terms")
+        bounds = variable_range(role)
+        if bounds is None:
+            yield ctx.diag(
+                "T310",
+                f"variable {role.name!r} needs tags min and max with min < max (has min="
+                f"{role.tags.get('min')!r}, max={role.tags.get('max')!r})",
+                role,
+                line=role.tag_line("min"),
+            )
+        text = role.tags.get("terms", "")
+        if not text.strip():
+            yield ctx.diag(
+                "T307",
+                f"variable {role.name!r} has no terms; add a tag terms such as "
+                "'low := trape 0 0 20 40; high := trape 20 40 100 100'",
+                role,
+                line=line,
+            )
+            continue
+        try:
+            terms = parse_terms(text)
+        except RuleSyntaxError as err:
+            yield ctx.diag(
+                "T307",
+                f"terms of {role.name!r}: {err.message} (column {err.column})",
+                role,
+                line=line,
+                column=err.column,
+            )
+            continue
+        yield from _check_terms(ctx, role, terms, bounds, line)
+
+
+def _check_terms(ctx, role, terms, bounds, line) -> Iterator[Diagnostic]:
+    seen: set[str] = set()
+    for term in terms:
+        if term.name.text in seen:
+            yield ctx.diag(
+                "T312",
+                f"term {term.name.text!r} is defined twice",
+                role,
+                line=line,
+                column=term.name.column,
+            )
+        seen.add(term.name.text)
+        problem = shape_problem(term)
+        if problem:
+            yield ctx.diag(
+                "T311",
+                f"term {term.name.text!r}: {problem}",
+                role,
+                line=line,
+                column=term.name.column,
+            )
+        elif bounds is not None:
+            lo, hi = bounds
+            outside = [x for x in support_points(term) if x < lo or x > hi]
+            if outside:
+                yield ctx.diag(
+                    "T308",
+                    f"term {term.name.text!r} has point {outside[0]:g} outside the range "
+                    f"[{lo:g}, {hi:g}]",
+                    role,
+                    line=line,
+                    column=term.name.column,
+                )
+    if bounds is not None and terms and not any(shape_problem(t) for t in terms):
+        gap = uncovered(terms, *bounds)
+        if gap is not None:
+            yield ctx.diag(
+                "T309",
+                f"no term of {role.name!r} covers [{gap[0]:g}, {gap[1]:g}] of its range "
+                f"[{bounds[0]:g}, {bounds[1]:g}]: an input there fires no rule",
+                role,
+                line=line,
+            )
+
+
+def shape_problem(term: TermDef) -> str | None:
+    p = term.parameters
+    if term.shape in ("trapezoid", "triangle"):
+        if any(b < a for a, b in pairwise(p)):
+            return f"points {' '.join(f'{x:g}' for x in p)} must not decrease"
+        if p[0] == p[-1]:
+            return "has zero width"
+    elif term.shape == "points":
+        xs = p[0::2]
+        ys = p[1::2]
+        if any(b < a for a, b in pairwise(xs)):
+            return "point x values must not decrease"
+        if any(not 0.0 <= y <= 1.0 for y in ys):
+            return "membership degrees must lie in [0, 1]"
+    elif term.shape in ("gaussian",) and p[1] <= 0:
+        return "the standard deviation must be positive"
+    elif term.shape == "bell" and (p[0] <= 0 or p[1] <= 0):
+        return "width a and slope b must be positive"
+    return None
+
+
+def support_points(term: TermDef) -> list[float]:
+    """The x positions that define the term (centres for smooth shapes)."""
+    p = term.parameters
+    if term.shape == "points":
+        return list(p[0::2])
+    if term.shape in ("gaussian",):
+        return [p[0]]
+    if term.shape == "bell":
+        return [p[2]]
+    if term.shape == "sigmoid":
+        return [p[1]]
+    return list(p)
+
+
+def _positive_spans(term: TermDef) -> list[tuple[float, float]]:
+    """Open intervals where the term's membership is positive (piecewise-linear shapes)."""
+    p = term.parameters
+    if term.shape == "points":
+        xs, ys = list(p[0::2]), list(p[1::2])
+        spans = [
+            (x1, x2)
+            for x1, x2, y1, y2 in zip(xs, xs[1:], ys, ys[1:], strict=False)
+            if y1 > 0 or y2 > 0
+        ]
+        if ys[0] > 0:  # FCL point lists extend flat beyond their ends
+            spans.append((-math.inf, xs[0]))
+        if ys[-1] > 0:
+            spans.append((xs[-1], math.inf))
+        return spans
+    if term.shape == "singleton":
+        return []
+    return [(p[0], p[-1])]
+
+
+def uncovered(terms: list[TermDef], lo: float, hi: float) -> tuple[float, float] | None:
+    """The first stretch of positive length in [lo, hi] where every term is zero, or None.
+
+    Smooth shapes (gaussian, bell, sigmoid) are positive everywhere; singletons cover single points
+    only (as output terms should), so they do not count as coverage.
+    """
+    if any(t.shape in ("gaussian", "bell", "sigmoid") for t in terms):
+        return None
+    if all(t.shape == "singleton" for t in terms):
+        return None  # an output variable with singleton terms (Sugeno style)
+    reach = lo
+    for left, right in sorted(span for t in terms for span in _positive_spans(t)):
+        if left > reach:
+            return (reach, min(left, hi))
+        reach = max(reach, right)
+        if reach >= hi:
+            return None
+    return (reach, hi) if reach < hi else None

@@ -1,0 +1,154 @@
+"""Diagnostics: one record per finding, with a stable code, severity, message, element and place.
+
+Every code is declared once in :data:`CODES` with its severity and a one-line title; the README's table
+and the SARIF rule metadata are both produced from it.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from enum import IntEnum
+
+
+class Severity(IntEnum):
+    INFO = 0
+    WARNING = 1
+    ERROR = 2
+
+    def __str__(self) -> str:
+        return self.name.lower()
+
+
+E, W, INFO = Severity.ERROR, Severity.WARNING, Severity.INFO
+
+# code: (severity, title). Codes never change meaning; retired codes are not reused.
+CODES: dict[str, tuple[Severity, str]] = {
+    # X: reading the file as XML
+    "X101": (E, "file cannot be read"),
+    "X102": (E, "document type declarations and entities are refused"),
+    "X103": (
+        E,
+        "resource limit exceeded (nesting deeper than 256, text node too large, amplification)",
+    ),
+    "X104": (E, "file is truncated"),
+    "X105": (E, "encoding declaration does not match the bytes"),
+    "X106": (E, "namespace prefix used but not declared"),
+    "X107": (W, "XML not well-formed; read in recovery mode"),
+    "X108": (E, "XML not well-formed and not recoverable"),
+    "X109": (E, "not an XMI/UML file"),
+    # R: reading XMI as UML
+    "R201": (W, "unknown xmi:type"),
+    "R202": (E, "reference to an id that does not exist"),
+    "R203": (E, "id defined more than once"),
+    "R204": (W, "stereotype application whose base element does not exist"),
+    "R205": (W, "the two places BOUML writes a tag disagree"),
+    "R206": (INFO, "free stereotype read as the ACORDCS stereotype of the same name"),
+    "R207": (W, "element without an id"),
+    # T: stereotypes and tagged values
+    "T301": (E, "ACORDCS stereotype applied to the wrong metaclass"),
+    "T302": (E, "unknown ACORDCS stereotype"),
+    "T303": (W, "unknown tag"),
+    "T304": (E, "tag value of the wrong type"),
+    "T305": (E, "tag value not among the permitted values"),
+    "T306": (E, "frequency must be positive"),
+    "T307": (E, "linguistic terms missing or not parseable"),
+    "T308": (E, "linguistic term outside the variable's range"),
+    "T309": (W, "linguistic terms leave part of the range uncovered"),
+    "T310": (E, "variable range missing or empty (min must be below max)"),
+    "T311": (E, "linguistic term shape invalid (points out of order, non-positive width)"),
+    "T312": (E, "two terms of a variable share a name"),
+    # L: rules
+    "L401": (E, "rule syntax error"),
+    "L402": (E, "rule variable is not an attribute in the policy set's scope"),
+    "L403": (E, "ambiguous unqualified rule variable"),
+    "L404": (E, "term not defined for the variable"),
+    "L405": (E, "fuzzy output is also an input of the same policy set"),
+    "L406": (E, "operation not found on the element"),
+    "L407": (E, "operation called with the wrong number of arguments"),
+    "L408": (E, "fuzzy rule uses an attribute that is not a linguistic variable"),
+    "L409": (W, "policy has no rules"),
+    "L410": (E, "duplicate rule label in a policy set"),
+    # A: architecture
+    "A501": (E, "port connection does not join a provided and a required port"),
+    "A502": (E, "port connection joins ports of different kinds"),
+    "A503": (E, "port connection does not join exactly two ports"),
+    "A504": (E, "policy set adapts an element of a kind it cannot adapt"),
+    "A505": (E, "monitor feeds no policy set"),
+    "A506": (E, "element not deployed in any container"),
+    "A507": (E, "element deployed in more than one container"),
+    "A508": (E, "policy belongs to no policy set, or to several"),
+    "A509": (W, "policy set has no policies"),
+    "A510": (E, "periodic policy set without a frequency"),
+    "A511": (W, "port owned by no component"),
+    "A512": (E, "port owned by more than one component"),
+    "A513": (W, "policy set adapts nothing and no monitor feeds it"),
+    # N: names that become identifiers
+    "N601": (E, "name is not a valid identifier"),
+    "N602": (E, "name is a reserved word in Python or Java"),
+    "N603": (E, "name used twice where generated code needs it unique"),
+    # Z: the toolchain itself
+    "Z901": (E, "internal error in a check (a bug in acordcs: please report it)"),
+}
+
+
+@dataclass(slots=True)
+class Diagnostic:
+    code: str
+    severity: Severity
+    message: str
+    file: str
+    line: int = 0
+    column: int = 0
+    element: str | None = None  # qualified name
+    xmi_id: str | None = None
+    unreadable: bool = False  # the input could not be read at all: exit code 2
+
+    def location(self) -> str:
+        loc = f"{self.file}:{self.line}" if self.line else self.file
+        return f"{loc}:{self.column}" if self.line and self.column else loc
+
+    def format_text(self) -> str:
+        text = f"{self.location()}: {self.severity} {self.code}: {self.message}"
+        if self.element or self.xmi_id:
+            where = " ".join(
+                p for p in (self.element, f"({self.xmi_id})" if self.xmi_id else None) if p
+            )
+            text += f" [{where}]"
+        return text
+
+    def to_dict(self) -> dict:
+        return {
+            "code": self.code,
+            "severity": str(self.severity),
+            "message": self.message,
+            "file": self.file,
+            "line": self.line,
+            "column": self.column,
+            "element": self.element,
+            "xmi_id": self.xmi_id,
+        }
+
+
+def diagnostic(
+    code: str,
+    message: str,
+    *,
+    file: str,
+    line: int | None = 0,
+    column: int | None = 0,
+    element: str | None = None,
+    xmi_id: str | None = None,
+) -> Diagnostic:
+    """A diagnostic with the severity its code declares."""
+    severity = CODES[code][0]
+    return Diagnostic(
+        code,
+        severity,
+        message,
+        file,
+        line or 0,
+        column or 0,
+        element,
+        xmi_id,
+        unreadable=code.startswith("X") and severity is Severity.ERROR,
+    )

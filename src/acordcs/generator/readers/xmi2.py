@@ -1,0 +1,481 @@
+"""Reader for XMI 2.x as BOUML (exporters 1.10 to 5.x, UML 2.0 to 2.3) and Eclipse UML2 / Papyrus write it.
+
+Both follow the UML 2 XMI mapping, so one walker serves both; they differ in how they write references
+(BOUML: ``<type xmi:idref=..>`` children; Eclipse: ``type=".."`` attributes holding ids), comments
+(BOUML: a ``body`` attribute owned implicitly; Eclipse: a ``<body>`` child and ``annotatedElement``) and
+stereotype tags (BOUML also repeats them in ``xmi:Extension`` blocks). See ``shared/reference/bouml-xmi.md``.
+"""
+
+from __future__ import annotations
+
+import re
+
+from lxml import etree
+
+from acordcs.generator.diagnostics import diagnostic
+from acordcs.generator.readers.common import (
+    UML_METACLASSES,
+    check_ids,
+    dangling,
+    primitive_from_href,
+    unknown_type_message,
+)
+from acordcs.generator.uml import (
+    CLASSIFIER_KINDS,
+    Association,
+    Classifier,
+    Dependency,
+    Element,
+    Generalization,
+    Operation,
+    Package,
+    Parameter,
+    Property,
+    StereotypeApplication,
+    UmlModel,
+)
+from acordcs.generator.xmlsafe import XmlInput
+
+_UML_NS = re.compile(
+    r"^https?://(schema\.omg\.org|www\.omg\.org)/spec/UML/|^http://www\.eclipse\.org/uml2/"
+)
+_XMI_NS = re.compile(r"^https?://(schema\.omg\.org|www\.omg\.org)/(spec/)?XMI")
+_PROFILE_NS = re.compile(r"^http:///schemas/([^/]+)/")
+_MEMBER_TAGS = frozenset(
+    [
+        "packagedElement",
+        "ownedMember",
+        "ownedElement",
+        "ownedStereotype",
+        "nestedClassifier",
+        "ownedType",
+    ]
+)
+_PACKAGE_KINDS = frozenset(("Package", "Model", "Profile"))
+_DEPENDENCY_KINDS = frozenset(
+    ("Dependency", "Realization", "Usage", "Abstraction", "Substitution", "InterfaceRealization")
+)
+# Elements the ACORD-CS view does not need; their content is not walked, their ids still count.
+_SKIPPED_LOCAL = frozenset(
+    [
+        "profileApplication",
+        "packageImport",
+        "elementImport",
+        "ownedRule",
+        "eAnnotations",
+        "ownedBehavior",
+        "ownedConnector",
+        "templateBinding",
+        "ownedTemplateSignature",
+        "interfaceRealization",
+        "ownedUseCase",
+        "extend",
+        "include",
+        "ownedTrigger",
+        "substitution",
+    ]
+)
+
+
+def _namespaces(root: etree._Element) -> tuple[str | None, str | None]:
+    uml = xmi = None
+    for uri in (root.nsmap or {}).values():
+        if uri and _UML_NS.match(uri):
+            uml = uri
+        elif uri and (_XMI_NS.match(uri) or uri == "http://www.omg.org/XMI"):
+            xmi = uri
+    return uml, xmi
+
+
+def accepts(root: etree._Element) -> bool:
+    uml, _ = _namespaces(root)
+    return uml is not None
+
+
+def read(xml: XmlInput) -> UmlModel:
+    return _Reader(xml).read()
+
+
+def _local(tag: str) -> str:
+    return tag.rpartition("}")[2]
+
+
+class _Reader:
+    def __init__(self, xml: XmlInput) -> None:
+        self.xml = xml
+        root = xml.root
+        uml, xmi = _namespaces(root)
+        self.uml_ns = uml
+        self.xmi_ns = xmi or "http://schema.omg.org/spec/XMI/2.1"
+        self.XID = f"{{{self.xmi_ns}}}id"
+        self.XTYPE = f"{{{self.xmi_ns}}}type"
+        self.XIDREF = f"{{{self.xmi_ns}}}idref"
+        self.EXTENSION = f"{{{self.xmi_ns}}}Extension"
+        dialect = "eclipse-uml2" if "eclipse.org" in uml else "bouml-xmi2"
+        self.model = UmlModel(file=xml.path, dialect=dialect)
+        self.annotated: list[tuple[str, str]] = []  # (element id, comment body), Eclipse comments
+        self.refs: list[tuple[str, str, int, Element]] = []  # (id, what, line, from element)
+        self.type_refs: list[Element] = []
+
+    # ------------------------------------------------------------------ entry
+    def read(self) -> UmlModel:
+        root = self.xml.root
+        model = self.model
+        top = root
+        if _local(root.tag) == "XMI":
+            for child in root:
+                if not isinstance(child.tag, str):
+                    continue
+                local = _local(child.tag)
+                if child.tag == f"{{{self.xmi_ns}}}Documentation":
+                    model.exporter = (
+                        f"{child.get('exporter', '')} {child.get('exporterVersion', '')}".strip()
+                        or None
+                    )
+                elif child.tag.startswith(f"{{{self.uml_ns}}}"):
+                    self._packageable(child, None)
+                    if local == "Model" and not model.name:
+                        model.name = child.get("name", "")
+                elif child.tag == self.EXTENSION:
+                    continue
+                else:
+                    self._root_application(child)
+        else:  # Eclipse: a single uml:Model (or Package/Profile) as the document root
+            self._packageable(top, None)
+            model.name = top.get("name", "")
+        self._resolve()
+        return model
+
+    # ------------------------------------------------------------------ structure
+    def _kind(self, el: etree._Element, default: str) -> str:
+        xtype = el.get(self.XTYPE)
+        if xtype:
+            return xtype.rpartition(":")[2]
+        if el.tag.startswith(f"{{{self.uml_ns}}}"):
+            return _local(el.tag)
+        return default
+
+    def _base(self, el: etree._Element, kind: str, owner: Element | None, cls=Element, **kw):
+        ident = el.get(self.XID)
+        if ident is None:
+            ident = f"<line {el.sourceline}>"
+            self.model.diagnostics.append(
+                diagnostic(
+                    "R207",
+                    f"{kind} {el.get('name', '')!r} has no xmi:id; references to it cannot work",
+                    file=self.model.file,
+                    line=el.sourceline,
+                )
+            )
+        obj = cls(
+            id=ident, kind=kind, name=el.get("name", ""), line=el.sourceline or 0, owner=owner, **kw
+        )
+        self.model.elements.setdefault(ident, obj)
+        return obj
+
+    def _packageable(self, el: etree._Element, owner: Element | None) -> None:
+        kind = self._kind(el, "Package")
+        model = self.model
+        if kind in _PACKAGE_KINDS:
+            pkg = self._base(el, kind, owner, Package)
+            if kind != "Model":
+                model.packages.append(pkg)
+            self._members(el, pkg)
+        elif kind in CLASSIFIER_KINDS:
+            cls = self._base(el, kind, owner, Classifier)
+            model.classifiers.append(cls)
+            if isinstance(owner, Classifier):
+                owner.nested.append(cls)
+            if kind == "AssociationClass":
+                model.associations.append(cls)
+            self._members(el, cls)
+        elif kind == "Association":
+            assoc = self._base(el, kind, owner, Association)
+            model.associations.append(assoc)
+            self._members(el, assoc)
+        elif kind in _DEPENDENCY_KINDS:
+            dep = self._base(el, kind, owner, Dependency)
+            dep.clients = self._refs(el, "client")
+            dep.suppliers = self._refs(el, "supplier")
+            model.dependencies.append(dep)
+            for ident in dep.clients + dep.suppliers:
+                self.refs.append((ident, f"{kind} {dep.name!r}".strip(), dep.line, dep))
+            self._extensions_only(el, dep)
+        elif kind in UML_METACLASSES:
+            self._base(el, kind, owner)  # kept for its id: behaviours, instances, extensions, ...
+        else:
+            model.diagnostics.append(
+                diagnostic(
+                    "R201",
+                    unknown_type_message(kind),
+                    file=model.file,
+                    line=el.sourceline,
+                    xmi_id=el.get(self.XID),
+                )
+            )
+
+    def _members(self, el: etree._Element, owner: Element) -> None:
+        for child in el:
+            tag = child.tag
+            if not isinstance(tag, str):
+                continue
+            if tag == self.EXTENSION:
+                self._extension(child, owner)
+                continue
+            local = _local(tag)
+            if local in _MEMBER_TAGS:
+                self._packageable(child, owner)
+            elif local == "ownedAttribute" and isinstance(owner, Classifier):
+                prop = self._property(child, owner)
+                (owner.ends if prop.association else owner.attributes).append(prop)
+            elif local == "ownedEnd" and isinstance(owner, Association | Classifier):
+                prop = self._property(child, owner)
+                prop.navigable = child.get("isNavigable") != "false"
+                if isinstance(owner, Association):
+                    owner.owned_ends.append(prop)
+            elif local == "memberEnd" and isinstance(owner, Association | Classifier):
+                owner.member_ends.extend(self._refs_of(child) or [])
+            elif local == "ownedOperation" and isinstance(owner, Classifier):
+                owner.operations.append(self._operation(child, owner))
+            elif local == "ownedLiteral" and isinstance(owner, Classifier):
+                owner.literals.append(child.get("name", ""))
+                self._base(child, "EnumerationLiteral", owner)
+            elif local == "generalization":
+                self._generalization(child, owner)
+            elif local == "ownedComment":
+                self._comment(child, owner)
+            elif local in _SKIPPED_LOCAL:
+                continue
+        if isinstance(owner, Association | Classifier) and el.get("memberEnd"):
+            owner.member_ends.extend(el.get("memberEnd").split())
+
+    def _extensions_only(self, el: etree._Element, owner: Element) -> None:
+        for child in el:
+            if child.tag == self.EXTENSION:
+                self._extension(child, owner)
+            elif isinstance(child.tag, str) and _local(child.tag) == "ownedComment":
+                self._comment(child, owner)
+
+    def _refs_of(self, el: etree._Element) -> list[str]:
+        ref = el.get(self.XIDREF)
+        return [ref] if ref else []
+
+    def _refs(self, el: etree._Element, name: str) -> list[str]:
+        """Ids named by attribute ``name`` (space-separated) or by ``<name xmi:idref=..>`` children."""
+        found = (el.get(name) or "").split()
+        for child in el.iterchildren(name, f"{{{self.uml_ns}}}{name}"):
+            found += self._refs_of(child)
+        return found
+
+    def _typed(self, el: etree._Element, obj) -> None:
+        type_attr = el.get("type")
+        if type_attr:
+            obj.type_ref = type_attr.split()[0]
+        for child in el.iterchildren("type"):
+            href = child.get("href")
+            if href:
+                obj.type_name = primitive_from_href(href)
+            elif child.get(self.XIDREF):
+                obj.type_ref = child.get(self.XIDREF)
+        if obj.type_ref:
+            self.type_refs.append(obj)
+
+    def _property(self, el: etree._Element, owner: Element) -> Property:
+        kind = self._kind(el, "Property")
+        prop = self._base(el, kind, owner, Property)
+        prop.association = el.get("association")
+        prop.aggregation = el.get("aggregation", "none")
+        self._typed(el, prop)
+        for child in el:
+            tag = child.tag
+            if not isinstance(tag, str):
+                continue
+            local = _local(tag)
+            if local == "defaultValue":
+                prop.default = _literal(child)
+            elif local == "lowerValue":
+                prop.lower = _literal(child)
+            elif local == "upperValue":
+                prop.upper = _literal(child)
+            elif tag == self.EXTENSION:
+                self._extension(child, prop)
+            elif local == "ownedComment":
+                self._comment(child, prop)
+        if prop.association:
+            self.refs.append((prop.association, f"end {prop.name!r}", prop.line, prop))
+        return prop
+
+    def _operation(self, el: etree._Element, owner: Classifier) -> Operation:
+        op = self._base(el, "Operation", owner, Operation)
+        for child in el:
+            tag = child.tag
+            if not isinstance(tag, str):
+                continue
+            local = _local(tag)
+            if local == "ownedParameter":
+                param = self._base(child, "Parameter", op, Parameter)
+                direction = child.get("direction", "in")
+                param.direction = direction.removeprefix("pk_")
+                self._typed(child, param)
+                op.parameters.append(param)
+            elif tag == self.EXTENSION:
+                self._extension(child, op)
+            elif local == "ownedComment":
+                self._comment(child, op)
+        return op
+
+    def _generalization(self, el: etree._Element, owner: Element) -> None:
+        gen = self._base(el, "Generalization", owner, Generalization)
+        gen.specific = owner.id
+        general = self._refs(el, "general")
+        gen.general = general[0] if general else ""
+        if isinstance(owner, Classifier) and gen.general:
+            owner.generals.append(gen.general)
+            self.refs.append((gen.general, f"generalization of {owner.name!r}", gen.line, owner))
+        self.model.generalizations.append(gen)
+
+    def _comment(self, el: etree._Element, owner: Element) -> None:
+        body = el.get("body")
+        if body is None:
+            body = "".join(b.text or "" for b in el.iterchildren("body"))
+        annotated = (el.get("annotatedElement") or "").split()
+        if annotated:
+            self.annotated += [(ident, body) for ident in annotated]
+        else:
+            owner.comments.append(body)
+
+    # ------------------------------------------------------------------ stereotypes
+    def _application(
+        self, profile: str | None, name: str, base: str, line: int
+    ) -> StereotypeApplication:
+        key = (base, f"{profile}:{name}" if profile else name)
+        app = self.model.applications.get(key)
+        if app is None:
+            app = StereotypeApplication(profile=profile, name=name, base=base, line=line)
+            self.model.applications[key] = app
+        return app
+
+    def _set_tag(
+        self, app: StereotypeApplication, tag: str, value: str, line: int, place: str
+    ) -> None:
+        old = app.tags.get(tag)
+        if old is not None and old != value and place not in app.places:
+            self.model.diagnostics.append(
+                diagnostic(
+                    "R205",
+                    f"tag {tag!r} of {app.key} is {old!r} in one place and {value!r} in the other; "
+                    f"using {old!r}: re-export the model",
+                    file=self.model.file,
+                    line=line,
+                    xmi_id=app.base,
+                )
+            )
+            return
+        app.tags[tag] = value
+        app.tag_lines.setdefault(tag, line)
+
+    def _extension(self, el: etree._Element, owner: Element) -> None:
+        if el.get("extender", "Bouml") != "Bouml":
+            return
+        # BOUML marks its profile definitions with their own metaclass keyword (a Stereotype is
+        # <<stereotype>>, a Profile <<profile>>): keywords, not stereotype applications.
+        keyword = owner.kind.lower()
+        stereotypes = [s.get("name", "") for s in el.iterchildren("stereotype")]
+        for name in stereotypes:
+            if name == keyword:
+                continue
+            profile, _, stereo = name.rpartition(":")
+            app = self._application(profile or None, stereo, owner.id, el.sourceline or owner.line)
+            app.places.add("extension")
+        for tv in el.iterchildren("taggedValue"):
+            tag = tv.get("tag", "")
+            value = tv.get("value", "")
+            if tag.startswith("gxmi "):
+                continue  # BOUML's own export options
+            parts = tag.split(":")
+            if len(parts) == 3:
+                app = self._application(parts[0], parts[1], owner.id, tv.sourceline or owner.line)
+                self._set_tag(app, parts[2], value, tv.sourceline or 0, "extension")
+            else:
+                owner.tagged_values[tag] = value
+
+    def _root_application(self, el: etree._Element) -> None:
+        base_attr = next((k for k in el.attrib if k.startswith("base_")), None)
+        if base_attr is None:
+            return
+        ns = etree.QName(el).namespace or ""
+        match = _PROFILE_NS.match(ns)
+        profile = el.prefix or (match.group(1) if match else None)
+        app = self._application(
+            profile, etree.QName(el).localname, el.get(base_attr), el.sourceline or 0
+        )
+        app.id = el.get(self.XID)
+        app.line = el.sourceline or app.line
+        for key, value in el.items():
+            if key.startswith(("base_", "{")):
+                continue
+            self._set_tag(app, key, value, el.sourceline or 0, "root")
+        for child in el:  # Eclipse writes multi-valued and reference tags as child elements
+            if isinstance(child.tag, str):
+                tag = _local(child.tag)
+                value = child.text if child.text is not None else child.get("href", "")
+                old = app.tags.get(tag)
+                app.tags[tag] = value if old is None else f"{old}\n{value}"
+                app.tag_lines.setdefault(tag, child.sourceline or 0)
+        app.places.add("root")
+
+    # ------------------------------------------------------------------ references
+    def _resolve(self) -> None:
+        model = self.model
+        ids = [
+            (el.get(self.XID), el.sourceline or 0)
+            for el in self.xml.root.iter()
+            if isinstance(el.tag, str) and el.get(self.XID) is not None
+        ]
+        known = check_ids(model, ids)
+        for obj in self.type_refs:
+            target = model.elements.get(obj.type_ref)
+            if target is not None:
+                obj.type_name = target.name
+            elif obj.type_ref not in known:
+                dangling(
+                    model, obj.type_ref, f"type of {obj.name!r}", obj.line, obj.qualified_name()
+                )
+        for ident, what, line, source in self.refs:
+            if ident not in known:
+                dangling(model, ident, what, line, source.qualified_name())
+        for assoc in model.associations:
+            for ident in assoc.member_ends:
+                if ident not in known:
+                    dangling(
+                        model,
+                        ident,
+                        f"member end of {assoc.name!r}",
+                        assoc.line,
+                        assoc.qualified_name(),
+                    )
+        for ident, body in self.annotated:
+            target = model.elements.get(ident)
+            if target is not None:
+                target.comments.append(body)
+        for app in list(model.applications.values()):
+            if app.base not in model.elements:
+                del model.applications[(app.base, app.key)]
+                model.diagnostics.append(
+                    diagnostic(
+                        "R204",
+                        f"stereotype {app.key} is applied to id {app.base!r}, which no element has; "
+                        "the application is ignored",
+                        file=model.file,
+                        line=app.line,
+                        xmi_id=app.base,
+                    )
+                )
+
+
+def _literal(el: etree._Element) -> str | None:
+    value = el.get("value")
+    if value is not None:
+        return value
+    kind = next((v for k, v in el.items() if k.endswith("}type")), "").rpartition(":")[2]
+    return {"LiteralInteger": "0", "LiteralBoolean": "false", "LiteralReal": "0"}.get(kind)

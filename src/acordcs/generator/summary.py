@@ -1,0 +1,44 @@
+"""What ``acordcs-gen inspect`` reports: UML counts and the ACORD-CS reading of a model."""
+
+from __future__ import annotations
+
+from acordcs.generator.architecture import CONTAINER, POLICY_SET, Architecture
+from acordcs.generator.checks.rules import policy_rules
+from acordcs.generator.pipeline import ModelReading
+from acordcs.profile import profile
+
+
+def summarize(reading: ModelReading) -> dict:
+    uml = reading.uml
+    data = {
+        "file": reading.file,
+        "dialect": uml.dialect,
+        "exporter": uml.exporter,
+        "model": uml.name,
+        **uml.counts(),
+        "acordcs": _acordcs(reading.architecture) if reading.architecture else {},
+        "diagnostics": len(reading.diagnostics),
+    }
+    return data
+
+
+def _acordcs(arch: Architecture) -> dict:
+    elements = {
+        s.name: sorted(r.name for r in arch.of_kind(s.name))
+        for s in profile()
+        if arch.of_kind(s.name)
+    }
+    deployment = {
+        c.name: sorted(r.name for r in arch.related(c, "hosts")) for c in arch.of_kind(CONTAINER)
+    }
+    policy_sets = {}
+    for ps in arch.of_kind(POLICY_SET):
+        policy_sets[ps.name] = {
+            "engine": ps.tag("engine"),
+            "trigger": ps.tag("trigger"),
+            "policies": sorted(p.name for p in arch.policies(ps)),
+            "rules": sum(len(policy_rules(p)) for p in arch.policies(ps)),
+            "adapts": sorted(r.name for r in arch.related(ps, "adapts")),
+            "fed_by": sorted(r.name for r in arch.related_to(ps, "feeds")),
+        }
+    return {"elements": elements, "deployment": deployment, "policy_sets": policy_sets}

@@ -1,0 +1,156 @@
+"""Reading user XML safely: no DTDs, no entities, no network, bounded size and depth.
+
+UML exports never contain a document type declaration, so one is refused outright (that closes XXE and
+entity bombs before libxml2 sees them). A strict parse comes first; only a file that fails it for a
+reason recovery can repair (BOUML's unescaped ``<`` in names) is read again in recover mode, with a
+warning saying so. Truncated files, wrong encodings and undeclared prefixes are errors: recovery would
+silently drop or garble model elements.
+"""
+
+from __future__ import annotations
+
+import re
+from dataclasses import dataclass, field
+
+from lxml import etree
+
+from acordcs.generator.diagnostics import Diagnostic, diagnostic
+
+MAX_BYTES = 512 * 1024 * 1024
+_DOCTYPE = re.compile(rb"<!DOCTYPE|<!ENTITY", re.IGNORECASE)
+_SCAN_BYTES = 64 * 1024
+
+
+@dataclass
+class XmlInput:
+    """A parsed file: its root (None when unreadable) and what reading it found."""
+
+    path: str
+    root: etree._Element | None
+    diagnostics: list[Diagnostic] = field(default_factory=list)
+    recovered: bool = False
+    encoding: str | None = None
+
+
+def hardened_parser(*, recover: bool = False) -> etree.XMLParser:
+    """The parser for every piece of user XML in acordcs."""
+    return etree.XMLParser(
+        resolve_entities=False,
+        no_network=True,
+        load_dtd=False,
+        dtd_validation=False,
+        huge_tree=False,
+        recover=recover,
+        remove_blank_text=False,
+    )
+
+
+# libxml2 error type -> (our code, what to do)
+_FATAL = {
+    "ERR_RESOURCE_LIMIT": (
+        "X103",
+        "the file exceeds a safety limit; UML exports never nest this deep",
+    ),
+    "ERR_TAG_NOT_FINISHED": ("X104", "the file ends in the middle of an element: export it again"),
+    "ERR_DOCUMENT_END": ("X104", "the file ends in the middle of an element: export it again"),
+    "ERR_DOCUMENT_EMPTY": ("X104", "the file is empty: export it again"),
+    "ERR_INVALID_ENCODING": (
+        "X105",
+        "the bytes do not match the declared encoding: fix the encoding declaration or re-export",
+    ),
+    "ERR_INVALID_CHAR": (
+        "X105",
+        "the bytes do not match the declared encoding: fix the encoding declaration or re-export",
+    ),
+    "ERR_UNSUPPORTED_ENCODING": (
+        "X105",
+        "the declared encoding is not supported: re-export as UTF-8",
+    ),
+    "NS_ERR_UNDEFINED_NAMESPACE": (
+        "X106",
+        "declare the prefix with xmlns:PREFIX on the root element",
+    ),
+    "ERR_ENTITY_IS_EXTERNAL": ("X102", "UML exports contain no entities: remove them"),
+    "ERR_UNDECLARED_ENTITY": ("X102", "UML exports contain no entities: remove them"),
+}
+
+
+def _line_col(data: bytes, offset: int) -> tuple[int, int]:
+    line = data.count(b"\n", 0, offset) + 1
+    return line, offset - (data.rfind(b"\n", 0, offset) + 1) + 1
+
+
+def read_xml(path: str) -> XmlInput:
+    """Parse ``path`` with the hardened parser; never raises for bad input."""
+    try:
+        with open(path, "rb") as handle:
+            data = handle.read(MAX_BYTES + 1)
+    except OSError as err:
+        reason = err.strerror or str(err)
+        return XmlInput(path, None, [diagnostic("X101", f"cannot read file: {reason}", file=path)])
+    return parse_bytes(data, path)
+
+
+def parse_bytes(data: bytes, path: str = "<input>") -> XmlInput:
+    """Parse XML bytes with the hardened parser; never raises for bad input."""
+    if len(data) > MAX_BYTES:
+        msg = f"file is larger than {MAX_BYTES // 2**20} MiB; split the model"
+        return XmlInput(path, None, [diagnostic("X103", msg, file=path)])
+    if not data.strip():
+        return XmlInput(
+            path, None, [diagnostic("X104", "file is empty: export it again", file=path)]
+        )
+    match = _DOCTYPE.search(data, 0, _SCAN_BYTES)
+    if match:
+        line, col = _line_col(data, match.start())
+        msg = "document type declaration refused: UML exports have none, and it can read local files (XXE) or expand entities without bound"
+        return XmlInput(path, None, [diagnostic("X102", msg, file=path, line=line, column=col)])
+    parser = hardened_parser()
+    try:
+        root = etree.fromstring(data, parser)
+    except etree.XMLSyntaxError as err:
+        return _after_strict_failure(data, path, err, parser)
+    except (ValueError, LookupError) as err:  # e.g. an unknown encoding name in the declaration
+        return XmlInput(path, None, [diagnostic("X105", f"cannot decode: {err}", file=path)])
+    result = XmlInput(path, root, encoding=root.getroottree().docinfo.encoding)
+    if root.getroottree().docinfo.doctype:  # a DOCTYPE past the scanned prefix
+        msg = "document type declaration refused: UML exports have none"
+        return XmlInput(path, None, [diagnostic("X102", msg, file=path)])
+    return result
+
+
+def _after_strict_failure(
+    data: bytes, path: str, err: etree.XMLSyntaxError, parser: etree.XMLParser
+) -> XmlInput:
+    first = parser.error_log[0] if len(parser.error_log) else None
+    kind = first.type_name if first is not None else ""
+    line = first.line if first is not None else (err.lineno or 0)
+    col = first.column if first is not None else 0
+    message = (first.message if first is not None else str(err)).strip()
+    if "Excessive depth" in message:
+        kind, message = "ERR_RESOURCE_LIMIT", "elements nested deeper than 256 levels"
+    elif "amplification" in message:
+        kind, message = "ERR_RESOURCE_LIMIT", "entity expansion beyond the safety limit"
+    if kind in _FATAL:
+        code, todo = _FATAL[kind]
+        return XmlInput(
+            path, None, [diagnostic(code, f"{message}: {todo}", file=path, line=line, column=col)]
+        )
+    try:
+        root = etree.fromstring(data, hardened_parser(recover=True))
+    except etree.XMLSyntaxError:
+        root = None
+    if root is None:
+        msg = f"not well-formed XML: {message}; fix the file at this place"
+        return XmlInput(path, None, [diagnostic("X108", msg, file=path, line=line, column=col)])
+    msg = (
+        f"not well-formed XML: {message}; read in recovery mode, so names near this place may be cut "
+        "short (BOUML writes names unescaped: rename the element or export with another option)"
+    )
+    return XmlInput(
+        path,
+        root,
+        [diagnostic("X107", msg, file=path, line=line, column=col)],
+        recovered=True,
+        encoding=root.getroottree().docinfo.encoding,
+    )
