@@ -76,9 +76,13 @@ class Role:
         return self.element.id
 
     def tag(self, name: str) -> str | None:
-        """The tag's value as written, else the profile's default."""
-        if name in self.tags:
-            return self.tags[name]
+        """The tag's value as written, else the profile's default.
+
+        An empty value means unset: BOUML writes every declared tag, empty when the modeller left it.
+        """
+        value = self.tags.get(name)
+        if value is not None and value.strip():
+            return value.strip()
         declared = self.stereotype.tag(name)
         return declared.default if declared else None
 
@@ -184,7 +188,13 @@ def _role(uml: UmlModel, app: StereotypeApplication) -> Role | None:
     element = uml.elements[app.base]
     if app.profile == PROFILE_NAME:
         declared = stereotype(app.name)
-        tags = app.tags
+        # BOUML drops stereotype properties the profile does not declare, so extra rule tags
+        # (RuleSlowDown, ...) are plain key/values of the element: they belong to the stereotype.
+        tags = dict(app.tags)
+        if declared is not None:
+            for key, value in element.tagged_values.items():
+                if key not in tags and declared.tag(key) is not None:
+                    tags[key] = value
         if declared is None:
             uml.diagnostics.append(
                 diagnostic(

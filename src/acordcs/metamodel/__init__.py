@@ -6,8 +6,8 @@ rule grammar from this package and must not pay pyecore's start-up on every run.
 
 from __future__ import annotations
 
+import os
 from functools import cache
-from importlib import resources
 from typing import TYPE_CHECKING
 
 if TYPE_CHECKING:
@@ -20,7 +20,7 @@ PROFILE_SOURCE = "http://acordcs.org/profile"
 
 def ecore_path() -> str:
     """Filesystem path of the shipped ``acordcs.ecore``."""
-    return str(resources.files(__package__).joinpath(ECORE_FILE))
+    return os.path.join(os.path.dirname(__file__), ECORE_FILE)
 
 
 @cache
@@ -58,14 +58,19 @@ def create(class_name: str, /, **features: object):
 
 
 def save_model(root, path: str) -> None:
-    """Write an ACORD-CS model (an ``Application``) as an XMI instance file EMF can load."""
+    """Write an ACORD-CS model (an ``Application``) as an XMI instance file EMF can load.
+
+    Default values are written too: pyecore otherwise drops a value equal to the default, and an
+    unsettable feature set to it (a frequency of 0.0) would come back unset.
+    """
     from pyecore.resources import URI, ResourceSet
+    from pyecore.resources.xmi import XMIOptions
 
     rset = ResourceSet()
     rset.metamodel_registry[NS_URI] = load()
     resource = rset.create_resource(URI(str(path)))
     resource.append(root)
-    resource.save()
+    resource.save(options={XMIOptions.SERIALIZE_DEFAULT_VALUES: True})
 
 
 def load_model(path: str):

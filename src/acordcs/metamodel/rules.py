@@ -15,8 +15,8 @@ engines; every error is a :class:`RuleSyntaxError` with the column in the rule t
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+import os
 from functools import cache
-from importlib import resources
 from typing import Literal
 
 from lark import Lark, Token, Transformer, v_args
@@ -301,7 +301,8 @@ class _ToTree(Transformer):
 
 @cache
 def _parser(start: str) -> Lark:
-    grammar = resources.files(__package__).joinpath("rules.lark").read_text(encoding="utf-8")
+    with open(os.path.join(os.path.dirname(__file__), "rules.lark"), encoding="utf-8") as handle:
+        grammar = handle.read()
     # cache=True keeps the analysed grammar in the temp dir: it halves start-up of `acordcs-gen`.
     return Lark(
         grammar,

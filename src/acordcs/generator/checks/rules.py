@@ -50,12 +50,30 @@ def policy_rules(policy: Role) -> list[PolicyRule]:
 
 
 class _Scope:
-    """Name resolution for one policy set: elements by name, attributes and operations by name."""
+    """Name resolution for one policy set: elements by name, attributes and operations by name.
+
+    Indexed once per policy set: a model with hundreds of sets and thousands of rule atoms would
+    otherwise scan the scope for every name.
+    """
 
     def __init__(self, ctx: Context, policy_set: Role) -> None:
         self.ctx = ctx
         self.set = policy_set
         self.roles = ctx.arch.scope(policy_set)
+        self.by_element: dict[str, list[Role]] = {}
+        self.members: dict[str, dict[str, list[tuple[Role, object]]]] = {
+            "attribute": {},
+            "operation": {},
+        }
+        for role in self.roles:
+            self.by_element.setdefault(role.name, []).append(role)
+            element = role.element
+            for kind, items in (
+                ("attribute", getattr(element, "attributes", ())),
+                ("operation", getattr(element, "operations", ())),
+            ):
+                for member in items:
+                    self.members[kind].setdefault(member.name, []).append((role, member))
 
     def describe(self) -> str:
         return (
@@ -63,14 +81,11 @@ class _Scope:
             or "nothing: relate monitors and adapted elements to it"
         )
 
-    def _members(self, role: Role, kind: str) -> list:
-        element = role.element
-        return list(getattr(element, "attributes" if kind == "attribute" else "operations", []))
-
     def resolve(self, name: Name, kind: str) -> tuple[Role, Property | Operation] | str:
         """The (element, member) a name denotes, or a message saying why it denotes none."""
+        found = self.members[kind].get(name.member, [])
         if name.element is not None:
-            owners = [r for r in self.roles if r.name == name.element]
+            owners = self.by_element.get(name.element)
             if not owners:
                 exists = any(r.name == name.element for r in self.ctx.arch.roles.values())
                 why = (
@@ -80,16 +95,13 @@ class _Scope:
                     else f"no element named {name.element!r}"
                 )
                 return f"{why}; scope: {self.describe()}"
-            members = [m for r in owners for m in self._members(r, kind) if m.name == name.member]
-            if not members:
-                names = [m.name for r in owners for m in self._members(r, kind)]
+            found = [(r, m) for r, m in found if r.name == name.element]
+            if not found:
+                names = [m.name for r in owners for m in getattr(r.element, kind + "s", ())]
                 return f"{name.element} has no {kind} {name.member!r}{_suggest(name.member, names)}"
-            return owners[0], members[0]
-        found = [
-            (r, m) for r in self.roles for m in self._members(r, kind) if m.name == name.member
-        ]
+            return found[0]
         if not found:
-            names = [m.name for r in self.roles for m in self._members(r, kind)]
+            names = list(self.members[kind])
             return (
                 f"no element in the scope of policy set {self.set.name!r} has {kind} {name.member!r}"
                 f"{_suggest(name.member, names)}; scope: {self.describe()}"
@@ -111,6 +123,9 @@ def rules(ctx: Context) -> Iterator[Diagnostic]:
         kind = "crisp" if engine == "clips" else "fuzzy"
         scope = _Scope(ctx, policy_set)
         labels: dict[str, PolicyRule] = {}
+        # The set is one rule block: its engine fires all its policies' rules together.
+        inputs: dict[str, Name] = {}
+        outputs: list[tuple[str, Name, PolicyRule]] = []
         for policy in ctx.arch.policies(policy_set):
             found = policy_rules(policy)
             if not found:
@@ -119,8 +134,6 @@ def rules(ctx: Context) -> Iterator[Diagnostic]:
                     f"policy {policy.name!r} has no rules: add a tag Rule with one rule per line",
                     policy,
                 )
-            inputs: dict[str, Name] = {}
-            outputs: list[tuple[str, Name, PolicyRule]] = []
             for prule in found:
                 where = f"rule {prule.index} of tag {prule.tag!r} of policy {policy.name!r}"
                 try:
@@ -145,16 +158,17 @@ def rules(ctx: Context) -> Iterator[Diagnostic]:
                         )
                     labels[rule.label] = prule
                 yield from _check_rule(ctx, scope, rule, prule, where, inputs, outputs)
-            for attr_id, name, prule in outputs:
-                if attr_id in inputs:
-                    yield ctx.diag(
-                        "L405",
-                        f"{name.text!r} is an output of rule {prule.index} of tag {prule.tag!r} and an "
-                        f"input of policy {policy.name!r}: a fuzzy rule block must not feed back into itself",
-                        policy,
-                        line=prule.line,
-                        column=name.column,
-                    )
+        for attr_id, name, prule in outputs:
+            if attr_id in inputs:
+                yield ctx.diag(
+                    "L405",
+                    f"{name.text!r} is an output of rule {prule.index} of tag {prule.tag!r} and an "
+                    f"input of policy set {policy_set.name!r}: a fuzzy rule block must not feed back "
+                    "into itself",
+                    prule.policy,
+                    line=prule.line,
+                    column=name.column,
+                )
 
 
 def _check_rule(

@@ -49,15 +49,17 @@ def tag_values(ctx: Context) -> Iterator[Diagnostic]:
                     line=line,
                 )
                 continue
+            if not value.strip():
+                continue  # empty means unset (BOUML writes every declared tag)
             parser = _PARSERS.get(declared.type)
-            if parser is not None and value.strip() and parser(value) is None:
+            if parser is not None and parser(value) is None:
                 yield ctx.diag(
                     "T304",
                     f"tag {name!r} must be a {declared.type}, not {value!r}",
                     role,
                     line=line,
                 )
-            elif declared.values and value not in declared.values:
+            elif declared.values and value.strip() not in declared.values:
                 yield ctx.diag(
                     "T305",
                     f"tag {name!r} is {value!r}; permitted: {', '.join(declared.values)}",
@@ -77,12 +79,24 @@ def tag_values(ctx: Context) -> Iterator[Diagnostic]:
                 )
 
 
+_TERMS_CACHE: dict[str, list[TermDef] | RuleSyntaxError] = {}
+
+
+def parsed_terms(text: str) -> list[TermDef] | RuleSyntaxError:
+    """``parse_terms`` memoised by text: a model has far fewer distinct term lists than variables,
+    and every rule atom asks for its variable's terms."""
+    if text not in _TERMS_CACHE:
+        try:
+            _TERMS_CACHE[text] = parse_terms(text)
+        except RuleSyntaxError as err:
+            _TERMS_CACHE[text] = err
+    return _TERMS_CACHE[text]
+
+
 def variable_terms(role: Role) -> list[TermDef]:
     """The terms of a CtxVariable role; [] when missing or unparseable (reported by the check)."""
-    try:
-        return parse_terms(role.tags.get("terms", ""))
-    except RuleSyntaxError:
-        return []
+    terms = parsed_terms(role.tags.get("terms", ""))
+    return [] if isinstance(terms, RuleSyntaxError) else terms
 
 
 def variable_range(role: Role) -> tuple[float, float] | None:
@@ -114,9 +128,9 @@ def linguistic_variables(ctx: Context) -> Iterator[Diagnostic]:
                 line=line,
             )
             continue
-        try:
-            terms = parse_terms(text)
-        except RuleSyntaxError as err:
+        terms = parsed_terms(text)
+        if isinstance(terms, RuleSyntaxError):
+            err = terms
             yield ctx.diag(
                 "T307",
                 f"terms of {role.name!r}: {err.message} (column {err.column})",

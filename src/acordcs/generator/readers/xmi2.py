@@ -267,16 +267,19 @@ class _Reader:
             found += self._refs_of(child)
         return found
 
+    def _type_child(self, child: etree._Element, obj) -> None:
+        href = child.get("href")
+        if href:
+            obj.type_name = primitive_from_href(href)
+        else:
+            obj.type_ref = child.get(self.XIDREF) or obj.type_ref
+
     def _typed(self, el: etree._Element, obj) -> None:
         type_attr = el.get("type")
         if type_attr:
             obj.type_ref = type_attr.split()[0]
         for child in el.iterchildren("type"):
-            href = child.get("href")
-            if href:
-                obj.type_name = primitive_from_href(href)
-            elif child.get(self.XIDREF):
-                obj.type_ref = child.get(self.XIDREF)
+            self._type_child(child, obj)
         if obj.type_ref:
             self.type_refs.append(obj)
 
@@ -285,13 +288,17 @@ class _Reader:
         prop = self._base(el, kind, owner, Property)
         prop.association = el.get("association")
         prop.aggregation = el.get("aggregation", "none")
-        self._typed(el, prop)
+        type_attr = el.get("type")
+        if type_attr:
+            prop.type_ref = type_attr.split()[0]
         for child in el:
             tag = child.tag
             if not isinstance(tag, str):
                 continue
             local = _local(tag)
-            if local == "defaultValue":
+            if local == "type":
+                self._type_child(child, prop)
+            elif local == "defaultValue":
                 prop.default = _literal(child)
             elif local == "lowerValue":
                 prop.lower = _literal(child)
@@ -301,6 +308,8 @@ class _Reader:
                 self._extension(child, prop)
             elif local == "ownedComment":
                 self._comment(child, prop)
+        if prop.type_ref:
+            self.type_refs.append(prop)
         if prop.association:
             self.refs.append((prop.association, f"end {prop.name!r}", prop.line, prop))
         return prop
@@ -425,14 +434,21 @@ class _Reader:
         app.places.add("root")
 
     # ------------------------------------------------------------------ references
+    def _ids(self) -> list[tuple[str, int]]:
+        """Every xmi:id with its line; lines are looked up only for ids defined twice (rare, slow)."""
+        root = self.xml.root
+        ids = root.xpath("//@x:id", namespaces={"x": self.xmi_ns}, smart_strings=False)
+        if len(ids) == len(set(ids)):
+            return [(i, 0) for i in ids]
+        return [
+            (el.get(self.XID), el.sourceline or 0)
+            for el in root.iter(etree.Element)
+            if el.get(self.XID) is not None
+        ]
+
     def _resolve(self) -> None:
         model = self.model
-        ids = [
-            (el.get(self.XID), el.sourceline or 0)
-            for el in self.xml.root.iter()
-            if isinstance(el.tag, str) and el.get(self.XID) is not None
-        ]
-        known = check_ids(model, ids)
+        known = check_ids(model, self._ids())
         for obj in self.type_refs:
             target = model.elements.get(obj.type_ref)
             if target is not None:
