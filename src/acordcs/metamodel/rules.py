@@ -14,8 +14,8 @@ engines; every error is a :class:`RuleSyntaxError` with the column in the rule t
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
 import os
+from dataclasses import dataclass, field
 from functools import cache
 from typing import Literal
 
