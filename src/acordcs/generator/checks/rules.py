@@ -141,10 +141,9 @@ def rules(ctx: Context) -> Iterator[Diagnostic]:
                 except RuleSyntaxError as err:
                     yield ctx.diag(
                         "L401",
-                        f"{where}: {err.message} at column {err.column}: {prule.text!r}",
+                        f"{where}, column {err.column}: {err.message}: {prule.text!r}",
                         policy,
                         line=prule.line,
-                        column=err.column,
                     )
                     continue
                 if rule.label:
@@ -167,7 +166,6 @@ def rules(ctx: Context) -> Iterator[Diagnostic]:
                     "into itself",
                     prule.policy,
                     line=prule.line,
-                    column=name.column,
                 )
 
 
@@ -177,7 +175,8 @@ def _check_rule(
     policy = prule.policy
 
     def problem(code: str, message: str, name: Name) -> Diagnostic:
-        return ctx.diag(code, f"{where}: {message}", policy, line=prule.line, column=name.column)
+        # The column is in the rule text, not in the XML line: it goes in the message, not the location.
+        return ctx.diag(code, f"{where}, column {name.column}: {message}", policy, line=prule.line)
 
     def variable(name: Name):
         found = scope.resolve(name, "attribute")

@@ -133,10 +133,9 @@ def linguistic_variables(ctx: Context) -> Iterator[Diagnostic]:
             err = terms
             yield ctx.diag(
                 "T307",
-                f"terms of {role.name!r}: {err.message} (column {err.column})",
+                f"terms of {role.name!r}, column {err.column}: {err.message}",
                 role,
                 line=line,
-                column=err.column,
             )
             continue
         yield from _check_terms(ctx, role, terms, bounds, line)
@@ -151,7 +150,6 @@ def _check_terms(ctx, role, terms, bounds, line) -> Iterator[Diagnostic]:
                 f"term {term.name.text!r} is defined twice",
                 role,
                 line=line,
-                column=term.name.column,
             )
         seen.add(term.name.text)
         problem = shape_problem(term)
@@ -161,7 +159,6 @@ def _check_terms(ctx, role, terms, bounds, line) -> Iterator[Diagnostic]:
                 f"term {term.name.text!r}: {problem}",
                 role,
                 line=line,
-                column=term.name.column,
             )
         elif bounds is not None:
             lo, hi = bounds
@@ -173,7 +170,6 @@ def _check_terms(ctx, role, terms, bounds, line) -> Iterator[Diagnostic]:
                     f"[{lo:g}, {hi:g}]",
                     role,
                     line=line,
-                    column=term.name.column,
                 )
     if bounds is not None and terms and not any(shape_problem(t) for t in terms):
         gap = uncovered(terms, *bounds)

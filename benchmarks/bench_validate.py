@@ -1,0 +1,98 @@
+"""Benchmark: ``acordcs-gen validate`` on a synthetic 2,000-class BOUML export, against lxml.
+
+Prints, measured in one run on the same file:
+- B: the time lxml takes to parse and re-serialize the file (median of 7);
+- the whole-process time of ``acordcs-gen validate`` on it, interpreter start included (median of 7),
+  as a multiple of B (the issue's target: at most 3 B);
+- the same for a model with no classes (start-up alone), to show where the time goes;
+- in-process read + check time of an ISO-8859-1 BOUML export with over 1,000 stereotype
+  applications (the issue names a real 1.4 MB one; ours is denser in plain classes, so larger:
+  4.6 MB) (target: well under a second).
+
+Run: ``.venv/bin/python benchmarks/bench_validate.py``
+"""
+
+from __future__ import annotations
+
+import statistics
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+from lxml import etree
+
+sys.path.insert(0, str(Path(__file__).parent))
+from gen_synthetic_bouml import generate
+
+ROUNDS = 7
+CLI = [str(Path(sys.executable).with_name("acordcs-gen")), "validate"]
+
+
+def median_seconds(fn, rounds: int = ROUNDS) -> float:
+    times = []
+    for _ in range(rounds):
+        start = time.perf_counter()
+        fn()
+        times.append(time.perf_counter() - start)
+    return statistics.median(times)
+
+
+def lxml_round_trip(path: Path) -> None:
+    etree.tostring(etree.parse(str(path)))
+
+
+def run_cli(path: Path) -> None:
+    done = subprocess.run([*CLI, str(path)], capture_output=True, text=True)
+    if done.returncode != 0:
+        raise SystemExit(f"validate failed on {path}:\n{done.stdout}{done.stderr}")
+
+
+def main() -> int:
+    from acordcs.generator.pipeline import read_model
+
+    with tempfile.TemporaryDirectory() as tmp:
+        big = Path(tmp, "synthetic-2000.xmi")
+        big.write_text(generate(classes=2000, seed=1), encoding="utf-8")
+        empty = Path(tmp, "empty.xmi")
+        empty.write_text(_empty_model(), encoding="utf-8")
+        latin = Path(tmp, "synthetic-latin1.xmi")
+        text = generate(classes=2000, seed=2).replace(
+            'encoding="UTF-8"', 'encoding="ISO-8859-1"', 1
+        )
+        latin.write_bytes(
+            text.replace('name="Plain', 'name="Configuração', 200).encode("iso-8859-1")
+        )
+
+        b = median_seconds(lambda: lxml_round_trip(big))
+        whole = median_seconds(lambda: run_cli(big))
+        startup = median_seconds(lambda: run_cli(empty))
+        reading = read_model(str(latin))
+        read_latin = median_seconds(lambda: read_model(str(latin)))
+        big_mb, latin_mb = big.stat().st_size / 1e6, latin.stat().st_size / 1e6
+
+    print(f"synthetic model: 2,000 classes, {big_mb:.1f} MB; figures are medians of {ROUNDS} runs")
+    print(f"B  lxml parse + serialize            {b * 1e3:8.1f} ms")
+    print(
+        f"   acordcs-gen validate, whole process {whole * 1e3:8.1f} ms = {whole / b:4.1f} B (target <= 3 B)"
+    )
+    print(f"   acordcs-gen start-up, empty model   {startup * 1e3:8.1f} ms = {startup / b:4.1f} B")
+    print(
+        f"   ISO-8859-1 export, {latin_mb:.1f} MB, {len(reading.uml.applications)} stereotype "
+        f"applications, {len(reading.diagnostics)} diagnostics: read + check {read_latin * 1e3:.1f} ms"
+    )
+    return 0
+
+
+def _empty_model() -> str:
+    return (
+        '<?xml version="1.0" encoding="UTF-8"?>\n'
+        '<xmi:XMI xmi:version="2.1" xmlns:uml="http://schema.omg.org/spec/UML/2.1" '
+        'xmlns:xmi="http://schema.omg.org/spec/XMI/2.1">\n'
+        '<uml:Model xmi:type="uml:Model" xmi:id="themodel" name="empty"/>\n</xmi:XMI>\n'
+    )
+
+
+if __name__ == "__main__":
+    sys.exit(main())
