@@ -55,26 +55,6 @@ _PACKAGE_KINDS = frozenset(("Package", "Model", "Profile"))
 _DEPENDENCY_KINDS = frozenset(
     ("Dependency", "Realization", "Usage", "Abstraction", "Substitution", "InterfaceRealization")
 )
-# Elements the ACORD-CS view does not need; their content is not walked, their ids still count.
-_SKIPPED_LOCAL = frozenset(
-    [
-        "profileApplication",
-        "packageImport",
-        "elementImport",
-        "ownedRule",
-        "eAnnotations",
-        "ownedBehavior",
-        "ownedConnector",
-        "templateBinding",
-        "ownedTemplateSignature",
-        "interfaceRealization",
-        "ownedUseCase",
-        "extend",
-        "include",
-        "ownedTrigger",
-        "substitution",
-    ]
-)
 
 
 def _namespaces(root: etree._Element) -> tuple[str | None, str | None]:
@@ -113,6 +93,17 @@ class _Reader:
         self.EXTENSION = f"{{{self.xmi_ns}}}Extension"
         dialect = "eclipse-uml2" if "eclipse.org" in uml else "bouml-xmi2"
         self.model = UmlModel(file=xml.path, dialect=dialect)
+        self._handlers = {
+            "ownedAttribute": self._on_attribute,
+            "ownedEnd": self._on_end,
+            "memberEnd": self._on_member_end,
+            "ownedOperation": self._on_operation,
+            "ownedLiteral": self._on_literal,
+            "generalization": self._generalization,
+            "ownedComment": self._comment,
+            self.EXTENSION: self._extension,
+            **dict.fromkeys(_MEMBER_TAGS, self._packageable),
+        }
         self.annotated: list[tuple[str, str]] = []  # (element id, comment body), Eclipse comments
         self.refs: list[tuple[str, str, int, Element]] = []  # (id, what, line, from element)
         self.type_refs: list[Element] = []
@@ -215,39 +206,46 @@ class _Reader:
             )
 
     def _members(self, el: etree._Element, owner: Element) -> None:
+        # One dict lookup per child: a 4 MB export has some 40,000 of them.
+        handlers = self._handlers
         for child in el:
-            tag = child.tag
-            if not isinstance(tag, str):
-                continue
-            if tag == self.EXTENSION:
-                self._extension(child, owner)
-                continue
-            local = _local(tag)
-            if local in _MEMBER_TAGS:
-                self._packageable(child, owner)
-            elif local == "ownedAttribute" and isinstance(owner, Classifier):
-                prop = self._property(child, owner)
-                (owner.ends if prop.association else owner.attributes).append(prop)
-            elif local == "ownedEnd" and isinstance(owner, Association | Classifier):
-                prop = self._property(child, owner)
-                prop.navigable = child.get("isNavigable") != "false"
-                if isinstance(owner, Association):
-                    owner.owned_ends.append(prop)
-            elif local == "memberEnd" and isinstance(owner, Association | Classifier):
-                owner.member_ends.extend(self._refs_of(child) or [])
-            elif local == "ownedOperation" and isinstance(owner, Classifier):
-                owner.operations.append(self._operation(child, owner))
-            elif local == "ownedLiteral" and isinstance(owner, Classifier):
-                owner.literals.append(child.get("name", ""))
-                self._base(child, "EnumerationLiteral", owner)
-            elif local == "generalization":
-                self._generalization(child, owner)
-            elif local == "ownedComment":
-                self._comment(child, owner)
-            elif local in _SKIPPED_LOCAL:
-                continue
-        if isinstance(owner, Association | Classifier) and el.get("memberEnd"):
-            owner.member_ends.extend(el.get("memberEnd").split())
+            handler = handlers.get(child.tag)
+            if handler is None:
+                tag = child.tag
+                if not isinstance(tag, str) or tag[0] != "{":
+                    continue  # XML comments, or parts the ACORD-CS view does not need
+                handler = handlers.get(_local(tag))  # a namespace-qualified member tag (rare)
+                if handler is None:
+                    continue
+            handler(child, owner)
+        member_ends = el.get("memberEnd")
+        if member_ends and isinstance(owner, Association | Classifier):
+            owner.member_ends.extend(member_ends.split())
+
+    def _on_attribute(self, child: etree._Element, owner: Element) -> None:
+        if isinstance(owner, Classifier):
+            prop = self._property(child, owner)
+            (owner.ends if prop.association else owner.attributes).append(prop)
+
+    def _on_end(self, child: etree._Element, owner: Element) -> None:
+        if isinstance(owner, Association | Classifier):
+            prop = self._property(child, owner)
+            prop.navigable = child.get("isNavigable") != "false"
+            if isinstance(owner, Association):
+                owner.owned_ends.append(prop)
+
+    def _on_member_end(self, child: etree._Element, owner: Element) -> None:
+        if isinstance(owner, Association | Classifier):
+            owner.member_ends.extend(self._refs_of(child))
+
+    def _on_operation(self, child: etree._Element, owner: Element) -> None:
+        if isinstance(owner, Classifier):
+            owner.operations.append(self._operation(child, owner))
+
+    def _on_literal(self, child: etree._Element, owner: Element) -> None:
+        if isinstance(owner, Classifier):
+            owner.literals.append(child.get("name", ""))
+            self._base(child, "EnumerationLiteral", owner)
 
     def _extensions_only(self, el: etree._Element, owner: Element) -> None:
         for child in el:
