@@ -33,11 +33,11 @@ CODES: dict[str, tuple[Severity, str]] = {
     "X104": (E, "file is truncated"),
     "X105": (E, "encoding declaration does not match the bytes"),
     "X106": (E, "namespace prefix used but not declared"),
-    "X107": (W, "XML not well-formed; read in recovery mode"),
+    "X107": (E, "XML not well-formed; read in recovery mode so that the other checks could run"),
     "X108": (E, "XML not well-formed and not recoverable"),
     "X109": (E, "not an XMI/UML file"),
     # R: reading XMI as UML
-    "R201": (W, "unknown xmi:type"),
+    "R201": (E, "unknown xmi:type (the element is skipped)"),
     "R202": (E, "reference to an id that does not exist"),
     "R203": (E, "id defined more than once"),
     "R204": (W, "stereotype application whose base element does not exist"),
@@ -150,5 +150,5 @@ def diagnostic(
         column or 0,
         element,
         xmi_id,
-        unreadable=code.startswith("X") and severity is Severity.ERROR,
+        unreadable=code.startswith("X") and code != "X107" and severity is Severity.ERROR,
     )

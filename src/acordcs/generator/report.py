@@ -5,6 +5,7 @@ from __future__ import annotations
 import json
 from collections import Counter
 from pathlib import PurePath
+from urllib.parse import quote
 
 from acordcs import __version__
 from acordcs.generator.diagnostics import CODES, Severity
@@ -55,7 +56,8 @@ def as_json(readings: list[ModelReading]) -> dict:
 
 
 def _uri(path: str) -> str:
-    return PurePath(path).as_posix()
+    """A relative URI reference for a path: spaces, '#' and '%' percent-encoded."""
+    return quote(PurePath(path).as_posix())
 
 
 def as_sarif(readings: list[ModelReading]) -> dict:

@@ -18,6 +18,9 @@ from acordcs.generator.diagnostics import Diagnostic, diagnostic
 
 MAX_BYTES = 512 * 1024 * 1024
 _DOCTYPE = re.compile(rb"<!DOCTYPE|<!ENTITY", re.IGNORECASE)
+_WIDE_DECLARATION = re.compile(
+    rb"""^\s*<\?xml[^>]*encoding\s*=\s*["'](utf-?16|utf-?32|ucs)""", re.IGNORECASE
+)
 _SCAN_BYTES = 64 * 1024
 
 
@@ -49,11 +52,13 @@ def hardened_parser(*, recover: bool = False) -> etree.XMLParser:
 _FATAL = {
     "ERR_RESOURCE_LIMIT": (
         "X103",
-        "the file exceeds a safety limit; UML exports never nest this deep",
+        "the file exceeds a safety limit (nesting deeper than 256 levels, a text or attribute "
+        "value over 10 MB, or entity amplification); UML exports stay well inside these limits",
     ),
     "ERR_TAG_NOT_FINISHED": ("X104", "the file ends in the middle of an element: export it again"),
     "ERR_DOCUMENT_END": ("X104", "the file ends in the middle of an element: export it again"),
-    "ERR_DOCUMENT_EMPTY": ("X104", "the file is empty: export it again"),
+    # Blank input never gets this far (see parse_bytes): here it means content that is not XML.
+    "ERR_DOCUMENT_EMPTY": ("X108", "the content is not XML (it does not start with '<')"),
     "ERR_INVALID_ENCODING": (
         "X105",
         "the bytes do not match the declared encoding: fix the encoding declaration or re-export",
@@ -100,6 +105,12 @@ def parse_bytes(data: bytes, path: str = "<input>") -> XmlInput:
         return XmlInput(
             path, None, [diagnostic("X104", "file is empty: export it again", file=path)]
         )
+    if _WIDE_DECLARATION.match(data) and b"\x00" not in data[:_SCAN_BYTES]:
+        msg = (
+            "the file declares a 16- or 32-bit encoding but its bytes are single-byte text: fix the "
+            "encoding declaration or re-export"
+        )
+        return XmlInput(path, None, [diagnostic("X105", msg, file=path, line=1)])
     match = _DOCTYPE.search(data, 0, _SCAN_BYTES)
     if match:
         line, col = _line_col(data, match.start())
@@ -119,6 +130,12 @@ def parse_bytes(data: bytes, path: str = "<input>") -> XmlInput:
     return result
 
 
+def _at_end(data: bytes, line: int, col: int) -> bool:
+    """Whether a parse error sits at the very end of the data (the mark of a truncated file)."""
+    end_line, end_col = _line_col(data, len(data.rstrip()))
+    return line > end_line or (line == end_line and col >= end_col - 1)
+
+
 def _after_strict_failure(
     data: bytes, path: str, err: etree.XMLSyntaxError, parser: etree.XMLParser
 ) -> XmlInput:
@@ -131,6 +148,8 @@ def _after_strict_failure(
         kind, message = "ERR_RESOURCE_LIMIT", "elements nested deeper than 256 levels"
     elif "amplification" in message:
         kind, message = "ERR_RESOURCE_LIMIT", "entity expansion beyond the safety limit"
+    if kind not in _FATAL and _at_end(data, line, col):
+        kind = "ERR_DOCUMENT_END"  # cut inside a tag or attribute: libxml2 names the symptom
     if kind in _FATAL:
         code, todo = _FATAL[kind]
         return XmlInput(
@@ -144,8 +163,9 @@ def _after_strict_failure(
         msg = f"not well-formed XML: {message}; fix the file at this place"
         return XmlInput(path, None, [diagnostic("X108", msg, file=path, line=line, column=col)])
     msg = (
-        f"not well-formed XML: {message}; read in recovery mode, so names near this place may be cut "
-        "short (BOUML writes names unescaped: rename the element or export with another option)"
+        f"not well-formed XML: {message}; the rest was read in recovery mode so that every other check "
+        "could run, but names near this place may be cut short (BOUML writes names unescaped: rename "
+        "the element, e.g. no '<' or '&', and export again)"
     )
     return XmlInput(
         path,

@@ -32,7 +32,7 @@ class RuleError(AcordError):
             where.append(f"rule set {ruleset!r}")
         if rule:
             where.append(f"rule {rule!r}")
-        if column:
+        if column and not line:  # with a line, the column is already in file:line:col
             where.append(f"column {column}")
         element = ", ".join(where) or None
         super().__init__(message, file=file, line=line, column=column, element=element)

@@ -14,80 +14,15 @@ from acordcs.generator.uml import Classifier, Element
 
 # ASCII only: the same name must be a Python and a Java identifier and a shell word without quoting.
 IDENTIFIER = re.compile(r"[A-Za-z_][A-Za-z0-9_]*\Z")
+# Java's reserved keywords and literals (JLS 3.9). Contextual keywords (module, open, to, ...) are
+# legal member names; the restricted identifiers cannot name a type (JAVA_RESTRICTED_TYPE_NAMES).
 JAVA_RESERVED = frozenset(
-    [
-        "abstract",
-        "assert",
-        "boolean",
-        "break",
-        "byte",
-        "case",
-        "catch",
-        "char",
-        "class",
-        "const",
-        "continue",
-        "default",
-        "do",
-        "double",
-        "else",
-        "enum",
-        "extends",
-        "final",
-        "finally",
-        "float",
-        "for",
-        "goto",
-        "if",
-        "implements",
-        "import",
-        "instanceof",
-        "int",
-        "interface",
-        "long",
-        "native",
-        "new",
-        "package",
-        "private",
-        "protected",
-        "public",
-        "return",
-        "short",
-        "static",
-        "strictfp",
-        "super",
-        "switch",
-        "synchronized",
-        "this",
-        "throw",
-        "throws",
-        "transient",
-        "try",
-        "void",
-        "volatile",
-        "while",
-        "true",
-        "false",
-        "null",
-        "var",
-        "yield",
-        "record",
-        "sealed",
-        "permits",
-        "non-sealed",
-        "exports",
-        "module",
-        "open",
-        "opens",
-        "provides",
-        "requires",
-        "to",
-        "transitive",
-        "uses",
-        "with",
-        "_",
-    ]
+    """abstract assert boolean break byte case catch char class const continue default do double else
+    enum extends final finally float for goto if implements import instanceof int interface long native
+    new package private protected public return short static strictfp super switch synchronized this
+    throw throws transient try void volatile while true false null _""".split()
 )
+JAVA_RESTRICTED_TYPE_NAMES = frozenset("var yield record sealed permits".split())
 # Soft keywords (match, case, type) stay usable as Python identifiers, so they are not refused.
 PYTHON_RESERVED = frozenset(keyword.kwlist)
 RESERVED = JAVA_RESERVED | PYTHON_RESERVED
@@ -95,8 +30,8 @@ RESERVED = JAVA_RESERVED | PYTHON_RESERVED
 RULE_KEYWORDS = frozenset(["if", "then", "and", "or", "not", "is", "with", "very", "somewhat"])
 
 
-def name_problem(name: str) -> tuple[str, str] | None:
-    """(code, reason) when ``name`` cannot become an identifier, else None."""
+def name_problem(name: str, *, type_name: bool = False) -> tuple[str, str] | None:
+    """(code, reason) when ``name`` cannot become an identifier (a class name with ``type_name``)."""
     if not IDENTIFIER.match(name):
         return (
             "N601",
@@ -106,7 +41,7 @@ def name_problem(name: str) -> tuple[str, str] | None:
         lang
         for lang, reserved in (
             ("Python", name in PYTHON_RESERVED),
-            ("Java", name in JAVA_RESERVED),
+            ("Java", name in JAVA_RESERVED or (type_name and name in JAVA_RESTRICTED_TYPE_NAMES)),
             ("the rule language", name.lower() in RULE_KEYWORDS),
         )
         if reserved
@@ -134,7 +69,7 @@ def identifiers(ctx: Context) -> Iterator[Diagnostic]:
         if role.kind == VARIABLE:
             continue  # checked as an attribute of its owner
         for element, what in _named(role):
-            problem = name_problem(element.name)
+            problem = name_problem(element.name, type_name=what == "element")
             if problem:
                 code, reason = problem
                 yield ctx.diag(code, f"{what} name {reason}; rename it", element)

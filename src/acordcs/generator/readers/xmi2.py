@@ -36,8 +36,11 @@ from acordcs.generator.uml import (
 )
 from acordcs.generator.xmlsafe import XmlInput
 
+# Eclipse profile schemas (http://www.eclipse.org/uml2/schemas/Ecore/5) share the prefix: match only
+# the UML metamodel's own URI.
 _UML_NS = re.compile(
-    r"^https?://(schema\.omg\.org|www\.omg\.org)/spec/UML/|^http://www\.eclipse\.org/uml2/"
+    r"^https?://(schema\.omg\.org|www\.omg\.org)/spec/UML/"
+    r"|^http://www\.eclipse\.org/uml2/\d+(\.\d+)*/UML$"
 )
 _XMI_NS = re.compile(r"^https?://(schema\.omg\.org|www\.omg\.org)/(spec/)?XMI")
 _PROFILE_NS = re.compile(r"^http:///schemas/([^/]+)/")
@@ -127,8 +130,10 @@ class _Reader:
                     self._packageable(child, None)
                     if local == "Model" and not model.name:
                         model.name = child.get("name", "")
-                elif child.tag == self.EXTENSION:
+                elif child.tag == self.EXTENSION or child.tag == "profileApplication":
                     continue
+                elif child.tag in _MEMBER_TAGS:  # BOUML's "no model" option: packages at the top
+                    self._packageable(child, None)
                 else:
                     self._root_application(child)
         else:  # Eclipse: a single uml:Model (or Package/Profile) as the document root
@@ -273,9 +278,9 @@ class _Reader:
             obj.type_ref = child.get(self.XIDREF) or obj.type_ref
 
     def _typed(self, el: etree._Element, obj) -> None:
-        type_attr = el.get("type")
-        if type_attr:
-            obj.type_ref = type_attr.split()[0]
+        type_ids = (el.get("type") or "").split()
+        if type_ids:
+            obj.type_ref = type_ids[0]
         for child in el.iterchildren("type"):
             self._type_child(child, obj)
         if obj.type_ref:
@@ -286,9 +291,9 @@ class _Reader:
         prop = self._base(el, kind, owner, Property)
         prop.association = el.get("association")
         prop.aggregation = el.get("aggregation", "none")
-        type_attr = el.get("type")
-        if type_attr:
-            prop.type_ref = type_attr.split()[0]
+        type_ids = (el.get("type") or "").split()
+        if type_ids:
+            prop.type_ref = type_ids[0]
         for child in el:
             tag = child.tag
             if not isinstance(tag, str):
@@ -409,6 +414,19 @@ class _Reader:
     def _root_application(self, el: etree._Element) -> None:
         base_attr = next((k for k in el.attrib if k.startswith("base_")), None)
         if base_attr is None:
+            return
+        if (
+            el.tag[0] != "{" and ":" in el.tag
+        ):  # a recovered element whose prefix was never declared
+            self.model.diagnostics.append(
+                diagnostic(
+                    "R201",
+                    f"element {el.tag} uses an undeclared namespace prefix; the stereotype application "
+                    "is skipped: declare the prefix on the root element",
+                    file=self.model.file,
+                    line=el.sourceline,
+                )
+            )
             return
         ns = etree.QName(el).namespace or ""
         match = _PROFILE_NS.match(ns)
