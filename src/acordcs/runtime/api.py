@@ -1,0 +1,53 @@
+"""One import for the runtime API: ``from acordcs.runtime.api import Container, CtxComponent, ...``.
+
+Start with :class:`Container` (docs/runtime.md walks through an example).
+"""
+
+from acordcs.runtime.clock import Clock, RealClock, VirtualClock
+from acordcs.runtime.component import ComponentFactory, ComponentRef, CtxComponent
+from acordcs.runtime.connectors import (
+    Connection,
+    Connector,
+    ContainerServer,
+    InProcessConnector,
+    RemoteConnector,
+    RemotePort,
+    ShapedConnector,
+)
+from acordcs.runtime.container import Container
+from acordcs.runtime.events import Event, Fault
+from acordcs.runtime.interceptors import Interceptor, Invocation
+from acordcs.runtime.monitor import Monitor
+from acordcs.runtime.policy import PolicySet
+from acordcs.runtime.ports import PortSpec, async_port, stream_port, sync_port
+from acordcs.runtime.registry import EngineSetup, Variable, register_engine
+
+__all__ = [
+    "Clock",
+    "ComponentFactory",
+    "ComponentRef",
+    "Connection",
+    "Connector",
+    "Container",
+    "ContainerServer",
+    "CtxComponent",
+    "EngineSetup",
+    "Event",
+    "Fault",
+    "InProcessConnector",
+    "Interceptor",
+    "Invocation",
+    "Monitor",
+    "PolicySet",
+    "PortSpec",
+    "RealClock",
+    "RemoteConnector",
+    "RemotePort",
+    "ShapedConnector",
+    "Variable",
+    "VirtualClock",
+    "async_port",
+    "register_engine",
+    "stream_port",
+    "sync_port",
+]

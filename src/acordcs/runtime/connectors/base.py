@@ -1,0 +1,95 @@
+"""What every connector implements, and the connection object it serves.
+
+A :class:`Connection` joins two endpoints (local :class:`~acordcs.runtime.ports.Port` s, or a local
+port and a remote one) and carries QoS properties (``qos``) that policies may change through the
+container (``container.set_property(connection_name, "bandwidth", 2e6)``); connectors read them at
+each send, so a change applies to the next message.
+"""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING, Any
+
+from acordcs.runtime.errors import PortError
+
+if TYPE_CHECKING:
+    from acordcs.runtime.ports import Port
+
+
+class Connector:
+    """Carries calls, notifications and stream items from one endpoint to its peer."""
+
+    kind = "abstract"
+
+    def default_qos(self) -> dict[str, object]:
+        """QoS properties a new connection starts with (overridden by ``connect(qos=...)``)."""
+        return {}
+
+    def call(
+        self,
+        conn: Connection,
+        target: object,
+        operation: str,
+        args: tuple[Any, ...],
+        kwargs: dict[str, Any],
+    ) -> Any:
+        raise NotImplementedError
+
+    def notify(self, conn: Connection, target: object, message: Any, size: int | None) -> None:
+        raise NotImplementedError
+
+    def stream(self, conn: Connection, target: object, item: Any, size: int | None) -> None:
+        raise NotImplementedError
+
+    def close(self) -> None:
+        """Release what the connector holds (sockets, proxies)."""
+
+
+class Connection:
+    """A port connection (the metamodel's CtxPortConnection) at run time."""
+
+    def __init__(
+        self,
+        name: str,
+        required: object,
+        provided: object,
+        connector: Connector,
+        qos: dict[str, object],
+    ) -> None:
+        self.name = name
+        self.required = required
+        self.provided = provided
+        self.connector = connector
+        self.qos = qos
+        self.stats: dict[str, int] = {"sent": 0, "lost": 0}
+
+    def peer_of(self, port: Port) -> object:
+        if self.required is port:
+            return self.provided
+        if self.provided is port:
+            return self.required
+        raise PortError(f"port {port.qualified_name} is not an end of connection {self.name!r}")
+
+    def ends(self) -> tuple[object, object]:
+        return self.required, self.provided
+
+    def replace_end(self, old: Port, new: Port) -> None:
+        """Swap a port (component replacement keeps connections)."""
+        if self.required is old:
+            self.required = new
+        if self.provided is old:
+            self.provided = new
+
+    def __repr__(self) -> str:
+        return f"<Connection {self.name} via {self.connector.kind}>"
+
+
+def deliver_call(
+    target: Port, operation: str, args: tuple[Any, ...], kwargs: dict[str, Any]
+) -> Any:
+    """Run a synchronous call on a local provided port (through its container's interceptors)."""
+    return target.component.container.invoke_port(target, operation, args, kwargs)
+
+
+def deliver_message(target: Port, message: Any) -> None:
+    target.deliver(message)

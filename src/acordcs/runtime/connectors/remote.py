@@ -1,0 +1,236 @@
+"""The remote connector over Pyro5: components in containers of different processes talk (the paper's
+RMI connector).
+
+Transport choices, after the Pyro5 5.17 pitfalls (../shared/reference/context-and-transport.md):
+
+- serpent serializer, set on every proxy (arguments must be serpent-serialisable: numbers, strings,
+  lists, dicts, ...; tuples and sets arrive as tuples);
+- an explicit timeout on every proxy (Pyro's default, 0, waits forever); it bounds connecting too;
+- no automatic retries (``MAX_RETRIES`` would re-execute non-idempotent operations): a call whose reply
+  is missing raises :class:`RemoteTimeoutError`, its outcome unknown;
+- one proxy per thread (a Pyro proxy belongs to the thread that made it): proxies live in a
+  ``threading.local``; a dropped connection is re-established on the next call, so calls succeed
+  again once the remote container is back at the same URI (a fixed port and object id).
+
+The server side, :class:`ContainerServer`, exposes one endpoint per container; calls arriving there go
+through the container like local ones (interceptors, events). A remote failure comes back as a
+:class:`RemoteFault` and is raised as :class:`RemoteCallError` naming the remote component and operation.
+"""
+
+from __future__ import annotations
+
+import threading
+from dataclasses import dataclass
+from typing import TYPE_CHECKING, Any
+
+import Pyro5.api
+import Pyro5.errors
+
+from acordcs.runtime.connectors.base import Connection, Connector
+from acordcs.runtime.errors import (
+    ConfigurationError,
+    RemoteCallError,
+    RemoteTimeoutError,
+    RemoteUnreachableError,
+    RuntimeFailure,
+)
+
+if TYPE_CHECKING:
+    from acordcs.runtime.container import Container
+
+
+@dataclass(frozen=True)
+class RemotePort:
+    """A port of a component in another container process, reached at ``uri`` (its container's)."""
+
+    uri: str
+    component: str
+    port: str
+
+    @property
+    def qualified_name(self) -> str:
+        return f"{self.component}.{self.port}@{self.uri}"
+
+
+def endpoint_uri(container_name: str, host: str, port: int) -> str:
+    """The URI a :class:`ContainerServer` publishes: stable for a given name, host and port."""
+    return f"PYRO:acordcs.container.{container_name}@{host}:{port}"
+
+
+class RemoteConnector(Connector):
+    """Calls, notifications and stream items to a :class:`RemotePort` over Pyro5."""
+
+    kind = "remote"
+
+    def __init__(self, *, timeout: float = 5.0) -> None:
+        if not timeout > 0:
+            raise ConfigurationError(f"RemoteConnector timeout must be > 0 seconds, not {timeout}")
+        self.timeout = float(timeout)
+        self._local = threading.local()
+        self._all: list[tuple[threading.Thread, Pyro5.api.Proxy]] = []
+        self._lock = threading.Lock()
+
+    def default_qos(self) -> dict[str, object]:
+        return {"timeout": self.timeout}
+
+    def _proxy(self, uri: str) -> Pyro5.api.Proxy:
+        proxies = getattr(self._local, "proxies", None)
+        if proxies is None:
+            proxies = self._local.proxies = {}
+        proxy = proxies.get(uri)
+        if proxy is None:
+            proxy = Pyro5.api.Proxy(uri)
+            proxy._pyroSerializer = "serpent"
+            proxy._pyroMaxRetries = 0
+            proxy._pyroTimeout = self.timeout
+            proxies[uri] = proxy
+            with self._lock:
+                self._all.append((threading.current_thread(), proxy))
+        return proxy
+
+    def _invoke(self, conn: Connection, target: object, method: str, *args: Any) -> Any:
+        if not isinstance(target, RemotePort):
+            raise RemoteCallError(
+                f"connection {conn.name!r}: the remote connector needs a RemotePort, not {target!r}",
+                hint="use the in-process connector between ports of one container",
+            )
+        proxy = self._proxy(target.uri)
+        timeout = float(conn.qos.get("timeout", self.timeout) or self.timeout)
+        if proxy._pyroTimeout != timeout:
+            proxy._pyroTimeout = timeout
+        where = f"connection {conn.name!r} to {target.qualified_name}"
+        if proxy._pyroConnection is None:
+            try:
+                proxy._pyroBind()
+            except Pyro5.errors.CommunicationError as exc:
+                raise RemoteUnreachableError(
+                    f"cannot reach the remote container at {target.uri}: {exc}",
+                    where=where,
+                    hint="start the remote container (or check its address); the call was not sent",
+                ) from None
+        try:
+            reply = getattr(proxy, method)(target.component, target.port, *args)
+        except RemoteFault as fault:
+            kind, message, hint = fault.args
+            raise RemoteCallError(
+                f"remote {kind}: {message}",
+                where=where,
+                hint=hint or "see the remote container's log",
+            ) from None
+        except Pyro5.errors.CommunicationError as exc:
+            # Pyro already closed the connection (a late reply must not answer the next call); the
+            # next call reconnects.
+            raise RemoteTimeoutError(
+                f"no reply to {f'{args[0]}()' if method == 'call' else 'a delivery'} within {timeout:g} s "
+                f"({type(exc).__name__}: {exc}); it may or may not have run remotely",
+                where=where,
+                hint="retry only if the operation is idempotent; check the remote container",
+            ) from None
+        except Pyro5.errors.PyroError as exc:
+            raise RemoteCallError(
+                f"Pyro5 refused {method}: {exc}",
+                where=where,
+                hint="arguments and results must be serpent-serialisable (numbers, str, lists, dicts)",
+            ) from None
+        conn.stats["sent"] += 1
+        return reply
+
+    def call(
+        self,
+        conn: Connection,
+        target: object,
+        operation: str,
+        args: tuple[Any, ...],
+        kwargs: dict[str, Any],
+    ) -> Any:
+        return self._invoke(conn, target, "call", operation, list(args), kwargs)
+
+    def notify(self, conn: Connection, target: object, message: Any, size: int | None) -> None:
+        self._invoke(conn, target, "deliver", message)
+
+    def stream(self, conn: Connection, target: object, item: Any, size: int | None) -> None:
+        self._invoke(conn, target, "deliver", item)
+
+    def close(self) -> None:
+        with self._lock:
+            proxies, self._all = self._all, []
+        for _thread, proxy in proxies:
+            # Closing another thread's proxy is safe here: that thread no longer uses the connector.
+            proxy._pyroClaimOwnership()
+            proxy._pyroRelease()
+
+
+class RemoteFault(Exception):
+    """A failure on the remote side, carried back over Pyro5: ``args = (type, message, hint)``.
+
+    Results travel bare and failures as this exception (registered with Pyro5's serializer below),
+    because wrapping every reply in an envelope costs a serpent round of its own.
+    """
+
+
+_FAULT_CLASS = f"{RemoteFault.__module__}.{RemoteFault.__qualname__}"
+Pyro5.api.register_dict_to_class(
+    _FAULT_CLASS, lambda _name, data: RemoteFault(*(list(data.get("args", ())) + [None] * 3)[:3])
+)
+
+
+def _fault(exc: BaseException) -> RemoteFault:
+    hint = exc.hint if isinstance(exc, RuntimeFailure) else None
+    return RemoteFault(type(exc).__name__, str(exc), hint)
+
+
+@Pyro5.api.expose
+class ContainerEndpoint:
+    """What a container exposes over Pyro5; failures come back as :class:`RemoteFault`."""
+
+    def __init__(self, container: Container) -> None:
+        self._container = container
+
+    def ping(self) -> str:
+        return self._container.name
+
+    def describe(self) -> dict[str, Any]:
+        return self._container.describe()
+
+    def call(
+        self, component: str, port: str, operation: str, args: list[Any], kwargs: dict[str, Any]
+    ) -> Any:
+        c = self._container
+        try:
+            return c.invoke_port(c.port_of(component, port), operation, tuple(args), kwargs)
+        except Exception as exc:  # including faults in our own code: the worker must survive
+            raise _fault(exc) from None
+
+    def deliver(self, component: str, port: str, message: Any) -> None:
+        try:
+            self._container.port_of(component, port).deliver(message)
+        except Exception as exc:
+            raise _fault(exc) from None
+
+
+class ContainerServer:
+    """Serves a container on ``host:port`` (port 0: any free one) with a Pyro5 daemon thread."""
+
+    def __init__(self, container: Container, *, host: str = "127.0.0.1", port: int = 0) -> None:
+        self.container = container
+        self.daemon = Pyro5.api.Daemon(host=host, port=port)
+        self.host, self.port = host, int(self.daemon.locationStr.rsplit(":", 1)[1])
+        self.uri = str(
+            self.daemon.register(
+                ContainerEndpoint(container), f"acordcs.container.{container.name}"
+            )
+        )
+        self._thread = threading.Thread(
+            target=self.daemon.requestLoop, name=f"acordcs-pyro-{container.name}", daemon=True
+        )
+        self._thread.start()
+
+    def close(self) -> None:
+        self.daemon.shutdown()
+        self._thread.join(timeout=5)
+
+    def __enter__(self) -> ContainerServer:
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self.close()

@@ -1,0 +1,420 @@
+"""The context-aware container (paper, Figure 2): hosts component factories, components, monitors and
+policy sets; intercepts operation calls; turns every state change into an event.
+
+Everything that changes state goes through this API (user code, policy actions, monitors, remote
+calls), so interceptors and monitors see it all. Faults of hosted code (a raising action, monitor,
+interceptor, listener or component) are isolated: recorded in :attr:`Container.faults` with context,
+counted, and the container goes on. Bad calls by the user (unknown names, wrong kinds) raise a
+:class:`~acordcs.runtime.errors.RuntimeFailure` that says what to do.
+
+Removing a factory while instances of its type live (stated behaviour): no new instance of that type
+can be created; the live ones keep running, stay findable and callable, can be replaced, and when
+destroyed their (removed) factory's destroy hook still runs. ``remove_factory(t,
+destroy_instances=True)`` destroys them at once instead.
+"""
+
+from __future__ import annotations
+
+import itertools
+import logging
+import threading
+from collections import Counter
+from collections.abc import Iterator
+from contextlib import contextmanager
+from dataclasses import dataclass
+from typing import TYPE_CHECKING, Any
+
+from acordcs.runtime import events as ev
+from acordcs.runtime.clock import Clock, RealClock, Timer
+from acordcs.runtime.component import ComponentFactory, ComponentRef, CtxComponent
+from acordcs.runtime.dispatch import Dispatcher, Handler
+from acordcs.runtime.errors import (
+    ComponentDestroyedError,
+    ComponentError,
+    ComponentNotFoundError,
+    ConfigurationError,
+    FactoryError,
+    PortError,
+)
+from acordcs.runtime.events import Event, FaultLog
+from acordcs.runtime.interceptors import InterceptorEntry
+from acordcs.runtime.operations import Operations
+from acordcs.runtime.wiring import Wiring
+
+if TYPE_CHECKING:
+    from acordcs.runtime.monitor import Monitor
+    from acordcs.runtime.policy import PolicySet
+
+
+@dataclass(slots=True)
+class Hosted:
+    instance: CtxComponent
+    lineage: int
+    operations: frozenset[str]
+
+
+class Container(Operations, Wiring):
+    """A container. ``clock`` defaults to a :class:`RealClock` the container owns (and closes)."""
+
+    def __init__(
+        self,
+        name: str,
+        *,
+        clock: Clock | None = None,
+        max_cascade_depth: int = 32,
+        max_cascade_events: int = 10_000,
+        properties: dict[str, object] | None = None,
+        logger: logging.Logger | None = None,
+    ) -> None:
+        self.name = name
+        self._owns_clock = clock is None
+        self.clock: Clock = clock if clock is not None else RealClock()
+        self.log = logger or logging.getLogger(f"acordcs.runtime.{name}")
+        self.faults = FaultLog(name, self.log)
+        self.stats: Counter[str] = Counter()
+        self.properties: dict[str, object] = dict(properties or {})
+        self.clock.on_error = self._timer_fault
+        self._dispatch = Dispatcher(
+            self, max_depth=max_cascade_depth, max_events=max_cascade_events
+        )
+        self._lock = threading.RLock()
+        self._lineages = itertools.count(1)
+        self._factories: dict[str, ComponentFactory] = {}
+        self._components: dict[str, Hosted] = {}
+        self._destroyed: dict[int, float] = {}
+        self._interceptors: list[InterceptorEntry] = []
+        self._monitors: dict[str, Monitor] = {}
+        self._policy_sets: dict[str, PolicySet] = {}
+        self._where = f"container {name!r}"
+        Wiring.__init__(self)
+
+    def __repr__(self) -> str:
+        return f"<Container {self.name}: {len(self._components)} components>"
+
+    # -------------------------------------------------------------------------------- faults
+    @contextmanager
+    def guard(self, kind: str, where: str, **context: object) -> Iterator[None]:
+        """Run hosted code; an exception becomes a recorded fault and the caller goes on."""
+        try:
+            yield
+        except Exception as exc:
+            self.faults.record(kind, where, exc, self.clock.now(), **context)
+
+    def _timer_fault(self, timer: Timer, exc: BaseException) -> None:
+        self.faults.record("timer", repr(timer.fn), exc, self.clock.now())
+
+    # ------------------------------------------------------------------------------- events
+    def subscribe(
+        self,
+        kind: str,
+        handler: Handler,
+        *,
+        name: str,
+        element: str | None = None,
+        attribute: str | None = None,
+    ) -> None:
+        """Listen to events of ``kind`` (one of ``events.EVENT_KINDS``, or ``*``)."""
+        if kind != "*" and kind not in ev.EVENT_KINDS:
+            raise ConfigurationError(
+                f"unknown event kind {kind!r}; one of {sorted(ev.EVENT_KINDS)} or '*'"
+            )
+        self._dispatch.subscribe(kind, handler, name=name, element=element, attribute=attribute)
+
+    def unsubscribe(self, name: str) -> None:
+        self._dispatch.unsubscribe(name)
+
+    def emit(self, kind: str, element: str, attribute: str | None = None, **fields: Any) -> None:
+        if not self._dispatch.wants(kind):
+            # Nobody could observe it: count it, skip building and queueing it.
+            self.stats["events"] += 1
+            return
+        data = fields.pop("data", None) or {}
+        event = Event(kind, element, attribute, time=self.clock.now(), data=data, **fields)
+        self._dispatch.emit(event)
+
+    @contextmanager
+    def acting_as(self, origin: str) -> Iterator[None]:
+        """Events emitted inside are attributed to ``origin`` (a policy set applying its actions)."""
+        previous = self._dispatch.origin
+        self._dispatch.origin = origin
+        try:
+            yield
+        finally:
+            self._dispatch.origin = previous
+
+    # ---------------------------------------------------------------------------- factories
+    def install_factory(self, factory: ComponentFactory) -> None:
+        with self._lock:
+            if factory.type_name in self._factories:
+                raise FactoryError(
+                    f"a factory for type {factory.type_name!r} is already installed",
+                    where=self._where,
+                    hint="remove_factory() it first to install a new version",
+                )
+            self._factories[factory.type_name] = factory
+        self.emit(ev.FACTORY_CHANGED, factory.type_name, value="installed")
+
+    def remove_factory(self, type_name: str, *, destroy_instances: bool = False) -> None:
+        """Remove a factory; see the module docstring for what happens to live instances."""
+        with self._lock:
+            factory = self._factory(type_name)
+            if destroy_instances:
+                for name in list(factory.instances):
+                    self.destroy(name)
+            del self._factories[type_name]
+        self.emit(ev.FACTORY_CHANGED, type_name, value="removed")
+
+    def factories(self) -> list[str]:
+        return sorted(self._factories)
+
+    def _factory(self, type_name: str) -> ComponentFactory:
+        try:
+            return self._factories[type_name]
+        except KeyError:
+            raise FactoryError(
+                f"no factory for component type {type_name!r} "
+                f"(installed: {', '.join(sorted(self._factories)) or 'none'})",
+                where=self._where,
+                hint="install_factory(ComponentFactory(type_name, cls)) first",
+            ) from None
+
+    # --------------------------------------------------------------------------- components
+    def create(
+        self,
+        type_name: str,
+        name: str,
+        *,
+        properties: dict[str, object] | None = None,
+        **config: Any,
+    ) -> ComponentRef:
+        """Create a component of an installed type; ``config`` goes to the factory."""
+        with self._lock:
+            factory = self._factory(type_name)
+            if name in self._components:
+                raise FactoryError(
+                    f"a component named {name!r} already exists",
+                    where=self._where,
+                    hint="destroy it, replace it, or pick another name",
+                )
+            instance = self._build(factory, name, properties, config)
+            hosted = Hosted(instance, next(self._lineages), instance.operation_names())
+            self._components[name] = hosted
+            factory.adopt(instance)
+            self._start(instance)
+        self.emit(ev.COMPONENT_CREATED, name, value=type_name)
+        return ComponentRef(self, name, hosted.lineage)
+
+    def _build(
+        self,
+        factory: ComponentFactory,
+        name: str,
+        properties: dict[str, object] | None,
+        config: dict[str, Any],
+    ) -> CtxComponent:
+        try:
+            instance = factory.create(**config)
+        except FactoryError:
+            raise
+        except Exception as exc:
+            self.faults.record("component", name, exc, self.clock.now(), phase="create")
+            raise ComponentError(
+                f"factory {factory.type_name!r} failed to create {name!r}: {type(exc).__name__}: {exc}",
+                where=self._where,
+                hint="check the configuration passed to create()",
+            ) from exc
+        instance._attach(name, self, factory)
+        for key, value in (properties or {}).items():
+            if key not in instance.props:
+                raise self._no_attribute(name, key, instance.props)
+            instance.props[key] = value
+        return instance
+
+    def _start(self, instance: CtxComponent) -> None:
+        with self.guard("component", instance.name, phase="on_start"):
+            instance.on_start()
+        for port in instance.port_map.values():
+            port.restart_stream()
+
+    def _stop(self, instance: CtxComponent) -> None:
+        for port in instance.port_map.values():
+            port.stop()
+        with self.guard("component", instance.name, phase="on_stop"):
+            instance.on_stop()
+
+    def destroy(self, name: str) -> None:
+        with self._lock:
+            hosted = self._hosted(name)
+            instance = hosted.instance
+            self._stop(instance)
+            self._drop_connections_of(instance)
+            instance.alive = False
+            del self._components[name]
+            self._destroyed[hosted.lineage] = self.clock.now()
+            with self.guard("component", name, phase="factory destroy"):
+                instance.factory.destroy(instance)
+        self.emit(ev.COMPONENT_DESTROYED, name, value=instance.factory.type_name)
+
+    def replace(self, name: str, type_name: str, **config: Any) -> ComponentRef:
+        """Replace a component by a new one of ``type_name``, keeping its name, state and connections.
+
+        The new type must have every port the old one has connected (same name and kind). Handles on
+        the old component follow the new one.
+        """
+        with self._lock:
+            hosted = self._hosted(name)
+            old = hosted.instance
+            factory = self._factory(type_name)
+            specs = {s.name: s for s in factory.cls.ports}
+            for port in old.port_map.values():
+                if port.connections and (
+                    port.name not in specs or specs[port.name].kind != port.kind
+                ):
+                    raise PortError(
+                        f"cannot replace {name!r} by a {type_name!r}: connected port "
+                        f"{port.name!r} ({port.kind}) has no counterpart",
+                        where=self._where,
+                        hint=f"give {factory.cls.__name__} a {port.kind} port named {port.name!r}",
+                    )
+            state = old.save_state()
+            new = self._build(factory, name, None, config)
+            new.restore_state(state)
+            self._stop(old)
+            for port in old.port_map.values():
+                for conn in port.connections:
+                    conn.replace_end(port, new.port_map[port.name])
+                new.port_map[port.name].connections = port.connections
+                new.port_map[port.name].properties.update(port.properties)
+                port.connections = []
+            old.alive = False
+            with self.guard("component", name, phase="factory destroy"):
+                old.factory.destroy(old)
+            hosted.instance = new
+            hosted.operations = new.operation_names()
+            factory.adopt(new)
+            self._start(new)
+        self.emit(ev.COMPONENT_REPLACED, name, value=type_name, old=old.factory.type_name)
+        return ComponentRef(self, name, hosted.lineage)
+
+    def find(self, name: str) -> ComponentRef:
+        hosted = self._hosted(name)
+        return ComponentRef(self, name, hosted.lineage)
+
+    def find_by_type(self, type_name: str) -> list[ComponentRef]:
+        return [
+            ComponentRef(self, n, h.lineage)
+            for n, h in sorted(self._components.items())
+            if h.instance.factory.type_name == type_name
+        ]
+
+    def components(self) -> list[ComponentRef]:
+        return [ComponentRef(self, n, h.lineage) for n, h in sorted(self._components.items())]
+
+    def _hosted(self, name: str, lineage: int | None = None) -> Hosted:
+        hosted = self._components.get(name)
+        if lineage is not None and (hosted is None or hosted.lineage != lineage):
+            when = self._destroyed.get(lineage)
+            raise ComponentDestroyedError(
+                f"component {name!r} was destroyed"
+                + (f" at t={when:.6f}" if when is not None else ""),
+                where=self._where,
+                hint="drop this handle; find() or create() a component again",
+            )
+        if hosted is None:
+            raise ComponentNotFoundError(
+                f"no component named {name!r} (components: {', '.join(sorted(self._components)) or 'none'})",
+                where=self._where,
+                hint="create() it first, or check the name",
+            )
+        return hosted
+
+    # ------------------------------------------------------------------------------ monitors
+    def add_monitor(self, monitor: Monitor) -> None:
+        with self._lock:
+            if monitor.name in self._monitors or monitor.name in self._components:
+                raise FactoryError(
+                    f"an element named {monitor.name!r} already exists", where=self._where
+                )
+            self._monitors[monitor.name] = monitor
+
+            def feed(event: Event, m: Monitor = monitor) -> None:
+                with self.guard("monitor", m.name, event=f"{event.kind} {event.element}"):
+                    m.on_event(event)
+
+            for source in monitor.sources:
+                for kind in (ev.OPERATION_CALLED, ev.PROPERTY_CHANGED):
+                    self._dispatch.subscribe(
+                        kind, feed, name=f"monitor:{monitor.name}", element=source
+                    )
+            monitor._start(self)
+
+    def remove_monitor(self, name: str) -> None:
+        monitor = self._monitors.pop(name, None)
+        if monitor is None:
+            raise ComponentNotFoundError(f"no monitor named {name!r}", where=self._where)
+        self._dispatch.unsubscribe(f"monitor:{name}")
+        monitor._stop()
+
+    def monitors(self) -> list[str]:
+        return sorted(self._monitors)
+
+    def monitor_update(self, monitor: Monitor, values: dict[str, object]) -> None:
+        monitor.attributes.update(values)
+        self.emit(ev.MONITOR_UPDATED, monitor.name, data=dict(values))
+
+    # --------------------------------------------------------------------------- policy sets
+    def add_policy_set(self, policy_set: PolicySet) -> None:
+        """Bind a policy set to this container (rules to an engine, variables to attributes)."""
+        with self._lock:
+            if policy_set.name in self._policy_sets:
+                raise FactoryError(
+                    f"a policy set named {policy_set.name!r} already exists", where=self._where
+                )
+            policy_set.attach(self)
+            self._policy_sets[policy_set.name] = policy_set
+
+    def remove_policy_set(self, name: str) -> None:
+        policy_set = self._policy_sets.pop(name, None)
+        if policy_set is None:
+            raise ComponentNotFoundError(f"no policy set named {name!r}", where=self._where)
+        policy_set.detach()
+
+    def policy_set(self, name: str) -> PolicySet:
+        try:
+            return self._policy_sets[name]
+        except KeyError:
+            raise ComponentNotFoundError(
+                f"no policy set named {name!r}", where=self._where
+            ) from None
+
+    # ----------------------------------------------------------------------------- lifecycle
+    def describe(self) -> dict[str, Any]:
+        """Components, their types and ports, as plain data (also served to remote containers)."""
+        return {
+            "container": self.name,
+            "factories": self.factories(),
+            "components": {
+                n: {
+                    "type": h.instance.factory.type_name,
+                    "ports": {p.name: [p.kind, p.role] for p in h.instance.port_map.values()},
+                }
+                for n, h in sorted(self._components.items())
+            },
+        }
+
+    def close(self) -> None:
+        """Stop monitors and policy sets, destroy components, close connectors (and an owned clock)."""
+        for name in list(self._policy_sets):
+            self.remove_policy_set(name)
+        for name in list(self._monitors):
+            self.remove_monitor(name)
+        for name in list(self._components):
+            self.destroy(name)
+        self.close_connectors()
+        if self._owns_clock:
+            self.clock.close()
+
+    def __enter__(self) -> Container:
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self.close()

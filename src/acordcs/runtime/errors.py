@@ -1,0 +1,84 @@
+"""Errors the runtime raises to its callers: each says what went wrong, where, and what to do.
+
+They are :class:`~acordcs.errors.AcordError` s, so the CLI shows them without a traceback; the location is
+the container (``container 'robot'``) instead of an input file.
+"""
+
+from __future__ import annotations
+
+from acordcs.errors import AcordError
+
+
+class RuntimeFailure(AcordError):
+    """Base of every runtime error. ``where`` names the container (or connector) it happened in."""
+
+    def __init__(self, message: str, *, where: str | None = None, hint: str | None = None) -> None:
+        super().__init__(message, element=None, hint=hint)
+        self.where = where
+
+    def location(self) -> str:
+        return self.where or "runtime"
+
+
+class ConfigurationError(RuntimeFailure, ValueError):
+    """A setting out of its domain: a period or timeout <= 0, a periodic policy set without
+    frequency, an attribute default that is not of its type. Also a ValueError."""
+
+
+class FactoryError(RuntimeFailure):
+    """A component type that is not installed, installed twice, or a factory that cannot build."""
+
+
+class ComponentNotFoundError(RuntimeFailure):
+    """No component (or element) of that name in the container."""
+
+
+class ComponentDestroyedError(RuntimeFailure):
+    """A call through a handle whose component was destroyed."""
+
+
+class ComponentError(RuntimeFailure):
+    """A component's operation raised; the original exception is ``__cause__``."""
+
+
+class CallVetoed(RuntimeFailure):
+    """Raised on purpose by an interceptor (security, admission) to refuse a call; reaches the caller.
+
+    Any other exception from an interceptor is a fault: it is isolated and the call goes on.
+    """
+
+
+class PortError(RuntimeFailure):
+    """Unknown port, a port of the wrong kind or role, or a port that is not connected."""
+
+
+class QueueFullError(PortError):
+    """An asynchronous port whose bounded queue is full, with the ``reject`` overflow policy."""
+
+
+class ConnectorError(RuntimeFailure):
+    """A connector could not deliver: message lost on a shaped link, call timed out in simulated time."""
+
+
+class RemoteCallError(ConnectorError):
+    """A remote (Pyro5) call that failed in transport or whose remote component raised."""
+
+
+class RemoteTimeoutError(RemoteCallError):
+    """No reply within the connector's timeout, or the connection dropped mid-call.
+
+    The outcome is unknown: the remote operation may or may not have run. It is never retried
+    automatically, because operations need not be idempotent.
+    """
+
+
+class RemoteUnreachableError(RemoteCallError):
+    """The remote container could not be reached: the call was not sent."""
+
+
+class EngineNotAvailableError(RuntimeFailure):
+    """A policy set names an engine kind no constructor is registered for."""
+
+
+class BindingError(RuntimeFailure):
+    """A rule variable or operation that matches no element attribute (or more than one)."""

@@ -1,0 +1,294 @@
+"""The fuzzy rule engine behind the paper's four calls: ``defrule``, ``set``, ``fire``, ``get``.
+
+Variables are declared first (:meth:`FuzzyEngine.define_variable`, or from a model or an FCL file);
+they are shared by all rule sets of the engine, so one rule set's output can be another's input.
+Values:
+
+- ``set`` rejects NaN and infinities with :class:`RuleError` (the variable keeps its value) and
+  clamps a value outside the variable's range into it, logging a warning once per variable;
+- ``fire`` never raises for data: an output for which no rule fired takes its DEFAULT (or keeps its
+  value, see :class:`~acordcs.runtime.fuzzy.variable.Variable`); :meth:`FuzzyEngine.defaulted`
+  says which outputs did so in the last fire of a rule set.
+"""
+
+from __future__ import annotations
+
+import logging
+import math
+import re
+from collections.abc import Mapping
+
+import numpy as np
+
+from acordcs.metamodel.rules import Rule, RuleSyntaxError, parse_rule
+from acordcs.runtime.engine import RuleError
+from acordcs.runtime.fuzzy.compiler import (
+    CompiledRuleSet,
+    RuleEntry,
+    compile_ruleset,
+    output_plan,
+    resolve_name,
+    resolve_rule,
+    unknown_variable_message,
+)
+from acordcs.runtime.fuzzy.semantics import Semantics, resolve
+from acordcs.runtime.fuzzy.variable import TermsSpec, Variable, build_variable
+
+log = logging.getLogger("acordcs.runtime.fuzzy")
+_LABEL = re.compile(r"\s*([A-Za-z_][A-Za-z0-9_]*)\s*:(?!=)")
+
+
+class FuzzyEngine:
+    """A fuzzy rule engine implementing :class:`acordcs.runtime.engine.RuleEngine`.
+
+    ``semantics``: ``"mamdani"`` (default), ``"sazonov"``, ``"fcl"`` or a :class:`Semantics`; it is
+    the default for rule sets created by ``defrule``; :meth:`define_ruleset` chooses per rule set.
+    """
+
+    def __init__(self, semantics: str | Semantics = "mamdani", *, name: str | None = None) -> None:
+        self.semantics = resolve(semantics)
+        self.name = name
+        self._vars: dict[str, Variable] = {}
+        self._values: dict[str, float | None] = {}
+        self._alias: dict[str, str] = {}
+        self._sets: dict[str, dict[str, RuleEntry]] = {}
+        self._set_semantics: dict[str, Semantics] = {}
+        self._compiled: dict[str, CompiledRuleSet] = {}
+        self._defaulted: dict[str, tuple[str, ...]] = {}
+        self._warned: set[str] = set()
+
+    # ------------------------------------------------------------------------------ declaring
+    def define_variable(
+        self,
+        name: str,
+        lo: float,
+        hi: float,
+        terms: TermsSpec = None,
+        *,
+        default: float | None = None,
+        keep_last: bool = False,
+        method: str | None = None,
+        initial: float | None = None,
+    ) -> Variable:
+        """Declare (or redeclare) a linguistic variable.
+
+        ``terms``: FCL-style text (``"slow := trape 0 0 40 80; fast := trian 60 200 200"``), a list of
+        :class:`~acordcs.metamodel.rules.TermDef`, or a mapping of names to Memberships. Redeclaring
+        a variable re-checks every rule that uses it; nothing changes if one no longer fits.
+        """
+        var = build_variable(
+            name,
+            lo,
+            hi,
+            terms,
+            default=default,
+            keep_last=keep_last,
+            method=method,
+            initial=initial,
+        )
+        if name in self._vars:
+            trial = dict(self._vars)
+            trial[name] = var
+            for ruleset, entries in self._sets.items():
+                sem = self.semantics_of(ruleset)
+                for entry in entries.values():
+                    resolve_rule(
+                        entry.rule, entry.label, ruleset, trial, file=entry.file, line=entry.line
+                    )
+                    if name in (v for v, _ in entry.consequents):
+                        output_plan(ruleset, var, sem)
+        self._vars[name] = var
+        current = self._values.get(name)
+        if current is not None:
+            current = min(max(current, var.lo), var.hi)
+        self._values[name] = current if current is not None else var.initial
+        self._alias.clear()
+        self._compiled.clear()
+        return var
+
+    def define_ruleset(self, ruleset: str, semantics: str | Semantics | None = None) -> None:
+        """Create an empty rule set (or change its semantics); ``defrule`` creates one on demand."""
+        sem = resolve(semantics) if semantics is not None else self.semantics
+        self._sets.setdefault(ruleset, {})
+        self._set_semantics[ruleset] = sem
+        for entry in self._sets[ruleset].values():
+            for var, _ in entry.consequents:
+                output_plan(ruleset, self._vars[var], sem)
+        self._compiled.pop(ruleset, None)
+
+    # ------------------------------------------------------------------------------ the four calls
+    def defrule(self, rule: str, ruleset: str) -> str:
+        """Add ``rule`` (the paper's syntax) to ``ruleset``, or replace the rule with its label.
+
+        An unlabelled rule gets ``rule<n>``, n being its 1-based position in the set (the first free
+        such label): stable across runs that define the same rules in the same order.
+        """
+        if not isinstance(rule, str):
+            raise RuleError(f"a rule is text, got {type(rule).__name__}", ruleset=ruleset)
+        try:
+            parsed = parse_rule(rule.strip(), "fuzzy")
+        except RuleSyntaxError as exc:
+            m = _LABEL.match(rule)
+            label = m.group(1) if m else f"#{len(self._sets.get(ruleset, {})) + 1}"
+            raise RuleError(exc.message, ruleset=ruleset, rule=label, column=exc.column) from None
+        return self.add_rule(parsed, ruleset)
+
+    def add_rule(
+        self, rule: Rule, ruleset: str, *, file: str | None = None, line: int | None = None
+    ) -> str:
+        """Add an already parsed rule (an FCL reader uses this); same contract as :meth:`defrule`."""
+        entries = self._sets.get(ruleset, {})
+        label = rule.label or self._free_label(entries)
+        entry = resolve_rule(rule, label, ruleset, self._vars, file=file, line=line)
+        sem = self._set_semantics.get(ruleset, self.semantics)
+        for var, _ in entry.consequents:
+            try:
+                output_plan(ruleset, self._vars[var], sem)
+            except RuleError as exc:
+                raise RuleError(
+                    exc.message, ruleset=ruleset, rule=label, file=file, line=line
+                ) from None
+        self._sets.setdefault(ruleset, {})[label] = entry
+        self._set_semantics.setdefault(ruleset, sem)
+        self._compiled.pop(ruleset, None)
+        return label
+
+    def remove_rule(self, label: str, ruleset: str) -> None:
+        """Remove a rule by label (RuleError if there is none)."""
+        entries = self._sets.get(ruleset)
+        if not entries or label not in entries:
+            raise RuleError(f"no rule {label!r} in rule set {ruleset!r}", ruleset=ruleset)
+        del entries[label]
+        self._compiled.pop(ruleset, None)
+
+    def set(self, variable: str, value: object) -> None:
+        """Give a variable a value (NaN/inf: RuleError; outside the range: clamped, warned once)."""
+        name = self._alias.get(variable) or self._canonical(variable)
+        try:
+            x = float(value)  # type: ignore[arg-type]
+        except (TypeError, ValueError):
+            raise RuleError(f"value for {variable!r} must be a number, got {value!r}") from None
+        var = self._vars[name]
+        if not var.lo <= x <= var.hi:
+            if not math.isfinite(x):
+                raise RuleError(
+                    f"value {x!r} for {variable!r} is not a finite number; "
+                    f"the variable keeps {self._values[name]!r}. Check the sensor or monitor feeding it"
+                )
+            self._warn_clamp(name, x)
+            x = var.lo if x < var.lo else var.hi
+        self._values[name] = x
+
+    def fire(self, ruleset: str) -> None:
+        """Fire the rules of ``ruleset`` on the current values; outputs get new values."""
+        compiled = self._compiled.get(ruleset) or self._compile(ruleset)
+        self._defaulted[ruleset] = compiled.run(self._values)
+
+    def get(self, variable: str) -> float:
+        """The current value of a variable (RuleError if it never had one)."""
+        name = self._alias.get(variable) or self._canonical(variable)
+        value = self._values[name]
+        if value is None:
+            raise RuleError(
+                f"variable {variable!r} has no value yet; set it, or fire a rule set that concludes it"
+            )
+        return value
+
+    # ------------------------------------------------------------------------------ more
+    def batch(self, ruleset: str, inputs: Mapping[str, object]) -> dict[str, np.ndarray]:
+        """Evaluate ``ruleset`` on many input vectors at once; the engine's values do not change.
+
+        ``inputs`` maps variable names to equal-length arrays (a scalar is broadcast; an input not
+        given uses its current value; a declared variable that is not an input is ignored). Returns one array per output, equal to what ``set``/``fire``/
+        ``get`` would give row by row. NaN/inf raise RuleError naming the first bad row.
+        """
+        from acordcs.runtime.fuzzy.batch import run_batch
+
+        compiled = self._compiled.get(ruleset) or self._compile(ruleset)
+        columns: dict[str, object] = {}
+        for written, column in inputs.items():
+            name = self._canonical(written)
+            columns[name] = column
+        return run_batch(compiled, columns, self._values, self._warn_clamp)
+
+    def defaulted(self, ruleset: str) -> tuple[str, ...]:
+        """Outputs that took their DEFAULT (no rule fired for them) in the last fire of ``ruleset``."""
+        return self._defaulted.get(ruleset, ())
+
+    @property
+    def variables(self) -> dict[str, Variable]:
+        return dict(self._vars)
+
+    def rulesets(self) -> list[str]:
+        return list(self._sets)
+
+    def rules(self, ruleset: str) -> list[RuleEntry]:
+        """The rules of a rule set, in definition order."""
+        if ruleset not in self._sets:
+            raise RuleError(
+                f"no rule set {ruleset!r} (rule sets: {', '.join(self._sets) or 'none'})"
+            )
+        return list(self._sets[ruleset].values())
+
+    def semantics_of(self, ruleset: str) -> Semantics:
+        return self._set_semantics.get(ruleset, self.semantics)
+
+    def to_fcl(self) -> str:
+        """This engine as one FCL FUNCTION_BLOCK (see :mod:`acordcs.runtime.fuzzy.fcl`)."""
+        from acordcs.runtime.fuzzy.fcl import write_fcl
+
+        return write_fcl(self)
+
+    @classmethod
+    def from_fcl(cls, text: str, *, filename: str | None = None) -> FuzzyEngine:
+        """The engine of an FCL text with exactly one FUNCTION_BLOCK."""
+        from acordcs.runtime.fuzzy.fcl import read_fcl
+
+        blocks = read_fcl(text, filename=filename)
+        if len(blocks) != 1:
+            raise RuleError(
+                f"{len(blocks)} function blocks in {filename or 'the FCL text'}; use read_fcl() for several",
+                file=filename,
+            )
+        return next(iter(blocks.values()))
+
+    # ------------------------------------------------------------------------------ internals
+    def _canonical(self, written: str) -> str:
+        found = resolve_name(self._vars, written)
+        if isinstance(found, list):
+            if len(found) != 1:
+                raise RuleError(unknown_variable_message(self._vars, written, found))
+            found = found[0]
+        self._alias[written] = found
+        return found
+
+    def _compile(self, ruleset: str) -> CompiledRuleSet:
+        entries = self._sets.get(ruleset)
+        if entries is None:
+            raise RuleError(
+                f"no rule set {ruleset!r} (rule sets: {', '.join(self._sets) or 'none'}); defrule first",
+                ruleset=ruleset,
+            )
+        compiled = compile_ruleset(
+            ruleset, list(entries.values()), self._vars, self.semantics_of(ruleset)
+        )
+        self._compiled[ruleset] = compiled
+        return compiled
+
+    def _warn_clamp(self, name: str, x: float) -> None:
+        if name in self._warned:
+            return
+        self._warned.add(name)
+        var = self._vars[name]
+        log.warning(
+            "value %s for %r is outside its range %s; clamped into it (said once per variable)",
+            x,
+            name,
+            var.describe_range(),
+        )
+
+    def _free_label(self, entries: Mapping[str, RuleEntry]) -> str:
+        n = len(entries) + 1
+        while f"rule{n}" in entries:
+            n += 1
+        return f"rule{n}"

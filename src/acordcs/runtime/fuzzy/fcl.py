@@ -1,0 +1,342 @@
+"""FCL (IEC 61131-7) reader and writer, following jFuzzyLogic where the standard leaves room.
+
+:func:`read_fcl` gives one :class:`FuzzyEngine` per FUNCTION_BLOCK (keyed by block name); each
+RULEBLOCK becomes a rule set of that engine with its own operators. Conditions are parsed into the
+same tree classes as the paper's syntax (``acordcs.metamodel.rules``), so both run through one
+inference code path. :func:`write_fcl` writes an engine back; reading that text gives an engine with
+the same variables, terms, operators, rules and results.
+
+Defaults when a block leaves them out (jFuzzyLogic's): AND MIN (OR MAX), ACT MIN, ACCU SUM,
+METHOD COG; no DEFAULT keeps the output's last value (like NC). Deviations are listed in
+docs/engines-fuzzy.md.
+"""
+
+from __future__ import annotations
+
+import re
+from functools import cache
+from importlib import resources
+from pathlib import Path
+
+from lark import Lark, Token, Tree
+from lark.exceptions import UnexpectedCharacters, UnexpectedInput, UnexpectedToken
+
+from acordcs.metamodel.rules import BoolOp, Consequent, Is, Name, Not, Rule
+from acordcs.runtime.engine import RuleError
+from acordcs.runtime.fuzzy.engine import FuzzyEngine
+from acordcs.runtime.fuzzy.fcl_writer import format_condition, format_rule, write_fcl
+from acordcs.runtime.fuzzy.membership import make_membership
+from acordcs.runtime.fuzzy.semantics import (
+    ACCU_OPS,
+    ACT_OPS,
+    AND_OPS,
+    FCL_DEFAULTS,
+    METHODS,
+    OR_OPS,
+)
+
+__all__ = ["format_condition", "format_rule", "read_fcl", "write_fcl"]
+
+_SHAPES = {
+    "trian": "triangle",
+    "trape": "trapezoid",
+    "gauss": "gaussian",
+    "gbell": "bell",
+    "sigm": "sigmoid",
+}
+_UNSUPPORTED = ("singletons", "cosine", "dsigm", "gauss2", "function")
+
+
+@cache
+def _parser() -> Lark:
+    grammar = resources.files(__package__).joinpath("fcl.lark").read_text(encoding="utf-8")
+    return Lark(grammar, parser="lalr", propagate_positions=True, cache=True)
+
+
+def read_fcl(source: str | Path, *, filename: str | None = None) -> dict[str, FuzzyEngine]:
+    """Read FCL text (or a file path) into engines, one per FUNCTION_BLOCK, keyed by block name
+    (``block<n>`` for an unnamed block). Errors are RuleError with file:line:column."""
+    if isinstance(source, Path):
+        filename = filename or str(source)
+        try:
+            source = source.read_text(encoding="utf-8")
+        except OSError as exc:
+            raise RuleError(f"cannot read FCL file: {exc.strerror}", file=filename) from None
+    try:
+        tree = _parser().parse(source)
+    except UnexpectedInput as err:
+        raise _syntax_error(err, source, filename) from None
+    out: dict[str, FuzzyEngine] = {}
+    for n, block in enumerate(tree.children, start=1):
+        engine = _Block(block, filename).build()
+        key = engine.name or f"block{n}"
+        if key in out:
+            raise RuleError(
+                f"two FUNCTION_BLOCKs are named {key!r}; give each its own name", file=filename
+            )
+        out[key] = engine
+    return out
+
+
+def _syntax_error(err: UnexpectedInput, text: str, filename: str | None) -> RuleError:
+    line, column = getattr(err, "line", None), getattr(err, "column", None)
+    if isinstance(err, UnexpectedToken):
+        found = "end of file" if err.token.type == "$END" else repr(str(err.token))
+        expected = sorted(err.expected)
+        ends = [e for e in expected if e.startswith("END_")]
+        if ends:
+            pos = err.token.start_pos if err.token.start_pos is not None else len(text)
+            # LALR merges states, so several END_s may be expected: the latest opened block wins
+            openers = {
+                e: [m.start() for m in re.finditer(rf"(?i)\b{e[4:]}\b", text[:pos])] for e in ends
+            }
+            end = max(ends, key=lambda e: openers[e][-1] if openers[e] else -1)
+            opener, opened = end[4:], openers[end]
+            where = f" (opened at line {text.count(chr(10), 0, opened[-1]) + 1})" if opened else ""
+            msg = f"missing {end}: the {opener} block{where} is not closed before {found}"
+            if err.token.type == "$END":
+                line, column = text.count("\n") + 1, None
+            return RuleError(msg + f"; add {end}", file=filename, line=line, column=column)
+        words = ", ".join(e.lower() if e.isupper() and len(e) > 2 else e for e in expected[:8])
+        return RuleError(
+            f"unexpected {found}; expected one of: {words}", file=filename, line=line, column=column
+        )
+    if isinstance(err, UnexpectedCharacters):
+        ch = text[err.pos_in_stream] if err.pos_in_stream < len(text) else "end of file"
+        return RuleError(f"unexpected character {ch!r}", file=filename, line=line, column=column)
+    return RuleError("FCL syntax error", file=filename, line=line, column=column)
+
+
+class _Block:
+    """One FUNCTION_BLOCK: collects declarations, then builds the engine."""
+
+    def __init__(self, tree: Tree, filename: str | None) -> None:
+        self.tree, self.file = tree, filename
+        self.inputs: dict[str, tuple | None] = {}
+        self.outputs: dict[str, tuple | None] = {}
+        self.fuzz: dict[str, dict] = {}
+
+    def error(self, msg: str, tok: Token | Tree | None) -> RuleError:
+        line = (
+            getattr(tok, "line", None)
+            if isinstance(tok, Token)
+            else getattr(getattr(tok, "meta", None), "line", None)
+        )
+        col = (
+            getattr(tok, "column", None)
+            if isinstance(tok, Token)
+            else getattr(getattr(tok, "meta", None), "column", None)
+        )
+        return RuleError(msg, file=self.file, line=line, column=col)
+
+    def build(self) -> FuzzyEngine:
+        kids = self.tree.children
+        name = (
+            str(kids[1])
+            if len(kids) > 1 and isinstance(kids[1], Token) and kids[1].type == "NAME"
+            else None
+        )
+        engine = FuzzyEngine(FCL_DEFAULTS, name=name)
+        items = [k for k in kids if isinstance(k, Tree)]
+        for item in items:
+            if item.data in ("var_input", "var_output"):
+                self._declare(item)
+        for item in items:
+            if item.data in ("fuzzify", "defuzzify"):
+                self._terms(item)
+        for var in (*self.inputs, *self.outputs):
+            self._define(engine, var)
+        for item in items:
+            if item.data == "ruleblock":
+                self._ruleblock(engine, item)
+        return engine
+
+    def _declare(self, item: Tree) -> None:
+        target = self.inputs if item.data == "var_input" else self.outputs
+        for d in item.find_data("var_def"):
+            name, vtype = d.children[0], d.children[1]
+            if str(vtype).upper() != "REAL":
+                raise self.error(
+                    f"variable {name!s} has type {vtype!s}; fuzzy variables are REAL", vtype
+                )
+            if name in self.inputs or name in self.outputs:
+                raise self.error(f"variable {name!s} is declared twice", name)
+            target[str(name)] = (
+                self._range(d.children[2]) if len(d.children) > 2 and d.children[2] else None
+            )
+
+    def _range(self, node: Tree) -> tuple[float, float, Tree]:
+        nums = [float(t) for t in node.children if isinstance(t, Token) and t.type == "NUMBER"]
+        return nums[0], nums[1], node
+
+    def _terms(self, item: Tree) -> None:
+        keyword, var = item.children[0], str(item.children[1])
+        declared = self.inputs if item.data == "fuzzify" else self.outputs
+        if var not in declared:
+            kind = "VAR_INPUT" if item.data == "fuzzify" else "VAR_OUTPUT"
+            raise self.error(
+                f"{keyword!s} {var}: {var} is not declared in {kind}; declare it there",
+                item.children[1],
+            )
+        info = self.fuzz.setdefault(
+            var, {"terms": {}, "range": None, "method": None, "default": None, "nc": False}
+        )
+        for node in item.children[2:]:
+            if not isinstance(node, Tree):
+                continue
+            if node.data == "term":
+                tname = str(node.children[1])
+                if tname in info["terms"]:
+                    raise self.error(f"term {tname} of {var} is defined twice", node.children[1])
+                info["terms"][tname] = self._mf(var, tname, node.children[2])
+            elif node.data == "range":
+                info["range"] = self._range(node)
+            elif node.data == "method":
+                value = node.children[1]
+                if str(value).upper() not in METHODS:
+                    raise self.error(
+                        f"unknown METHOD {value!s} for {var}; use one of {', '.join(METHODS)}",
+                        value,
+                    )
+                info["method"] = str(value).upper()
+            elif node.data == "default":
+                value = node.children[1]
+                if value.type == "NUMBER":
+                    info["default"] = float(value)
+                elif str(value).upper() == "NC":
+                    info["nc"] = True
+                else:
+                    raise self.error(f"DEFAULT must be a number or NC, got {value!s}", value)
+
+    def _mf(self, var: str, term: str, node: Tree):
+        where = f"{self.file or '<fcl>'}:{node.meta.line}: variable {var!r}, term {term!r}"
+        nums: list[float] = []
+        for child in node.children:
+            if isinstance(child, Tree):  # a point
+                nums.extend(float(t) for t in child.children)
+            elif child.type == "NUMBER":
+                nums.append(float(child))
+        if node.data == "mf_points":
+            shape = "points"
+        elif node.data == "mf_singleton":
+            shape = "singleton"
+        else:
+            word = str(node.children[0]).lower()
+            if word in _UNSUPPORTED:
+                raise self.error(
+                    f"membership function {node.children[0]!s} is not supported; "
+                    "use trian, trape, gauss, gbell, sigm, a point list or a singleton",
+                    node.children[0],
+                )
+            if word not in _SHAPES:
+                raise self.error(
+                    f"unknown membership function {node.children[0]!s}", node.children[0]
+                )
+            shape = _SHAPES[word]
+        try:
+            return make_membership(shape, nums, where=where)
+        except RuleError as exc:
+            raise RuleError(
+                exc.message, file=self.file, line=node.meta.line, column=node.meta.column
+            ) from None
+
+    def _define(self, engine: FuzzyEngine, var: str) -> None:
+        info = self.fuzz.get(var)
+        is_out = var in self.outputs
+        if is_out and info is None:
+            raise RuleError(
+                f"output {var} has no DEFUZZIFY block; add one with its terms", file=self.file
+            )
+        info = info or {"terms": {}, "range": None, "method": None, "default": None, "nc": False}
+        rng = info["range"] or (self.outputs if is_out else self.inputs).get(var)
+        if rng is None:
+            extents = [mf.extent() for mf in info["terms"].values()]
+            if not extents:
+                raise RuleError(
+                    f"variable {var} has no terms and no RANGE; give it one", file=self.file
+                )
+            lo, hi = min(a for a, _ in extents), max(b for _, b in extents)
+        else:
+            lo, hi = rng[0], rng[1]
+        try:
+            engine.define_variable(
+                var,
+                lo,
+                hi,
+                info["terms"],
+                default=info["default"],
+                keep_last=info["nc"],
+                method=info["method"],
+            )
+        except RuleError as exc:
+            node = rng[2] if rng else None
+            raise RuleError(
+                exc.message, file=self.file, line=node.meta.line if node else None, column=None
+            ) from None
+
+    def _ruleblock(self, engine: FuzzyEngine, node: Tree) -> None:
+        name = str(node.children[1])
+        ops: dict[str, str] = {}
+        samples = None
+        rules = []
+        for item in node.children[2:]:
+            if isinstance(item, Token) and item.type == "PRAGMA":
+                m = re.search(r"samples\s*=\s*(\d+)", str(item))
+                if not m:
+                    raise self.error(
+                        "unknown acordcs pragma; the only one is (*@acordcs samples=N *)", item
+                    )
+                samples = int(m.group(1))
+            elif isinstance(item, Tree) and item.data == "operator":
+                key, value = str(item.children[0]).upper(), item.children[1]
+                allowed = {"AND": tuple(AND_OPS), "OR": OR_OPS, "ACT": ACT_OPS, "ACCU": ACCU_OPS}[
+                    key
+                ]
+                if str(value).upper() not in allowed:
+                    raise self.error(
+                        f"unknown {key} operator {value!s} in RULEBLOCK {name}; use one of {', '.join(allowed)}",
+                        value,
+                    )
+                ops[key] = str(value).upper()
+            elif isinstance(item, Tree) and item.data == "rule":
+                rules.append(item)
+        and_ = ops.get("AND", FCL_DEFAULTS.and_)
+        sem = FCL_DEFAULTS.with_(
+            and_=and_,
+            or_=ops.get("OR", AND_OPS[and_]),
+            act=ops.get("ACT", FCL_DEFAULTS.act),
+            accu=ops.get("ACCU", FCL_DEFAULTS.accu),
+            samples=samples,
+        )
+        engine.define_ruleset(name, sem)
+        for item in rules:
+            rule = self._rule(item)
+            engine.add_rule(rule, name, file=self.file, line=item.meta.line)
+
+    def _rule(self, node: Tree) -> Rule:
+        label = str(node.children[1])
+        cond = _condition(node.children[3])
+        actions = []
+        weight = 1.0
+        for child in node.children[5:]:
+            if isinstance(child, Tree) and child.data == "conclusion":
+                var, _, term = child.children
+                actions.append(Consequent(_name(var), _name(term)))
+            elif isinstance(child, Tree) and child.data == "weight":
+                weight = float(child.children[1])
+        text = format_rule(cond, actions, weight)
+        return Rule("fuzzy", label, cond, tuple(actions), weight, text)
+
+
+def _name(tok: Token) -> Name:
+    return Name(str(tok), tok.column or 0)
+
+
+def _condition(node) -> object:
+    if node.data == "c_is":
+        var, _is, *mods, term = node.children
+        return Is(_name(var), tuple(str(m).lower() for m in mods), _name(term))
+    if node.data == "c_not":
+        return Not(_condition(node.children[1]))
+    op = "and" if node.data == "c_and" else "or"
+    return BoolOp(op, _condition(node.children[0]), _condition(node.children[2]))

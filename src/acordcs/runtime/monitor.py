@@ -1,0 +1,87 @@
+"""Monitors: acquire contextual information and feed policy sets with it (paper, CtxMonitor).
+
+A monitor's attributes (``cycleRate``, ``numUsers``) are rule variables. A periodic monitor
+(``frequency`` in Hz) has :meth:`Monitor.acquire` called at that rate through the container's clock;
+an event-driven one (no frequency) has :meth:`Monitor.on_event` called for the events of its sources
+(operation calls, property changes). Either publishes by :meth:`Monitor.update`, which emits one
+``monitor.updated`` event: the policy sets it feeds fire on it, even if the values did not change (a
+new reading is news).
+
+A raising ``acquire`` or ``on_event`` is a fault: recorded and counted; the monitor keeps its rate.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterable, Mapping
+from typing import TYPE_CHECKING, Any
+
+from acordcs.runtime.errors import ConfigurationError
+
+if TYPE_CHECKING:
+    from acordcs.runtime.clock import Timer
+    from acordcs.runtime.container import Container
+    from acordcs.runtime.events import Event
+
+
+class Monitor:
+    """Base class; subclasses override :meth:`acquire` (periodic) or :meth:`on_event` (event-driven)."""
+
+    def __init__(
+        self,
+        name: str,
+        *,
+        frequency: float | None = None,
+        sources: Iterable[str] = (),
+        attributes: Mapping[str, object] | None = None,
+    ) -> None:
+        if frequency is not None and not frequency > 0:
+            raise ConfigurationError(
+                f"monitor {name!r}: frequency must be > 0 Hz (or None), not {frequency}"
+            )
+        self.name = name
+        self.frequency = frequency
+        self.sources = tuple(sources)
+        self.attributes: dict[str, object] = dict(attributes or {})
+        self.container: Container | None = None
+        self.ticks = 0
+        self._timer: Timer | None = None
+
+    def acquire(self) -> Mapping[str, object] | None:
+        """Read the context; return attribute updates (or call :meth:`update` yourself)."""
+        return None
+
+    def on_event(self, event: Event) -> None:
+        """React to an event of a source (an operation called on it, a property change)."""
+
+    def update(self, **values: Any) -> None:
+        """Publish new attribute values to the policy sets this monitor feeds."""
+        if self.container is None:
+            self.attributes.update(values)
+            return
+        self.container.monitor_update(self, values)
+
+    # ------------------------------------------------------------------ driven by the container
+    def _start(self, container: Container) -> None:
+        self.container = container
+        if self.frequency is not None:
+            self._timer = container.clock.call_every(1.0 / self.frequency, self._tick)
+
+    def _tick(self) -> None:
+        self.ticks += 1
+        container = self.container
+        if container is None:
+            return
+        try:
+            values = self.acquire()
+            if values:
+                self.update(**values)
+        except Exception as exc:
+            container.faults.record(
+                "monitor", self.name, exc, container.clock.now(), tick=self.ticks
+            )
+
+    def _stop(self) -> None:
+        if self._timer is not None:
+            self._timer.cancel()
+            self._timer = None
+        self.container = None

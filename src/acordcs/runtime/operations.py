@@ -1,0 +1,156 @@
+"""Operation calls into hosted components, through the interceptors (paper, Figure 2).
+
+Mixed into :class:`~acordcs.runtime.container.Container`. Every way into a component goes through
+:meth:`Operations._invoke`: a handle's call, a call arriving at a provided port (local or remote), a
+notification or stream item delivered to a handler, a stream source ticking. A component that raises
+is a fault (recorded, counted); the caller still gets an error, since request-reply needs an answer.
+"""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING, Any
+
+from acordcs.runtime import events as ev
+from acordcs.runtime.errors import (
+    CallVetoed,
+    ComponentDestroyedError,
+    ComponentError,
+    PortError,
+    RuntimeFailure,
+)
+from acordcs.runtime.interceptors import Interceptor, InterceptorEntry, Invocation
+
+if TYPE_CHECKING:
+    from acordcs.runtime.component import CtxComponent
+    from acordcs.runtime.container import Container, Hosted
+    from acordcs.runtime.ports import Port
+
+
+class Operations:
+    def invoke(
+        self: Container,
+        name: str,
+        operation: str,
+        args: tuple[Any, ...] = (),
+        kwargs: dict[str, Any] | None = None,
+        *,
+        lineage: int | None = None,
+    ) -> Any:
+        """Call an operation of a hosted component, through the interceptors."""
+        hosted = self._hosted(name, lineage)
+        return self._invoke(hosted, operation, args, kwargs or {}, None)
+
+    def invoke_port(
+        self: Container, port: Port, operation: str, args: tuple[Any, ...], kwargs: dict[str, Any]
+    ) -> Any:
+        """A call arriving at a synchronous provided port (from a connector)."""
+        if port.kind != "synchronous" or port.role != "provided":
+            raise PortError(
+                f"calls arrive at synchronous provided ports; {port.qualified_name} is "
+                f"{port.kind}/{port.role}",
+                where=self._where,
+            )
+        ops = port.spec.operations
+        if ops is not None and operation not in ops:
+            raise PortError(
+                f"port {port.qualified_name} does not expose {operation!r} (exposes: {', '.join(ops)})",
+                where=self._where,
+            )
+        if not port.component.alive:
+            raise ComponentDestroyedError(
+                f"component {port.component.name!r} behind port {port.name!r} was destroyed",
+                where=self._where,
+                hint="reconnect the port to a live component",
+            )
+        return self._invoke(self._hosted(port.component.name), operation, args, kwargs, port.name)
+
+    def invoke_internal(
+        self: Container, instance: CtxComponent, method: str, args: tuple[Any, ...], port: Port
+    ) -> Any:
+        """A delivery into a component (notification handler, stream source/sink), intercepted."""
+        hosted = self._components.get(instance.name)
+        if hosted is None or hosted.instance is not instance:
+            return None
+        return self._invoke(hosted, method, args, {}, port.name)
+
+    def _invoke(
+        self: Container,
+        hosted: Hosted,
+        operation: str,
+        args: tuple[Any, ...],
+        kwargs: dict[str, Any],
+        port: str | None,
+    ) -> Any:
+        instance = hosted.instance
+        name = instance.name
+        if operation not in hosted.operations:
+            raise ComponentError(
+                f"component {name!r} ({type(instance).__name__}) has no operation {operation!r} "
+                f"(operations: {', '.join(sorted(hosted.operations)) or 'none'})",
+                where=self._where,
+            )
+        self.stats["calls"] += 1
+        type_name = instance.factory.type_name
+        entries = [e for e in self._interceptors if e.matches(name, type_name, operation)]
+        call = Invocation(
+            self.name, name, type_name, operation, args, kwargs, self.clock.now(), port
+        )
+        for entry in entries:
+            try:
+                entry.interceptor.before(call)
+            except CallVetoed:
+                self.stats["vetoed"] += 1
+                raise
+            except Exception as exc:
+                self.faults.record(
+                    "interceptor",
+                    entry.label,
+                    exc,
+                    call.time,
+                    phase="before",
+                    call=f"{name}.{operation}",
+                )
+        try:
+            call.result = getattr(instance, operation)(*call.args, **call.kwargs)
+        except Exception as exc:
+            call.error = exc
+            self.faults.record(
+                "component", f"{name}.{operation}", exc, self.clock.now(), args=call.args
+            )
+        for entry in entries:
+            with self.guard("interceptor", entry.label, phase="after", call=f"{name}.{operation}"):
+                entry.interceptor.after(call)
+        if self._dispatch.wants(ev.OPERATION_CALLED):
+            self.emit(
+                ev.OPERATION_CALLED,
+                name,
+                operation,
+                value=call.result,
+                data={"args": call.args, "kwargs": call.kwargs, "error": call.error, "port": port},
+            )
+        if call.error is not None:
+            err = call.error
+            if isinstance(err, RuntimeFailure):
+                # Already says what and where (a port not connected, a remote timeout): pass it on.
+                raise err
+            raise ComponentError(
+                f"component {name!r} raised {type(err).__name__} in {operation}(): {err}",
+                where=self._where,
+                hint="the fault is recorded in container.faults; the container goes on",
+            ) from err
+        return call.result
+
+    # ------------------------------------------------------------------------- interceptors
+    def add_interceptor(
+        self: Container,
+        interceptor: Interceptor,
+        *,
+        component: str | None = None,
+        type_name: str | None = None,
+        operation: str | None = None,
+    ) -> None:
+        """Intercept the calls matching every given filter (none given: all calls)."""
+        self._interceptors.append(InterceptorEntry(interceptor, component, type_name, operation))
+
+    def remove_interceptor(self: Container, interceptor: Interceptor) -> None:
+        self._interceptors = [e for e in self._interceptors if e.interceptor is not interceptor]

@@ -1,0 +1,302 @@
+"""Policy sets (paper, CtxPolicySet): rules bound to a rule engine, variables bound to attributes.
+
+A policy set holds policies (rule sets, one per :class:`CtxPolicy`), binds their rules to an engine by
+the model's engine tag (see :mod:`acordcs.runtime.registry`) and drives it with the paper's four calls:
+``defrule`` each rule once; on each firing ``set`` every input variable from its attribute, ``fire``
+every rule set, then ``get`` every output variable and write it back through the container (so the
+change is an event, seen by monitors and other policy sets). Operations called by crisp rules go
+through the container too.
+
+Firing: ``trigger="event"`` fires when an attribute it reads changes, when a monitor feeding it
+updates, or when a component is created, destroyed or replaced; ``trigger="periodic"`` fires at
+``frequency`` Hz of the container's clock. A raising engine or action is a fault (kind ``action``):
+recorded, and the policy set fires again at the next trigger.
+
+Variable scope (docs/modelling.md): the attributes of the elements the set ``adapts`` (and of their
+ports) and of the monitors that feed it; ``Element.attribute`` or a bare attribute that exactly one
+element in scope has. With neither ``adapts`` nor ``fed_by``, every element of the container is in scope.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterable, Mapping, Sequence
+from typing import TYPE_CHECKING, Any
+
+from acordcs.metamodel.rules import Name, RuleSyntaxError, parse_rule, split_rules
+from acordcs.runtime import events as ev
+from acordcs.runtime.engine import RuleEngine, RuleError
+from acordcs.runtime.errors import BindingError, ComponentNotFoundError, ConfigurationError
+from acordcs.runtime.registry import EngineSetup, Variable, lookup_engine
+
+if TYPE_CHECKING:
+    from acordcs.runtime.clock import Timer
+    from acordcs.runtime.container import Container
+    from acordcs.runtime.events import Event
+
+Target = tuple[str, str]
+
+
+class PolicySet:
+    def __init__(
+        self,
+        name: str,
+        policies: Mapping[str, Sequence[str] | str],
+        *,
+        engine: str = "fuzzy",
+        trigger: str = "event",
+        frequency: float | None = None,
+        semantics: str = "mamdani",
+        adapts: Iterable[str] = (),
+        fed_by: Iterable[str] = (),
+        variables: Mapping[str, Variable] | None = None,
+        bindings: Mapping[str, str] | None = None,
+    ) -> None:
+        if trigger not in ("event", "periodic"):
+            raise ConfigurationError(
+                f"policy set {name!r}: trigger must be 'event' or 'periodic', not {trigger!r}"
+            )
+        if trigger == "periodic" and not (frequency and frequency > 0):
+            raise ConfigurationError(
+                f"policy set {name!r}: a periodic set needs a frequency > 0 Hz"
+            )
+        self.name = name
+        self.policies = {
+            p: split_rules(rules)
+            if isinstance(rules, str)
+            else [_line(r, i) for i, r in enumerate(rules, 1)]
+            for p, rules in policies.items()
+        }
+        self.engine_kind = engine
+        self.trigger = trigger
+        self.frequency = frequency
+        self.semantics = semantics
+        self.adapts = tuple(adapts)
+        self.fed_by = tuple(fed_by)
+        self.variables = dict(variables or {})
+        self.bindings = dict(bindings or {})
+        self.engine: RuleEngine | None = None
+        self.container: Container | None = None
+        self.inputs: dict[str, Target] = {}
+        self.outputs: dict[str, Target] = {}
+        self.operations: dict[str, Target] = {}
+        self.reads: dict[str, Target] = {}
+        self.fires = 0
+        self._timer: Timer | None = None
+
+    def __repr__(self) -> str:
+        return f"<PolicySet {self.name} ({self.engine_kind}, {self.trigger}), fired {self.fires}x>"
+
+    # ------------------------------------------------------------------------------ binding
+    def attach(self, container: Container) -> None:
+        """Bind to ``container``: parse rules, resolve variables, build the engine, subscribe."""
+        constructor, syntax = lookup_engine(self.engine_kind)
+        parsed = []
+        for policy, lines in self.policies.items():
+            for line in lines:
+                try:
+                    rule = parse_rule(line.text, syntax)  # type: ignore[arg-type]
+                except RuleSyntaxError as exc:
+                    raise RuleError(
+                        exc.message,
+                        ruleset=f"{self.name}.{policy}",
+                        rule=line.label or f"line {line.line}",
+                        column=exc.column,
+                    ) from None
+                parsed.append((policy, line, rule))
+        scope = self._scope(container)
+        for policy, line, rule in parsed:
+            where = f"policy {self.name}.{policy}, rule {rule.label or line.line}"
+            for var in rule.variables_read():
+                self.inputs.setdefault(var.text, self._resolve(container, scope, var, where))
+            for var in rule.variables_written():
+                self.outputs.setdefault(var.text, self._resolve(container, scope, var, where))
+            for call in rule.calls():
+                self.operations.setdefault(
+                    call.target.text, self._resolve_op(container, scope, call.target, where)
+                )
+        # Subscriptions follow what the conditions and expressions read, not what is only written.
+        self.reads = dict(self.inputs)
+        if syntax == "crisp":
+            # A crisp engine keeps assigned values between firings: set outputs before firing too, so
+            # it starts from the attribute's current value.
+            for var, target in self.outputs.items():
+                self.inputs.setdefault(var, target)
+        variables: dict[str, Variable] = {}
+        for var, (element, attribute) in {**self.inputs, **self.outputs}.items():
+            found = self.variables.get(var) or self.variables.get(f"{element}.{attribute}")
+            if found is not None:
+                variables[var] = found
+        setup = EngineSetup(
+            policy_set=self.name,
+            kind=self.engine_kind,
+            semantics=self.semantics,
+            variables=variables,
+            inputs=tuple(self.inputs),
+            outputs=tuple(self.outputs),
+            operations=tuple(self.operations),
+            call=self._call,
+        )
+        engine = constructor(setup)
+        for policy, line, _rule in parsed:
+            engine.defrule(line.text, policy)
+        self.engine = engine
+        self.container = container
+        self._subscribe(container)
+
+    def _scope(self, container: Container) -> dict[str, dict[str, object]]:
+        elements = container.elements()
+        names = list(self.adapts) + list(self.fed_by)
+        if not names:
+            return elements
+        scope: dict[str, dict[str, object]] = {}
+        for name in names:
+            if name not in elements:
+                raise BindingError(
+                    f"policy set {self.name!r} refers to {name!r}, which is not an element of the container",
+                    where=f"container {container.name!r}",
+                    hint="create the component / add the monitor before adding the policy set",
+                )
+            scope[name] = elements[name]
+            prefix = name + "."
+            scope.update({k: v for k, v in elements.items() if k.startswith(prefix)})
+        return scope
+
+    def _resolve(
+        self, container: Container, scope: dict[str, dict[str, object]], var: Name, where: str
+    ) -> Target:
+        text = self.bindings.get(var.text, var.text)
+        element, dot, attribute = text.rpartition(".")
+        if dot:
+            if element not in scope or attribute not in scope[element]:
+                raise BindingError(
+                    f"{where}: variable {var.text!r} (column {var.column}) is not an attribute in scope",
+                    where=f"container {container.name!r}",
+                    hint=f"in scope: {', '.join(sorted(scope))}; check the element and attribute names",
+                )
+            return element, attribute
+        owners = sorted(e for e, props in scope.items() if attribute in props)
+        if len(owners) != 1:
+            problem = "no element in scope has" if not owners else f"{', '.join(owners)} all have"
+            raise BindingError(
+                f"{where}: {problem} an attribute {attribute!r} (column {var.column})",
+                where=f"container {container.name!r}",
+                hint="qualify the variable as Element.attribute, or bind it with bindings={...}",
+            )
+        return owners[0], attribute
+
+    def _resolve_op(
+        self, container: Container, scope: dict[str, dict[str, object]], target: Name, where: str
+    ) -> Target:
+        element, dot, operation = target.text.rpartition(".")
+        candidates = [element] if dot else sorted(scope)
+        owners = [
+            e
+            for e in candidates
+            if e in container._components and operation in container._components[e].operations
+        ]
+        if len(owners) != 1:
+            raise BindingError(
+                f"{where}: operation {target.text!r} (column {target.column}) matches "
+                f"{'no component' if not owners else ', '.join(owners)}",
+                where=f"container {container.name!r}",
+                hint="write Component.operation for an operation of a component in scope",
+            )
+        return owners[0], operation
+
+    def _subscribe(self, container: Container) -> None:
+        label = f"policy:{self.name}"
+        if self.trigger == "periodic":
+            self._timer = container.clock.call_every(
+                1.0 / float(self.frequency or 1.0), self._periodic
+            )
+            return
+        monitors = set(container.monitors())
+        keys: set[tuple[str, str, str | None]] = set()
+        for element, attribute in self.reads.values():
+            if element in monitors:
+                keys.add((ev.MONITOR_UPDATED, element, None))
+            else:
+                keys.add((ev.PROPERTY_CHANGED, element, attribute))
+        for monitor in self.fed_by:
+            keys.add((ev.MONITOR_UPDATED, monitor, None))
+        for kind, element, attribute in sorted(keys, key=str):
+            container.subscribe(
+                kind, self._on_event, name=label, element=element, attribute=attribute
+            )
+        for kind in (ev.COMPONENT_CREATED, ev.COMPONENT_DESTROYED, ev.COMPONENT_REPLACED):
+            container.subscribe(kind, self._on_event, name=label)
+
+    def detach(self) -> None:
+        if self._timer is not None:
+            self._timer.cancel()
+            self._timer = None
+        if self.container is not None:
+            self.container.unsubscribe(f"policy:{self.name}")
+        self.container = None
+
+    # ------------------------------------------------------------------------------- firing
+    def _on_event(self, event: Event) -> None:
+        self.fire(event)
+
+    def _periodic(self) -> None:
+        self.fire(None)
+
+    def fire(self, event: Event | None = None) -> bool:
+        """Run the four calls once; True if the rules ran (False: skipped or faulted)."""
+        container, engine = self.container, self.engine
+        if container is None or engine is None:
+            return False
+        try:
+            values = [(var, container.get_property(e, a)) for var, (e, a) in self.inputs.items()]
+        except (ComponentNotFoundError, BindingError):
+            # An input's element is gone (destroyed): nothing sensible to evaluate.
+            container.stats["policy_skipped"] += 1
+            return False
+        # Plain try/finally rather than context managers: this is the adaptation hot path.
+        dispatch = container._dispatch
+        previous, dispatch.origin = dispatch.origin, self.name
+        try:
+            for var, value in values:
+                engine.set(var, value)
+            for policy in self.policies:
+                engine.fire(policy)
+            self.fires += 1
+            container.stats["policy_fires"] += 1
+            for var, (element, attribute) in self.outputs.items():
+                value = engine.get(var)
+                if value is not None:
+                    current = container.get_property(element, attribute)
+                    container.set_property(element, attribute, _coerce(value, current))
+            return True
+        except Exception as exc:
+            trigger = f"{event.kind} {event.element}" if event else "periodic"
+            container.faults.record(
+                "action", self.name, exc, container.clock.now(), trigger=trigger
+            )
+            return False
+        finally:
+            dispatch.origin = previous
+
+    def _call(self, target: str, args: tuple[Any, ...]) -> Any:
+        container = self.container
+        if container is None:
+            raise BindingError(f"policy set {self.name!r} is not attached to a container")
+        component, operation = self.operations.get(target) or target.rpartition(".")[::2]
+        return container.invoke(component, operation, tuple(args))
+
+
+def _coerce(value: object, current: object) -> object:
+    """Engines answer floats; an int attribute (fps) stays an int."""
+    if isinstance(current, bool) or not isinstance(value, float):
+        return value
+    if isinstance(current, int):
+        return round(value)
+    return value
+
+
+def _line(text: str, number: int) -> Any:
+    lines = split_rules(text)
+    if len(lines) != 1:
+        raise RuleError("a rule is one line; pass a list of rule strings", rule=f"line {number}")
+    lines[0].line = number
+    return lines[0]
