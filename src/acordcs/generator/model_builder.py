@@ -6,6 +6,8 @@ works on the architecture index, because pyecore costs about 40 us per object.
 
 from __future__ import annotations
 
+import re
+
 from acordcs import metamodel
 from acordcs.generator.architecture import (
     COMPONENT,
@@ -19,6 +21,9 @@ from acordcs.generator.architecture import (
 from acordcs.generator.checks.rules import policy_rules
 from acordcs.generator.checks.tags import parse_real, variable_terms
 from acordcs.generator.uml import Classifier
+
+# "label: if ..." (a label is an identifier before the first ':'; rules have no other ':' before 'if')
+_LABELLED = re.compile(r"^\s*([A-Za-z_][A-Za-z0-9_]*)\s*:\s*((?i:if)\b.*)$")
 
 _ROOT_LISTS = {
     CONTAINER: "containers",
@@ -55,16 +60,14 @@ def build_application(arch: Architecture):
                 "CtxPolicy", name=policy.name, xmiId=policy.id, sourceLine=policy.element.line
             )
             for n, rule in enumerate(policy_rules(policy), start=1):
-                label, _, rest = rule.text.partition(":")
-                labelled = (
-                    bool(rest) and " " not in label.strip() and not label.lower().startswith("if")
-                )
+                found = _LABELLED.match(rule.text)
+                label, text = (found.group(1), found.group(2)) if found else (None, rule.text)
                 pol.rules.append(
                     metamodel.create(
                         "Rule",
-                        name=label.strip() if labelled else f"{policy.name}_{n}",
-                        label=label.strip() if labelled else None,
-                        text=rule.text,
+                        name=label or f"{policy.name}_{n}",
+                        label=label,
+                        text=text,  # the rule without its label: the label is its own feature
                         engine=_enum("EngineKind", engine),
                         tag=rule.tag,
                     )

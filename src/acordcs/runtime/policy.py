@@ -9,7 +9,10 @@ through the container too.
 
 Firing: ``trigger="event"`` fires when an attribute it reads changes, when a monitor feeding it
 updates, or when a component is created, destroyed or replaced; ``trigger="periodic"`` fires at
-``frequency`` Hz of the container's clock. A raising engine or action is a fault (kind ``action``):
+``frequency`` Hz of the container's clock. A change the set's own actions caused does not fire it
+again: a counter it reads and writes (the paper's recovering policy counts its tries) is its state,
+not news. Sets that trigger each other are cut by the container's cascade bound and reported.
+A raising engine or action is a fault (kind ``action``):
 recorded, and the policy set fires again at the next trigger.
 
 Variable scope (docs/modelling.md): the attributes of the elements the set ``adapts`` (and of their
@@ -236,6 +239,8 @@ class PolicySet:
 
     # ------------------------------------------------------------------------------- firing
     def _on_event(self, event: Event) -> None:
+        if event.origin == self.name:
+            return  # caused by this set's own actions (see the module docstring)
         self.fire(event)
 
     def _periodic(self) -> None:

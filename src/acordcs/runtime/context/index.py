@@ -1,0 +1,307 @@
+"""The subscription index: which subscriptions does a document match, and with which nodes?
+
+YFilter's idea on a small scale. Subscriptions are first selected by publisher (a dict lookup), then
+grouped by location path: every distinct path is evaluated once per document, however many
+subscriptions share it (plain ``/a/b/c`` paths by one walk of the document along a trie of all such
+paths, others by one compiled XPath each). The predicates of the recognised forms are kept per
+(path, value) entry as sorted thresholds, so ``. > c`` for all c is one bisection, and
+``= c`` one dict lookup. Anything else is a compiled lxml XPath evaluated per document, timed, and
+suspended after repeated overruns. The results are, by construction and by test, the node lists lxml
+returns when evaluating each subscription on its own.
+"""
+
+from __future__ import annotations
+
+import logging
+import time
+from collections.abc import Callable
+from typing import Any
+
+from lxml import etree
+
+from acordcs.runtime.context.entries import ValueEntry
+from acordcs.runtime.context.xpathexpr import IndexedForm
+from acordcs.runtime.context.xpathnum import xpath_number
+
+log = logging.getLogger(__name__)
+
+Entry = Any  # the index stores any hashable subscription object with the attributes used below
+
+
+class _PublisherIndex:
+    __slots__ = ("by_path", "entries", "everything", "fallback")
+
+    def __init__(self) -> None:
+        self.entries: dict[tuple, ValueEntry] = {}  # (path, value kind, value name) -> entry
+        self.by_path: dict[str, list[tuple]] = {}  # path -> [(value kind, value name, entry)]
+        self.fallback: dict[Entry, None] = {}  # ordered set
+        self.everything: dict[Entry, None] = {}
+
+    def empty(self) -> bool:
+        return not (self.entries or self.fallback or self.everything)
+
+
+class _Trie:
+    __slots__ = ("children", "count", "path")
+
+    def __init__(self) -> None:
+        self.children: dict[str, _Trie] = {}
+        self.path: str | None = None
+        self.count = 0
+
+
+def _string_value(node: object) -> str:
+    if isinstance(node, str):
+        return str(node)
+    if len(node) == 0:  # type: ignore[arg-type]
+        return node.text or ""  # type: ignore[attr-defined]
+    return "".join(node.itertext())  # type: ignore[attr-defined]
+
+
+class SubscriptionIndex:
+    """Not thread-safe: the provider serialises ``add``/``remove``/``match`` under its lock."""
+
+    def __init__(self, max_eval_seconds: float = 0.05, max_strikes: int = 3) -> None:
+        self._by_publisher: dict[str | None, _PublisherIndex] = {}
+        self._trie = _Trie()
+        self._paths: dict[str, list] = {}  # non-trie path -> [compiled XPath, refcount]
+        # Publisher selection by one lookup: a publisher with subscriptions of its own gets a view
+        # merging them with the publisher-independent ones, so a document visits each (path, value)
+        # entry once. Costs memory: the shared subscriptions are repeated in every view.
+        self._views: dict[str, _PublisherIndex] = {}
+        self._forms: dict[Entry, IndexedForm] = {}
+        self._max_eval = max_eval_seconds
+        self._max_strikes = max_strikes
+        self.on_suspend: Callable[[Entry, float], None] | None = None
+
+    def __len__(self) -> int:
+        return sum(
+            len(p.fallback) + len(p.everything) + sum(len(e.members) for e in p.entries.values())
+            for p in self._by_publisher.values()
+        )
+
+    # -- maintenance ------------------------------------------------------------------------------
+    def add(
+        self, sub: Entry, publisher: str | None, form: IndexedForm | None, compiled: object
+    ) -> None:
+        """Index ``sub``; ``form`` None with ``compiled`` None means "every document"."""
+        pindex = self._by_publisher.setdefault(publisher, _PublisherIndex())
+        sub._index_compiled = compiled
+        sub._index_strikes = 0
+        if form is None:
+            (pindex.fallback if compiled is not None else pindex.everything)[sub] = None
+            return
+        _add_entry(pindex, sub, form)
+        self._ref_path(form, +1)
+        self._forms[sub] = form
+        if publisher is None:
+            for view in self._views.values():
+                _add_entry(view, sub, form)
+        else:
+            view = self._views.get(publisher)
+            if view is None:
+                view = self._views[publisher] = self._new_view()
+            _add_entry(view, sub, form)
+
+    def _new_view(self) -> _PublisherIndex:
+        view = _PublisherIndex()
+        shared = self._by_publisher.get(None)
+        if shared is not None:
+            for entry in shared.entries.values():
+                for member in entry.members:
+                    _add_entry(view, member, self._forms[member])
+        return view
+
+    def remove(self, sub: Entry, publisher: str | None, form: IndexedForm | None) -> None:
+        pindex = self._by_publisher.get(publisher)
+        if pindex is None:
+            return
+        if form is None:
+            pindex.fallback.pop(sub, None)
+            pindex.everything.pop(sub, None)
+        else:
+            if not _remove_entry(pindex, sub, form):
+                return
+            self._ref_path(form, -1)
+            del self._forms[sub]
+            if publisher is None:
+                for view in self._views.values():
+                    _remove_entry(view, sub, form)
+            else:
+                _remove_entry(self._views[publisher], sub, form)
+                if not pindex.entries:  # no subscription of its own left: the shared index will do
+                    del self._views[publisher]
+        if pindex.empty():
+            del self._by_publisher[publisher]
+
+    def _ref_path(self, form: IndexedForm, delta: int) -> None:
+        if form.child_steps is None:
+            entry = self._paths.get(form.path)
+            if entry is None:
+                entry = self._paths[form.path] = [etree.XPath(form.path), 0]
+            entry[1] += delta
+            if entry[1] == 0:
+                del self._paths[form.path]
+            return
+        node, trail = self._trie, []
+        for step in form.child_steps:
+            trail.append((node, step))
+            node = node.children.setdefault(step, _Trie())
+        node.path = form.path
+        node.count += delta
+        if node.count == 0:
+            node.path = None
+            for parent, step in reversed(trail):  # prune branches no path uses any more
+                child = parent.children[step]
+                if child.children or child.path is not None:
+                    break
+                del parent.children[step]
+
+    # -- matching ---------------------------------------------------------------------------------
+    def _walk(self, root: etree._Element) -> dict[str, list]:
+        found: dict[str, list] = {}
+        top = self._trie.children.get(root.tag)
+        if top is None:
+            return found
+        if top.path is not None:
+            found[top.path] = [root]
+        # preorder (children pushed in reverse): all nodes of one path have the same depth, so
+        # visiting parents in document order appends each path's nodes in document order
+        stack = [(root, top)]
+        while stack:
+            elem, node = stack.pop()
+            children = node.children
+            deeper = []
+            for child in elem:
+                sub = children.get(child.tag)
+                if sub is None:
+                    continue
+                if sub.path is not None:
+                    found.setdefault(sub.path, []).append(child)
+                if sub.children:
+                    deeper.append((child, sub))
+            if deeper:
+                deeper.reverse()
+                stack.extend(deeper)
+        return found
+
+    def match(self, tree: etree._ElementTree, publisher: str) -> list[tuple[list, list, object]]:
+        """Chunks ``(subscriptions, selected nodes, raw XPath result)``: each matching subscription
+        appears in exactly one chunk, with its nodes. Chunks spare a tuple per matching subscription
+        when many share a result (every ``> c`` subscription below the value gets the same node)."""
+        root = tree.getroot()
+        results: list[tuple[list, list, object]] = []
+        walked: dict[str, list] | None = None
+        evaluated: dict[str, list] = {}
+        indexed = self._views.get(publisher) or self._by_publisher.get(None)
+        if indexed is not None:
+            for path, entries in indexed.by_path.items():
+                nodes = evaluated.get(path)
+                if nodes is None:
+                    compiled = self._paths.get(path)
+                    if compiled is None:
+                        if walked is None:
+                            walked = self._walk(root)
+                        nodes = walked.get(path, [])
+                    else:
+                        nodes = compiled[0](tree)
+                    evaluated[path] = nodes
+                if nodes:
+                    for value_kind, value_name, entry in entries:
+                        _match_entry(value_kind, value_name, entry, nodes, results)
+        for key in (None, publisher):
+            pindex = self._by_publisher.get(key)
+            if pindex is None:
+                continue
+            if pindex.everything:
+                whole = [root]
+                results.append((list(pindex.everything), whole, whole))
+            if pindex.fallback:
+                self._match_fallback(pindex, tree, results)
+        return results
+
+    def _match_fallback(
+        self, pindex: _PublisherIndex, tree: etree._ElementTree, results: list
+    ) -> None:
+        for sub in list(pindex.fallback):
+            started = time.perf_counter()
+            try:
+                value = sub._index_compiled(tree)
+            except etree.XPathError as err:
+                log.warning("subscription %s: XPath evaluation failed: %s", sub, err)
+                continue
+            elapsed = time.perf_counter() - started
+            if elapsed > self._max_eval:
+                sub._index_strikes += 1
+                if sub._index_strikes >= self._max_strikes:
+                    del pindex.fallback[sub]
+                    if self.on_suspend is not None:
+                        self.on_suspend(sub, elapsed)
+            if isinstance(value, list):
+                if value:
+                    results.append(([sub], value, value))
+            # XPath boolean(): true, a number neither 0 nor NaN, a non-empty string
+            elif value and value == value:
+                results.append(([sub], [], value))
+
+
+def _add_entry(pindex: _PublisherIndex, sub: Entry, form: IndexedForm) -> None:
+    key = (form.path, form.value_kind, form.value_name)
+    entry = pindex.entries.get(key)
+    if entry is None:
+        entry = pindex.entries[key] = ValueEntry()
+        pindex.by_path.setdefault(form.path, []).append((form.value_kind, form.value_name, entry))
+    entry.add(sub, form.op, form.const_kind, form.const)
+
+
+def _remove_entry(pindex: _PublisherIndex, sub: Entry, form: IndexedForm) -> bool:
+    key = (form.path, form.value_kind, form.value_name)
+    entry = pindex.entries.get(key)
+    if entry is None or sub not in entry.members:
+        return False
+    entry.remove(sub)
+    if not entry.members:
+        del pindex.entries[key]
+        pindex.by_path[form.path].remove((form.value_kind, form.value_name, entry))
+        if not pindex.by_path[form.path]:
+            del pindex.by_path[form.path]
+    return True
+
+
+def _match_entry(
+    kind: str | None, name: str | None, entry: ValueEntry, nodes: list, results: list
+) -> None:
+    # each (path, value) entry of a view is visited once per document: nothing to cache
+    if kind is None:
+        if entry.exists:
+            results.append((entry.exists, nodes, nodes))
+        return
+    numeric = entry.numeric
+    if len(nodes) == 1:
+        strings = _strings(nodes[0], kind, name)
+        if strings:
+            numbers = [xpath_number(s) for s in strings] if numeric else None
+            matched = entry.matching(numbers, strings)
+            if matched:
+                results.append((matched, nodes, nodes))
+        return
+    per_sub: dict[Entry, list] = {}
+    for node in nodes:
+        strings = _strings(node, kind, name)
+        if strings:
+            numbers = [xpath_number(s) for s in strings] if numeric else None
+            for sub in entry.matching(numbers, strings):
+                per_sub.setdefault(sub, []).append(node)
+    results.extend(([sub], selected, selected) for sub, selected in per_sub.items())
+
+
+def _strings(node: object, kind: str, name: str | None) -> list[str]:
+    """String values of the node itself, of its children called ``name``, or of its attribute."""
+    if isinstance(node, str):  # an attribute selected by the path has no children or attributes
+        return [str(node)] if kind == "self" else []
+    if kind == "self":
+        return [(node.text or "") if len(node) == 0 else "".join(node.itertext())]  # type: ignore[arg-type]
+    if kind == "attr":
+        attr = node.get(name)  # type: ignore[attr-defined]
+        return [] if attr is None else [attr]
+    return [_string_value(child) for child in node.iterchildren(name)]  # type: ignore[attr-defined]

@@ -1,0 +1,335 @@
+"""The distributed context provider: the same API over an MQTT broker (mosquitto) with paho-mqtt 2.x.
+
+Each publisher has a topic (``<prefix>/<publisher percent-escaped>``) carrying its documents, retained
+so that late subscribers get the latest one. A broker cannot filter on XML content, so every client
+subscribes to the topics it needs and matches locally with the embedded index. Payloads carry the
+publishing process's epoch and a per-publisher sequence number: gaps are counted as losses (mosquitto
+drops messages for slow clients beyond ``max_queued_messages``, silently, even at QoS 1).
+"""
+
+from __future__ import annotations
+
+import logging
+import os
+import socket
+import threading
+from urllib.parse import quote, unquote
+
+import paho.mqtt.client as mqtt
+from paho.mqtt.enums import CallbackAPIVersion, MQTTErrorCode
+
+from acordcs.runtime.context.core import ProviderCore, check_publisher
+from acordcs.runtime.context.delivery import Subscription
+from acordcs.runtime.context.errors import ContextError, PublishError
+from acordcs.runtime.context.xmlparse import Limits, parse_document
+
+log = logging.getLogger("acordcs.runtime.context.mqtt")
+
+_MAGIC = b"ACX1"
+
+
+def publisher_topic(publisher: str, prefix: str = "acordcs/ctx") -> str:
+    """The topic of ``publisher``: every character that MQTT gives a meaning (``/ + # $``) is escaped."""
+    return f"{prefix}/{quote(publisher, safe='')}"
+
+
+class MqttContextProvider(ProviderCore):
+    """Context provider whose documents travel through an MQTT broker.
+
+    ``mirror=True`` (default) receives every publisher's documents so that :meth:`query` sees them
+    all; with ``mirror=False`` only the topics that local subscriptions need are subscribed.
+    """
+
+    def __init__(
+        self,
+        host: str = "127.0.0.1",
+        port: int = 1883,
+        *,
+        qos: int = 1,
+        prefix: str = "acordcs/ctx",
+        client_id: str | None = None,
+        mirror: bool = True,
+        keepalive: int = 30,
+        connect_timeout: float = 5.0,
+        max_queued_messages: int = 10_000,
+        max_inflight_messages: int = 1000,
+        username: str | None = None,
+        password: str | None = None,
+        tls_ca_certs: str | None = None,
+        limits: Limits | None = None,
+        delivery_threads: int = 64,
+    ) -> None:
+        super().__init__(limits, delivery_threads)
+        if qos not in (0, 1, 2):
+            raise ContextError(f"qos must be 0, 1 or 2, got {qos!r}", element="MqttContextProvider")
+        if not prefix or any(c in prefix for c in "+#\x00") or prefix.endswith("/"):
+            raise ContextError(
+                f"invalid topic prefix {prefix!r}",
+                element="MqttContextProvider",
+                hint="a topic without wildcards and without a trailing '/', e.g. 'acordcs/ctx'",
+            )
+        self.host, self.port, self.qos, self.prefix, self.mirror = host, port, qos, prefix, mirror
+        self._where = f"mqtt://{host}:{port}"
+        self.lost = 0  # messages missing from the sequence of a publisher
+        self.duplicates = 0
+        self.malformed = 0  # payloads from the broker that were not ours or not acceptable XML
+        self.reconnects = 0
+        self._epoch = os.urandom(8).hex().encode()
+        self._seq: dict[str, int] = {}
+        self._seen: dict[str, tuple[bytes, int]] = {}  # publisher -> (epoch, last seq)
+        self._topics: set[str] = set()  # what the broker should send us
+        # SUBACK may be handled before subscribe() has returned its mid: remember early ones
+        self._acks: dict[int, threading.Event] = {}
+        self._early_acks: set[int] = set()
+        self._ack_lock = threading.Lock()
+        self._connected = threading.Event()
+        self._connect_error: str | None = None
+        self._mqtt_lock = threading.Lock()
+
+        client = mqtt.Client(
+            CallbackAPIVersion.VERSION2,
+            client_id=client_id or f"acordcs-{os.getpid()}-{self._epoch.decode()}",
+            protocol=mqtt.MQTTv311,
+            clean_session=True,
+        )
+        client.on_socket_open = self._on_socket_open
+        client.on_connect = self._on_connect
+        client.on_disconnect = self._on_disconnect
+        client.on_subscribe = self._on_subscribe
+        client.on_message = self._on_message
+        client.reconnect_delay_set(min_delay=1, max_delay=2)
+        client.max_queued_messages_set(max_queued_messages)
+        # paho's default of 20 unacknowledged QoS 1/2 messages caps a publisher at 20 per round trip
+        client.max_inflight_messages_set(max_inflight_messages)
+        if username is not None:
+            client.username_pw_set(username, password)
+        if tls_ca_certs is not None:
+            client.tls_set(ca_certs=tls_ca_certs)
+        self._client = client
+        try:
+            client.connect(host, port, keepalive=keepalive)
+        except (OSError, ValueError) as err:
+            self._closed = True
+            raise ContextError(
+                f"cannot reach the MQTT broker at {host}:{port}: {err}",
+                file=self._where,
+                element="MqttContextProvider",
+                hint="start mosquitto there or fix host/port",
+            ) from None
+        client.loop_start()
+        if not self._connected.wait(connect_timeout) or self._connect_error:
+            client.loop_stop()
+            client.disconnect()
+            self._closed = True
+            raise ContextError(
+                f"the MQTT broker at {host}:{port} did not accept the connection: "
+                f"{self._connect_error or f'no CONNACK within {connect_timeout} s'}",
+                file=self._where,
+                element="MqttContextProvider",
+                hint="check the broker's log and its listener/authentication settings",
+            )
+        self._update_topics()
+
+    # -- paho callbacks (network thread) ------------------------------------------------------------
+    def _on_socket_open(self, client: mqtt.Client, userdata: object, sock: object) -> None:
+        # paho never sets TCP_NODELAY: with delayed ACKs small messages wait ~20-40 ms
+        if isinstance(sock, socket.socket):
+            sock.setsockopt(socket.IPPROTO_TCP, socket.TCP_NODELAY, 1)
+
+    def _on_connect(self, client, userdata, flags, reason_code, properties) -> None:
+        if reason_code.is_failure:
+            self._connect_error = str(reason_code)
+            self._connected.set()
+            return
+        if self._connected.is_set():
+            self.reconnects += 1
+            log.info(
+                "reconnected to %s:%d, re-subscribing %d topic(s)",
+                self.host,
+                self.port,
+                len(self._topics),
+            )
+        # a clean session (and a restarted broker) has forgotten our subscriptions: always renew them
+        with self._mqtt_lock:
+            topics = sorted(self._topics)
+        for topic in topics:
+            client.subscribe(topic, qos=self.qos)
+        self._connected.set()
+
+    def _on_disconnect(self, client, userdata, flags, reason_code, properties) -> None:
+        if not self._closed:
+            log.warning(
+                "lost the MQTT broker at %s:%d (%s); reconnecting",
+                self.host,
+                self.port,
+                reason_code,
+            )
+
+    def _on_subscribe(self, client, userdata, mid, reason_codes, properties) -> None:
+        with self._ack_lock:
+            event = self._acks.pop(mid, None)
+            if event is None:
+                if len(self._early_acks) > 256:  # acks of re-subscriptions nobody waits for
+                    self._early_acks.clear()
+                self._early_acks.add(mid)
+        if event is not None:
+            event.set()
+
+    def _on_message(self, client, userdata, message: mqtt.MQTTMessage) -> None:
+        # an exception escaping a paho callback would end the network thread, silently
+        try:
+            self._receive(message)
+        except Exception:
+            self.malformed += 1
+            log.exception("failed to process a message on %s; going on", message.topic)
+
+    def _receive(self, message: mqtt.MQTTMessage) -> None:
+        topic = message.topic
+        if not topic.startswith(self.prefix + "/"):
+            return
+        publisher = unquote(topic[len(self.prefix) + 1 :])
+        payload = message.payload
+        if not payload:  # an empty retained message: the publisher was retired (see ``retire``)
+            with self._lock:
+                self._latest.pop(publisher, None)
+                self._seen.pop(publisher, None)
+            return
+        header, _, body = payload.partition(b"\n")
+        parts = header.split(b" ")
+        if len(parts) != 3 or parts[0] != _MAGIC or not parts[2].isdigit():
+            self.malformed += 1
+            log.warning("ignoring a message on %s that is not an acordcs context document", topic)
+            return
+        epoch, seq = parts[1], int(parts[2])
+        with self._lock:
+            previous = self._seen.get(publisher)
+            if previous is not None and previous[0] == epoch:
+                if seq <= previous[1]:
+                    self.duplicates += 1  # e.g. the retained copy after a re-subscribe
+                    return
+                if seq > previous[1] + 1:
+                    self.lost += seq - previous[1] - 1
+                    log.warning(
+                        "%s: %d document(s) lost before seq %d",
+                        publisher,
+                        seq - previous[1] - 1,
+                        seq,
+                    )
+            self._seen[publisher] = (epoch, seq)
+        try:
+            tree = parse_document(publisher, body, self.limits)
+        except PublishError as err:
+            self.malformed += 1
+            self.rejected += 1
+            log.warning("ignoring a refused document from the broker: %s", err)
+            return
+        self._dispatch(publisher, seq, tree)
+
+    # -- topics ---------------------------------------------------------------------------------------
+    def _wanted(self) -> set[str]:
+        subs = self.subscriptions()
+        if self.mirror or any(s.publisher is None for s in subs):
+            return {f"{self.prefix}/+"}
+        return {publisher_topic(s.publisher, self.prefix) for s in subs if s.publisher is not None}
+
+    def _update_topics(self, timeout: float = 5.0) -> None:
+        if self._closed:
+            return
+        with self._mqtt_lock:
+            wanted = self._wanted()
+            added, removed = wanted - self._topics, self._topics - wanted
+            self._topics = wanted
+            events = []
+            for topic in sorted(added):
+                rc, mid = self._client.subscribe(topic, qos=self.qos)
+                if rc == MQTTErrorCode.MQTT_ERR_SUCCESS and mid is not None:
+                    with self._ack_lock:
+                        if mid in self._early_acks:
+                            self._early_acks.discard(mid)
+                            continue
+                        event = self._acks[mid] = threading.Event()
+                    events.append(event)
+            for topic in sorted(removed):
+                self._client.unsubscribe(topic)
+        # wait for SUBACK so that a publish right after subscribe() reaches the new subscriber;
+        # while disconnected there is nothing to wait for (on_connect subscribes)
+        for event in events:
+            event.wait(timeout)
+
+    def _subscribed(self, sub: Subscription) -> None:
+        self._update_topics()
+
+    def _unsubscribed(self, sub: Subscription) -> None:
+        self._update_topics()
+
+    # -- publishing -----------------------------------------------------------------------------------
+    def publish(self, publisher: str, document: object) -> int:
+        """Send ``document`` to the broker as ``publisher``'s latest (retained) context.
+
+        The document is checked here with the same limits subscribers apply, so a refused document
+        raises :class:`PublishError` and is not sent. Returns its sequence number. While the broker
+        is unreachable, QoS 0 raises :class:`ContextError`; QoS 1 and 2 queue up to
+        ``max_queued_messages`` documents in the client for when it reconnects.
+        """
+        self._check_open()
+        topic = publisher_topic(check_publisher(publisher), self.prefix)
+        data, _ = self._parse(publisher, document)
+        with self._mqtt_lock:
+            seq = self._seq.get(publisher, 0) + 1
+            payload = b"%s %s %d\n%s" % (_MAGIC, self._epoch, seq, data)
+            info = self._client.publish(topic, payload, qos=self.qos, retain=True)
+            if info.rc == MQTTErrorCode.MQTT_ERR_SUCCESS or (
+                info.rc == MQTTErrorCode.MQTT_ERR_NO_CONN and self.qos > 0
+            ):
+                self._seq[publisher] = seq
+                return seq
+        reason = mqtt.error_string(info.rc)
+        raise ContextError(
+            f"document from {publisher!r} not sent to {self.host}:{self.port}: {reason}",
+            file=self._where,
+            element="publish",
+            hint=(
+                "the broker is unreachable: retry later, or use qos=1 to queue while disconnected"
+                if self.qos == 0
+                else "the client's queue (max_queued_messages) is full: the broker is unreachable or "
+                "slower than the publisher; retry later"
+            ),
+        )
+
+    def retire(self, publisher: str) -> None:
+        """Clear ``publisher``'s retained document at the broker (retained documents otherwise outlive
+        their publisher forever); clients drop it from ``latest``/``query``, nobody is notified."""
+        self._check_open()
+        topic = publisher_topic(check_publisher(publisher), self.prefix)
+        with self._mqtt_lock:
+            # the sequence goes on: a client that missed this must not take later documents for repeats
+            info = self._client.publish(topic, b"", qos=self.qos, retain=True)
+        if info.rc not in (MQTTErrorCode.MQTT_ERR_SUCCESS, MQTTErrorCode.MQTT_ERR_NO_CONN):
+            raise ContextError(
+                f"could not retire {publisher!r}: {mqtt.error_string(info.rc)}",
+                file=self._where,
+                element="retire",
+                hint="retry once the broker is reachable",
+            )
+
+    @property
+    def connected(self) -> bool:
+        return self._client.is_connected()
+
+    def stats(self) -> dict[str, object]:
+        figures = super().stats()
+        figures.update(
+            lost=self.lost,
+            duplicates=self.duplicates,
+            malformed=self.malformed,
+            reconnects=self.reconnects,
+        )
+        return figures
+
+    def close(self) -> None:
+        """Unsubscribe everything, disconnect and stop the network thread. Idempotent."""
+        if self._closed:
+            return
+        super().close()
+        self._client.disconnect()
+        self._client.loop_stop()
