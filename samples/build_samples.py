@@ -241,10 +241,11 @@ def weblab() -> Pkg:
         "CtxPolicy",
         Rule="\n".join(
             (
-                "retry: if Control.speed == 0 and Recovery.retries < 3 then Recovery.recover()"
-                " and Recovery.retries = Recovery.retries + 1",
-                "giveUp: if Control.speed == 0 and Recovery.retries >= 3 then Recovery.askUser()"
-                " and Recovery.retries = 0",
+                # Count first, then decide: a crisp set runs to quiescence, so a rule that counted
+                # and a rule that tests the count would both fire on the third zero otherwise.
+                "count: if Control.speed == 0 then Recovery.retries = Recovery.retries + 1",
+                "retry: if Control.speed == 0 and Recovery.retries <= 3 then Recovery.recover()",
+                "giveUp: if Control.speed == 0 and Recovery.retries == 4 then Recovery.askUser()",
                 "recovered: if Control.speed > 0 and Recovery.retries > 0 then"
                 " Recovery.recoveries = Recovery.recoveries + 1 and Recovery.retries = 0",
             )

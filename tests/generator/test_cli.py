@@ -288,7 +288,7 @@ def test_inspect_json_weblab_acordcs_section() -> None:
     summary = {name: (s["engine"], s["rules"]) for name, s in sets.items()}
     assert summary == {
         "SpeedLimiting": ("fuzzy", 12),
-        "Recovering": ("clips", 3),
+        "Recovering": ("clips", 4),
         "BandwidthLimiting": ("fuzzy", 9),
     }
     assert sets["SpeedLimiting"]["policies"] == ["StraightRules", "TurnRules"]

@@ -116,7 +116,8 @@ class Neg:
 
 @dataclass(frozen=True, slots=True)
 class Const:
-    value: float | str | bool
+    value: int | float | str | bool
+    column: int | None = field(default=None, compare=False)  # where the literal is, for errors
 
 
 @dataclass(frozen=True, slots=True)
@@ -250,16 +251,19 @@ class _ToTree(Transformer):
         return Neg(operand)
 
     def c_num(self, tok):
-        return Const(_num(tok))
+        # Integer literals stay integers: `retries + 1` must not turn a count into 1.0.
+        text = str(tok)
+        value = int(text) if text.lstrip("+-").isdigit() else float(text)
+        return Const(value, tok.column)
 
     def c_str(self, tok):
-        return Const(str(tok)[1:-1])
+        return Const(str(tok)[1:-1], tok.column)
 
-    def c_true(self, _tok):
-        return Const(True)
+    def c_true(self, tok):
+        return Const(True, tok.column)
 
-    def c_false(self, _tok):
-        return Const(False)
+    def c_false(self, tok):
+        return Const(False, tok.column)
 
     def c_var(self, tok):
         return VarRef(_name(tok))
@@ -332,6 +336,13 @@ _EXPECT_WORDS = {
     "COLON": "':'",
     "EQUAL": "'='",
     "SEMICOLON": "';'",
+    "ADDOP": "'+' or '-'",
+    "MULOP": "'*' or '/'",
+    "MINUS": "'-'",
+    "STRING": "a quoted string",
+    "TRUE": "true",
+    "FALSE": "false",
+    "COMMA": "','",
     "$END": "end of rule",
 }
 

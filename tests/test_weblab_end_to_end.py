@@ -1,0 +1,92 @@
+"""The WebLab sample runs: XMI -> checked model -> pyecore -> containers -> fuzzy and CLIPS policies.
+
+The policies come from the model file alone; the test supplies only what a model cannot (the Recovery
+component's operations) and drives the Control monitor as the locomotion interceptor would.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import ClassVar
+
+import pytest
+
+from acordcs.generator.model_builder import build_application as model_of
+from acordcs.generator.pipeline import read_model
+from acordcs.runtime.application import build_application
+from acordcs.runtime.clock import VirtualClock
+from acordcs.runtime.component import CtxComponent
+from acordcs.runtime.monitor import Monitor
+from acordcs.runtime.ports import PortSpec
+
+WEBLAB = Path(__file__).resolve().parents[1] / "samples" / "weblab" / "weblab.xmi"
+# Table 1 of the paper: cycles/s -> mean speed in mm/s (residential, campus, LAN).
+TABLE_1 = {0.90: 69, 1.46: 127, 1.72: 143}
+
+
+class Recovery(CtxComponent):
+    properties: ClassVar[dict[str, object]] = {"retries": 0, "recoveries": 0}
+    ports = (PortSpec("RecoveryLocomotionPort", "synchronous", "required"),)
+
+    def __init__(self) -> None:
+        self.calls: list[str] = []
+
+    def recover(self) -> None:
+        self.calls.append("recover")
+
+    def askUser(self) -> None:  # the model's operation name
+        self.calls.append("askUser")
+
+
+@pytest.fixture
+def weblab():
+    reading = read_model(str(WEBLAB))
+    assert not reading.diagnostics, [d.format_text() for d in reading.diagnostics]
+    monitors: dict[str, Monitor] = {}
+
+    def monitor(name: str, **kw) -> Monitor:
+        monitors[name] = Monitor(name, **kw)
+        return monitors[name]
+
+    run = build_application(
+        model_of(reading.architecture),
+        clock=VirtualClock(seed=1),
+        factories={"Recovery": Recovery},
+        monitors={"Control": monitor},
+    )
+    yield run.container("WebLabSide"), monitors["Control"]
+    run.close()
+
+
+def test_speed_limiting_reproduces_table_1_on_a_straight_path(weblab):
+    container, control = weblab
+    speeds = {}
+    for rate in TABLE_1:
+        control.update(cycleRate=rate, angle=5.0, speed=100.0)
+        speeds[rate] = container.get_property("Locomotion", "maxSpeed")
+    assert speeds[0.90] < speeds[1.46] < speeds[1.72]
+    for rate, paper in TABLE_1.items():
+        assert abs(speeds[rate] - paper) <= 10, (rate, speeds[rate], paper)
+
+
+def test_sharper_turns_slow_the_robot_down(weblab):
+    container, control = weblab
+    limits = []
+    for angle in (5.0, 20.0, 45.0, 80.0):
+        control.update(cycleRate=1.46, angle=angle, speed=100.0)
+        limits.append(container.get_property("Locomotion", "maxSpeed"))
+    assert limits == sorted(limits, reverse=True) and limits[0] > limits[-1]
+
+
+def test_recovering_policy_retries_three_times_then_asks_the_user(weblab):
+    container, control = weblab
+    recovery = container.find("Recovery").instance
+    steps = []
+    for speed in (0.0, 0.0, 0.0, 0.0, 0.0, 50.0, 0.0):
+        control.update(speed=speed)
+        steps.append((list(recovery.calls), container.get_property("Recovery", "retries")))
+    assert [calls.count("recover") for calls, _ in steps] == [1, 2, 3, 3, 3, 3, 4]
+    assert [calls.count("askUser") for calls, _ in steps] == [0, 0, 0, 1, 1, 1, 1]
+    assert [retries for _, retries in steps] == [1, 2, 3, 4, 5, 0, 1]
+    assert container.get_property("Recovery", "recoveries") == 1
+    assert container.faults.counts["total"] == 0
