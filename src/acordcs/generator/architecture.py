@@ -2,7 +2,7 @@
 
 A stereotyped element is a :class:`Role`. Relations between roles (associations of any aggregation,
 dependencies, nesting, Papyrus ports) are classified by the pair of stereotypes they join, as
-``docs/modelling.md`` states: deployment, port ownership, connection ends, policy membership, adapts,
+the README's section on modelling states: deployment, port ownership, connection ends, policy membership, adapts,
 feeds and sources. This is an index over the UML view, not a second metamodel: the pyecore model is
 built from it by :mod:`acordcs.generator.model_builder` when one is needed.
 """

@@ -41,7 +41,7 @@ _BOUML_PRIMITIVE_HREF = {"String": "String", "Integer": "Integer", "Boolean": "B
 _BOUML_DATATYPE_NAME = {"Real": "double"}
 
 # BOUML's "apply on" table lists BOUML element kinds, not UML metaclasses; a UML Port or an
-# AssociationClass is drawn as a class in BOUML (docs/modelling.md).
+# AssociationClass is drawn as a class in BOUML (the README's section on modelling).
 _BOUML_APPLY_ON = {
     "Class": "Class",
     "Component": "Component",

@@ -15,6 +15,7 @@ import logging
 import threading
 import time
 import zlib
+from abc import ABC, abstractmethod
 from collections.abc import Callable
 from dataclasses import dataclass, field
 
@@ -44,7 +45,7 @@ def _stream_key(purpose: str | int) -> int:
     return purpose if isinstance(purpose, int) else zlib.crc32(purpose.encode("utf-8"))
 
 
-class Clock:
+class Clock(ABC):
     """What the runtime needs from time. Times are seconds (floats) since the clock started."""
 
     def __init__(self, seed: int = 0) -> None:
@@ -54,14 +55,17 @@ class Clock:
         # Called with (timer, exception) when a callback raises; containers install their fault log here.
         self.on_error: Callable[[Timer, BaseException], None] = _log_timer_error
 
+    @abstractmethod
     def now(self) -> float:
-        raise NotImplementedError
+        """Implemented by each clock."""
 
+    @abstractmethod
     def sleep(self, seconds: float) -> None:
-        raise NotImplementedError
+        """Implemented by each clock."""
 
+    @abstractmethod
     def call_at(self, when: float, fn: Callable[[], object]) -> Timer:
-        raise NotImplementedError
+        """Implemented by each clock."""
 
     def call_later(self, delay: float, fn: Callable[[], object]) -> Timer:
         """Run ``fn`` once after ``delay`` seconds of this clock's time."""
@@ -92,11 +96,12 @@ class Clock:
             self._rngs[key] = gen
         return gen
 
-    def close(self) -> None:
+    def close(self) -> None:  # noqa: B027 (a no-op unless the clock holds a thread)
         """Stop scheduling; pending timers are dropped."""
 
+    @abstractmethod
     def _schedule(self, timer: Timer) -> None:
-        raise NotImplementedError
+        """Implemented by each clock."""
 
     def _run_timer(self, timer: Timer) -> None:
         try:

@@ -15,7 +15,7 @@ not news. Sets that trigger each other are cut by the container's cascade bound 
 A raising engine or action is a fault (kind ``action``):
 recorded, and the policy set fires again at the next trigger.
 
-Variable scope (docs/modelling.md): the attributes of the elements the set ``adapts`` (and of their
+Variable scope (the README's section on modelling): the attributes of the elements the set ``adapts`` (and of their
 ports) and of the monitors that feed it; ``Element.attribute`` or a bare attribute that exactly one
 element in scope has. With neither ``adapts`` nor ``fed_by``, every element of the container is in scope.
 """

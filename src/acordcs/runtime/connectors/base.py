@@ -8,6 +8,7 @@ each send, so a change applies to the next message.
 
 from __future__ import annotations
 
+from abc import ABC, abstractmethod
 from typing import TYPE_CHECKING, Any
 
 from acordcs.runtime.errors import PortError
@@ -16,7 +17,7 @@ if TYPE_CHECKING:
     from acordcs.runtime.ports import Port
 
 
-class Connector:
+class Connector(ABC):
     """Carries calls, notifications and stream items from one endpoint to its peer."""
 
     kind = "abstract"
@@ -25,6 +26,7 @@ class Connector:
         """QoS properties a new connection starts with (overridden by ``connect(qos=...)``)."""
         return {}
 
+    @abstractmethod
     def call(
         self,
         conn: Connection,
@@ -33,15 +35,17 @@ class Connector:
         args: tuple[Any, ...],
         kwargs: dict[str, Any],
     ) -> Any:
-        raise NotImplementedError
+        """Run ``operation`` on the peer and return its result (request-reply)."""
 
+    @abstractmethod
     def notify(self, conn: Connection, target: object, message: Any, size: int | None) -> None:
-        raise NotImplementedError
+        """Deliver a notification to the peer's queue."""
 
+    @abstractmethod
     def stream(self, conn: Connection, target: object, item: Any, size: int | None) -> None:
-        raise NotImplementedError
+        """Deliver one stream item to the peer."""
 
-    def close(self) -> None:
+    def close(self) -> None:  # noqa: B027 (a no-op unless the connector holds sockets)
         """Release what the connector holds (sockets, proxies)."""
 
 

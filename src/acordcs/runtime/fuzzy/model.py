@@ -1,6 +1,6 @@
 """Loading a fuzzy policy set straight from an ACORD-CS model (pyecore, ``acordcs.ecore``).
 
-Scope of a policy set's rules (docs/modelling.md): the attributes of the monitors that feed the set,
+Scope of a policy set's rules (the README's section on modelling): the attributes of the monitors that feed the set,
 of the elements it adapts and, for an adapted component, of its ports. Every such attribute that is
 a linguistic variable (``Attribute.variable``, a CtxVariable) is declared as ``Element.attribute``;
 rules may write it unqualified where that is unambiguous. Each CtxPolicy becomes one rule set, named
