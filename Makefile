@@ -27,6 +27,7 @@ system-packages:
 demo: $(STAMP)
 	$(BIN)/acordcs-gen validate samples/weblab/weblab.xmi
 	$(BIN)/acordcs-gen inspect samples/weblab/weblab.xmi
+	$(BIN)/python samples/weblab/run_policies.py samples/weblab/weblab.xmi
 
 test: $(DEV_STAMP) system-packages
 	$(BIN)/python -m pytest -q

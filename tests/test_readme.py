@@ -3,6 +3,8 @@
 from __future__ import annotations
 
 import re
+import subprocess
+import sys
 from pathlib import Path
 
 from click.testing import CliRunner
@@ -39,4 +41,7 @@ def test_make_demo_transcript_is_what_the_commands_print(monkeypatch):
         result = runner.invoke(cli, args)
         assert result.exit_code == 0, result.output
         out += result.output.splitlines()
+    script = [sys.executable, "samples/weblab/run_policies.py", "samples/weblab/weblab.xmi"]
+    done = subprocess.run(script, capture_output=True, text=True, check=True)
+    out += done.stdout.splitlines()
     assert out == expected
