@@ -1,7 +1,7 @@
 """CLIPS results against an independent plain-Python evaluation of the same crisp rules.
 
 The oracle walks the rule tree of ``parse_rule`` itself and implements the documented semantics
-(docs/engines-clips.md) without CLIPS: rules in definition order, each at most once per fire, the
+(the README's section on the CLIPS engine) without CLIPS: rules in definition order, each at most once per fire, the
 first whose condition holds fires, unfired rules are evaluated again on the new values, until none
 fires; evaluation errors make a condition false or skip one action.
 """

@@ -192,8 +192,10 @@ def _role(uml: UmlModel, app: StereotypeApplication) -> Role | None:
         # (RuleSlowDown, ...) are plain key/values of the element: they belong to the stereotype.
         tags = dict(app.tags)
         if declared is not None:
+            # Tags of no profile ('Rule2', or a misspelt 'frequncy') join the role, so that the tag
+            # checks report the unknown ones (T303) instead of losing them; 'P:t' belongs to P.
             for key, value in element.tagged_values.items():
-                if key not in tags and declared.tag(key) is not None:
+                if key not in tags and ":" not in key:
                     tags[key] = value
         if declared is None:
             uml.diagnostics.append(

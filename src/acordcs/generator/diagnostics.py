@@ -6,8 +6,20 @@ and the SARIF rule metadata are both produced from it.
 
 from __future__ import annotations
 
+import unicodedata
 from dataclasses import dataclass
 from enum import IntEnum
+
+_UNPRINTABLE = frozenset(("Cc", "Cf", "Zl", "Zp", "Cs"))
+
+
+def printable(text: str) -> str:
+    """``text`` with control, format (bidi) and line-separator characters escaped as ``\\uXXXX``."""
+    if text.isprintable():
+        return text
+    return "".join(
+        f"\\u{ord(ch):04x}" if unicodedata.category(ch) in _UNPRINTABLE else ch for ch in text
+    )
 
 
 class Severity(IntEnum):
@@ -40,7 +52,7 @@ CODES: dict[str, tuple[Severity, str]] = {
     "R201": (E, "unknown xmi:type (the element is skipped)"),
     "R202": (E, "reference to an id that does not exist"),
     "R203": (E, "id defined more than once"),
-    "R204": (W, "stereotype application whose base element does not exist"),
+    "R204": (E, "stereotype application whose base element does not exist"),
     "R205": (W, "the two places BOUML writes a tag disagree"),
     "R206": (INFO, "free stereotype read as the ACORDCS stereotype of the same name"),
     "R207": (W, "element without an id"),
@@ -108,13 +120,14 @@ class Diagnostic:
         return f"{loc}:{self.column}" if self.line and self.column else loc
 
     def format_text(self) -> str:
+        """One line: names from the model cannot break it (newlines, bidi controls are escaped)."""
         text = f"{self.location()}: {self.severity} {self.code}: {self.message}"
         if self.element or self.xmi_id:
             where = " ".join(
                 p for p in (self.element, f"({self.xmi_id})" if self.xmi_id else None) if p
             )
             text += f" [{where}]"
-        return text
+        return printable(text)
 
     def to_dict(self) -> dict:
         return {

@@ -29,11 +29,12 @@ def _acordcs(arch: Architecture) -> dict:
         if arch.of_kind(s.name)
     }
     deployment = {
-        c.name: sorted(r.name for r in arch.related(c, "hosts")) for c in arch.of_kind(CONTAINER)
+        _key(c, arch): sorted(r.name for r in arch.related(c, "hosts"))
+        for c in arch.of_kind(CONTAINER)
     }
     policy_sets = {}
     for ps in arch.of_kind(POLICY_SET):
-        policy_sets[ps.name] = {
+        policy_sets[_key(ps, arch)] = {
             "engine": ps.tag("engine"),
             "trigger": ps.tag("trigger"),
             "policies": sorted(p.name for p in arch.policies(ps)),
@@ -42,3 +43,9 @@ def _acordcs(arch: Architecture) -> dict:
             "fed_by": sorted(r.name for r in arch.related_to(ps, "feeds")),
         }
     return {"elements": elements, "deployment": deployment, "policy_sets": policy_sets}
+
+
+def _key(role, arch: Architecture) -> str:
+    """The role's name, with its id when another role of its kind has the same name (shown, not lost)."""
+    same = [r for r in arch.of_kind(role.kind) if r.name == role.name]
+    return role.name if len(same) == 1 else f"{role.name} ({role.id})"

@@ -30,7 +30,7 @@ class Element:
             if node.kind != "Model":
                 parts.append(node.name or f"<{node.kind}>")
             node = node.owner
-        return "::".join(reversed(parts))
+        return "::".join(reversed(parts)) or self.name or f"<{self.kind}>"
 
 
 @dataclass(slots=True, eq=False, kw_only=True)

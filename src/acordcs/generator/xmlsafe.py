@@ -9,6 +9,7 @@ silently drop or garble model elements.
 
 from __future__ import annotations
 
+import os
 import re
 from dataclasses import dataclass, field
 
@@ -16,7 +17,7 @@ from lxml import etree
 
 from acordcs.generator.diagnostics import Diagnostic, diagnostic
 
-MAX_BYTES = 512 * 1024 * 1024
+MAX_BYTES = 256 * 1024 * 1024
 _DOCTYPE = re.compile(rb"<!DOCTYPE|<!ENTITY", re.IGNORECASE)
 _WIDE_DECLARATION = re.compile(
     rb"""^\s*<\?xml[^>]*encoding\s*=\s*["'](utf-?16|utf-?32|ucs)""", re.IGNORECASE
@@ -64,8 +65,8 @@ _FATAL = {
         "the bytes do not match the declared encoding: fix the encoding declaration or re-export",
     ),
     "ERR_INVALID_CHAR": (
-        "X105",
-        "the bytes do not match the declared encoding: fix the encoding declaration or re-export",
+        "X108",
+        "a character XML does not allow (a control character or NUL): remove it from the model",
     ),
     "ERR_UNSUPPORTED_ENCODING": (
         "X105",
@@ -80,6 +81,21 @@ _FATAL = {
 }
 
 
+# What BOUML's unescaped names break (`<`, `&`, `"` in a name), which recovery repairs locally.
+# Any other error (a missing end tag, ...) would make recovery rebuild the tree wrongly: refused.
+_RECOVERABLE = frozenset(
+    (
+        "ERR_LT_IN_ATTRIBUTE",
+        "ERR_ENTITYREF_SEMICOL_MISSING",
+        "ERR_NAME_REQUIRED",
+        "ERR_ATTRIBUTE_WITHOUT_VALUE",
+        "ERR_SPACE_REQUIRED",
+        "ERR_GT_REQUIRED",
+        "ERR_ATTRIBUTE_REDEFINED",
+    )
+)
+
+
 def _line_col(data: bytes, offset: int) -> tuple[int, int]:
     line = data.count(b"\n", 0, offset) + 1
     return line, offset - (data.rfind(b"\n", 0, offset) + 1) + 1
@@ -89,6 +105,10 @@ def read_xml(path: str) -> XmlInput:
     """Parse ``path`` with the hardened parser; never raises for bad input."""
     try:
         with open(path, "rb") as handle:
+            size = os.fstat(handle.fileno()).st_size
+            if size > MAX_BYTES:
+                msg = f"file is {size // 2**20} MiB, over the {MAX_BYTES // 2**20} MiB limit; split the model"
+                return XmlInput(path, None, [diagnostic("X103", msg, file=path)])
             data = handle.read(MAX_BYTES + 1)
     except OSError as err:
         reason = err.strerror or str(err)
@@ -150,6 +170,9 @@ def _after_strict_failure(
         kind, message = "ERR_RESOURCE_LIMIT", "entity expansion beyond the safety limit"
     if kind not in _FATAL and _at_end(data, line, col):
         kind = "ERR_DOCUMENT_END"  # cut inside a tag or attribute: libxml2 names the symptom
+    if kind not in _RECOVERABLE and kind not in _FATAL:
+        msg = f"not well-formed XML: {message}; fix the file at this place or export it again"
+        return XmlInput(path, None, [diagnostic("X108", msg, file=path, line=line, column=col)])
     if kind in _FATAL:
         code, todo = _FATAL[kind]
         return XmlInput(

@@ -22,6 +22,7 @@ from typing import Literal
 from lark import Lark, Token, Transformer, v_args
 from lark.exceptions import LarkError, UnexpectedCharacters, UnexpectedInput, UnexpectedToken
 
+from acordcs.cachedir import lark_cache
 from acordcs.errors import AcordError
 
 RuleKind = Literal["fuzzy", "crisp"]
@@ -205,6 +206,8 @@ def _name(tok: Token) -> Name:
 
 
 def _num(tok: Token) -> float:
+    if len(tok) > 64:
+        raise RuleSyntaxError(f"number {str(tok)[:12]}... is too long", column=tok.column)
     return float(tok)
 
 
@@ -253,6 +256,8 @@ class _ToTree(Transformer):
     def c_num(self, tok):
         # Integer literals stay integers: `retries + 1` must not turn a count into 1.0.
         text = str(tok)
+        if len(text) > 64:  # int() refuses 4,300+ digits; no rule needs more than a double's range
+            raise RuleSyntaxError(f"number {text[:12]}... is too long", column=tok.column)
         value = int(text) if text.lstrip("+-").isdigit() else float(text)
         return Const(value, tok.column)
 
@@ -307,14 +312,15 @@ class _ToTree(Transformer):
 def _parser(start: str) -> Lark:
     with open(os.path.join(os.path.dirname(__file__), "rules.lark"), encoding="utf-8") as handle:
         grammar = handle.read()
-    # cache=True keeps the analysed grammar in the temp dir: it halves start-up of `acordcs-gen`.
+    # A cached analysis halves start-up of `acordcs-gen`; it lives in a private directory only,
+    # never lark's cache=True (a predictable pickle in the shared temp dir: see acordcs.cachedir).
     return Lark(
         grammar,
         start=start,
         parser="lalr",
         transformer=_ToTree(),
         maybe_placeholders=True,
-        cache=True,
+        cache=lark_cache(grammar, f"rules-{start}"),
     )
 
 

@@ -112,7 +112,8 @@ class _Scope:
 
 
 def _suggest(word: str, names: list[str]) -> str:
-    close = difflib.get_close_matches(word, names, n=1)
+    # difflib is quadratic-ish: a bounded candidate list keeps huge hostile models fast
+    close = difflib.get_close_matches(word, names[:500], n=1)
     return f" (did you mean {close[0]!r}?)" if close else ""
 
 
@@ -218,9 +219,12 @@ def _check_rule(
                 continue
             terms = [t.name.text for t in variable_terms(var_role)]
             if terms and atom.term.text not in terms:
+                shown = ", ".join(terms[:10]) + (
+                    f", ... ({len(terms)} in all)" if len(terms) > 10 else ""
+                )
                 yield problem(
                     "L404",
-                    f"{atom.var.text!r} has no term {atom.term.text!r} (its terms: {', '.join(terms)})"
+                    f"{atom.var.text!r} has no term {atom.term.text!r} (its terms: {shown})"
                     f"{_suggest(atom.term.text, terms)}",
                     atom.term,
                 )

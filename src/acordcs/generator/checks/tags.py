@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+import re
 from collections.abc import Iterator
 from itertools import pairwise
 
@@ -11,20 +12,22 @@ from acordcs.generator.checks import Context, check
 from acordcs.generator.diagnostics import Diagnostic
 from acordcs.metamodel.rules import RuleSyntaxError, TermDef, parse_terms
 
+# xsd:double and xsd:int lexical forms (ASCII digits only), as EMF and Java read tag values.
+_REAL = re.compile(r"[+-]?([0-9]+(\.[0-9]*)?|\.[0-9]+)([eE][+-]?[0-9]+)?")
+_INTEGER = re.compile(r"[+-]?[0-9]+")
+
 
 def parse_real(text: str) -> float | None:
-    try:
-        value = float(text.strip())
-    except ValueError:
+    text = text.strip()
+    if not _REAL.fullmatch(text):
         return None
+    value = float(text)
     return value if math.isfinite(value) else None
 
 
 def parse_integer(text: str) -> int | None:
-    try:
-        return int(text.strip())
-    except ValueError:
-        return None
+    text = text.strip()
+    return int(text) if _INTEGER.fullmatch(text) and len(text) < 20 else None
 
 
 _PARSERS = {
@@ -86,6 +89,8 @@ def parsed_terms(text: str) -> list[TermDef] | RuleSyntaxError:
     """``parse_terms`` memoised by text: a model has far fewer distinct term lists than variables,
     and every rule atom asks for its variable's terms."""
     if text not in _TERMS_CACHE:
+        if len(_TERMS_CACHE) > 4096:
+            _TERMS_CACHE.clear()
         try:
             _TERMS_CACHE[text] = parse_terms(text)
         except RuleSyntaxError as err:
@@ -184,23 +189,37 @@ def _check_terms(ctx, role, terms, bounds, line) -> Iterator[Diagnostic]:
 
 
 def shape_problem(term: TermDef) -> str | None:
+    """Why the fuzzy engine would refuse this term, or None.
+
+    The same rules as ``acordcs.runtime.fuzzy.membership.make_membership`` (a property test keeps the
+    two in step): the validator must not pass a model the engine then refuses at start-up.
+    """
     p = term.parameters
+    if not all(math.isfinite(v) for v in p):
+        return "parameters must be finite numbers"
     if term.shape in ("trapezoid", "triangle"):
         if any(b < a for a, b in pairwise(p)):
             return f"points {' '.join(f'{x:g}' for x in p)} must not decrease"
         if p[0] == p[-1]:
             return "has zero width"
     elif term.shape == "points":
-        xs = p[0::2]
-        ys = p[1::2]
+        xs, ys = p[0::2], p[1::2]
+        if len(xs) < 2:
+            return "a point list needs at least two (x, y) points"
         if any(b < a for a, b in pairwise(xs)):
             return "point x values must not decrease"
+        if any(a == c for a, c in zip(xs, xs[2:], strict=False)):
+            return "three points share one x; a vertical edge has two"
+        if xs[0] == xs[-1]:
+            return "the point list has zero width; use a singleton for a single point"
         if any(not 0.0 <= y <= 1.0 for y in ys):
             return "membership degrees must lie in [0, 1]"
-    elif term.shape in ("gaussian",) and p[1] <= 0:
+    elif term.shape == "gaussian" and p[1] <= 0:
         return "the standard deviation must be positive"
     elif term.shape == "bell" and (p[0] <= 0 or p[1] <= 0):
         return "width a and slope b must be positive"
+    elif term.shape == "sigmoid" and p[0] == 0:
+        return "the sigmoid gain must not be 0"
     return None
 
 

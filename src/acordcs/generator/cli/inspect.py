@@ -6,6 +6,7 @@ import json
 
 import click
 
+from acordcs.generator.diagnostics import printable
 from acordcs.generator.pipeline import read_model
 from acordcs.generator.summary import summarize
 
@@ -67,4 +68,4 @@ def _text(data: dict) -> str:
         )
     if data["diagnostics"]:
         lines.append(f"  reader diagnostics: {data['diagnostics']}")
-    return "\n".join(lines)
+    return "\n".join(printable(line) for line in lines)

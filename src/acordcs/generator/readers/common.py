@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 import difflib
-from collections import Counter
+from collections import defaultdict
 
 from acordcs.generator.diagnostics import diagnostic
 from acordcs.generator.uml import UmlModel
@@ -245,23 +245,24 @@ def unknown_type_message(kind: str) -> str:
 
 def check_ids(model: UmlModel, ids: list[tuple[str, int]]) -> set[str]:
     """Report ids defined twice (R203); return the set of all ids."""
-    counts = Counter(i for i, _ in ids)
-    reported: set[str] = set()
+    lines: dict[str, list[int]] = defaultdict(list)
     for ident, line in ids:
-        if counts[ident] > 1 and ident not in reported:
-            reported.add(ident)
-            lines = sorted(ln for i, ln in ids if i == ident)
+        lines[ident].append(line)
+    for ident, where in lines.items():
+        if len(where) > 1:
+            where.sort()
             model.diagnostics.append(
                 diagnostic(
                     "R203",
-                    f"id {ident!r} is defined {counts[ident]} times (lines {', '.join(map(str, lines))}); "
+                    f"id {ident!r} is defined {len(where)} times (lines "
+                    f"{', '.join(map(str, where[:10]))}{', ...' if len(where) > 10 else ''}); "
                     "ids must be unique: re-export the model",
                     file=model.file,
-                    line=line,
+                    line=where[0],
                     xmi_id=ident,
                 )
             )
-    return set(counts)
+    return set(lines)
 
 
 def dangling(model: UmlModel, ident: str, what: str, line: int, element: str | None) -> None:

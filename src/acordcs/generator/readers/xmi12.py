@@ -217,7 +217,9 @@ class _Reader:
         for ident, what, line, source in self.refs:
             if ident not in known:
                 dangling(model, ident, what, line, source.qualified_name())
+        generals: dict[str, list[str]] = {}
+        for gen in model.generalizations:
+            if gen.general:
+                generals.setdefault(gen.specific, []).append(gen.general)
         for cls in model.classifiers:
-            cls.generals = [
-                g.general for g in model.generalizations if g.specific == cls.id and g.general
-            ]
+            cls.generals = generals.get(cls.id, [])

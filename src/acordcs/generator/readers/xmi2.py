@@ -372,6 +372,7 @@ class _Reader:
     ) -> None:
         old = app.tags.get(tag)
         if old is not None and old != value and place not in app.places:
+            base = self.model.elements.get(app.base)
             self.model.diagnostics.append(
                 diagnostic(
                     "R205",
@@ -379,6 +380,7 @@ class _Reader:
                     f"using {old!r}: re-export the model",
                     file=self.model.file,
                     line=line,
+                    element=base.qualified_name() if base is not None else None,
                     xmi_id=app.base,
                 )
             )
@@ -430,7 +432,8 @@ class _Reader:
             return
         ns = etree.QName(el).namespace or ""
         match = _PROFILE_NS.match(ns)
-        profile = el.prefix or (match.group(1) if match else None)
+        # The namespace names the profile; a prefix is the writer's choice (xmlns:acs= works too).
+        profile = match.group(1) if match else el.prefix
         app = self._application(
             profile, etree.QName(el).localname, el.get(base_attr), el.sourceline or 0
         )
@@ -491,7 +494,7 @@ class _Reader:
             if target is not None:
                 target.comments.append(body)
         for app in list(model.applications.values()):
-            if app.base not in model.elements:
+            if app.base == app.id or app.base not in model.elements:
                 del model.applications[(app.base, app.key)]
                 model.diagnostics.append(
                     diagnostic(

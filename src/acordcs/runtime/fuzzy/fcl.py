@@ -21,6 +21,7 @@ from pathlib import Path
 from lark import Lark, Token, Tree
 from lark.exceptions import UnexpectedCharacters, UnexpectedInput, UnexpectedToken
 
+from acordcs.cachedir import lark_cache
 from acordcs.metamodel.rules import BoolOp, Consequent, Is, Name, Not, Rule
 from acordcs.runtime.engine import RuleError
 from acordcs.runtime.fuzzy.engine import FuzzyEngine
@@ -50,7 +51,8 @@ _UNSUPPORTED = ("singletons", "cosine", "dsigm", "gauss2", "function")
 @cache
 def _parser() -> Lark:
     grammar = resources.files(__package__).joinpath("fcl.lark").read_text(encoding="utf-8")
-    return Lark(grammar, parser="lalr", propagate_positions=True, cache=True)
+    # never cache=True: lark would unpickle a predictable file in the shared temp dir
+    return Lark(grammar, parser="lalr", propagate_positions=True, cache=lark_cache(grammar, "fcl"))
 
 
 def read_fcl(source: str | Path, *, filename: str | None = None) -> dict[str, FuzzyEngine]:
