@@ -140,3 +140,30 @@ def test_the_validator_accepts_exactly_the_terms_the_fuzzy_engine_accepts(term):
     except RuleError:
         engine_ok = False
     assert (shape_problem(term) is None) == engine_ok, (term, shape_problem(term))
+
+
+def test_an_unknown_uml_element_in_xmi_1_2_is_reported(tmp_path):
+    from gen_helpers import XMI_SAMPLES
+
+    text = (XMI_SAMPLES / "TPB3D__tpb3d.xmi").read_text(encoding="utf-8")
+    start = text.index('<UML:Class name="Panel"')
+    end = text.index("</UML:Class>", start)
+    text = text[:start] + "<UML:Klass" + text[start + 10 : end] + "</UML:Klass>" + text[end + 12 :]
+    result = run_main(["validate", str(_write(tmp_path, text))])
+    no_crash(result)
+    assert "R201" in _codes(result.out) and "did you mean UML:Class?" in result.out
+    assert result.code == 1
+
+
+def test_sarif_gives_a_file_uri_for_an_absolute_path(tmp_path):
+    import json
+
+    text = TEXT.replace('name="Locomotion"', 'name="native"')
+    path = _write(tmp_path, text)
+    result = run_main(["validate", "--format", "sarif", str(path.resolve())])
+    uris = {
+        loc["physicalLocation"]["artifactLocation"]["uri"]
+        for res in json.loads(result.out)["runs"][0]["results"]
+        for loc in res["locations"]
+    }
+    assert uris == {path.resolve().as_uri()}

@@ -56,8 +56,9 @@ def as_json(readings: list[ModelReading]) -> dict:
 
 
 def _uri(path: str) -> str:
-    """A relative URI reference for a path: spaces, '#' and '%' percent-encoded."""
-    return quote(PurePath(path).as_posix())
+    """A URI for a path: relative as given (percent-encoded), or ``file://`` when absolute."""
+    pure = PurePath(path)
+    return pure.as_uri() if pure.is_absolute() else quote(pure.as_posix())
 
 
 def as_sarif(readings: list[ModelReading]) -> dict:

@@ -7,8 +7,11 @@ gives each end an id derived from its association's. Stereotypes are free names
 
 from __future__ import annotations
 
+import difflib
+
 from lxml import etree
 
+from acordcs.generator.diagnostics import diagnostic
 from acordcs.generator.readers.common import check_ids, dangling, primitive_from_href
 from acordcs.generator.uml import (
     CLASSIFIER_KINDS,
@@ -27,6 +30,15 @@ from acordcs.generator.uml import (
 from acordcs.generator.xmlsafe import XmlInput
 
 NS = "org.omg.xmi.namespace.UML"
+# UML 1.4 metaclasses that may stand in a namespace: anything else is reported (R201).
+UML14_METACLASSES = frozenset(
+    """Model Package Subsystem Class Interface DataType Primitive Enumeration
+    ProgrammingLanguageDataType Actor UseCase Component Node Signal Exception Association
+    AssociationClass Generalization Dependency Abstraction Usage Permission Binding Comment
+    Stereotype TagDefinition Collaboration Instance Object Link Stimulus StateMachine
+    ActivityGraph Constraint ClassifierRole AssociationRole Artifact Include Extend
+    CallEvent SignalEvent TimeEvent ChangeEvent Flow""".split()
+)
 U = f"{{{NS}}}"
 _CLASSIFIER_TAGS = {f"{U}{k}": k for k in CLASSIFIER_KINDS}
 
@@ -128,6 +140,19 @@ class _Reader:
                 self.refs.append((ident, "dependency", dep.line, dep))
         elif tag == f"{U}Comment" and owner is not None:
             owner.comments.append(el.get("body", ""))
+        elif isinstance(tag, str) and tag.startswith(U) and tag[len(U) :] not in UML14_METACLASSES:
+            name = tag[len(U) :]
+            close = difflib.get_close_matches(name, UML14_METACLASSES, n=1)
+            hint = f" (did you mean UML:{close[0]}?)" if close else ""
+            model.diagnostics.append(
+                diagnostic(
+                    "R201",
+                    f"unknown element UML:{name}{hint}; it is skipped",
+                    file=model.file,
+                    line=el.sourceline,
+                    xmi_id=el.get("xmi.id"),
+                )
+            )
 
     def _features(self, el: etree._Element, cls: Classifier) -> None:
         for feature in el.iterchildren(f"{U}Classifier.feature"):
