@@ -11,7 +11,7 @@ the model with its ``profileApplication``, and every ACORDCS stereotype written 
 
 ``synthetic_model(classes=2000, seed=1)`` builds a model of ``classes`` classes, about a quarter
 of them with ACORD-CS stereotypes (containers, components, ports, connections, monitors, 100
-policy sets of 12 rules each, their policies), that follows ``docs/modelling.md`` and should
+policy sets of 12 rules each, their policies), that follows the README's section on modelling and should
 validate clean: every rule variable is an attribute in the set's scope, every term is defined,
 every component, monitor and set is deployed, every monitor feeds a set. The rest are plain
 classes with attributes, operations, comments, associations and generalizations, as in a real
