@@ -14,7 +14,7 @@ from dataclasses import dataclass, field
 
 from acordcs.generator.diagnostics import diagnostic
 from acordcs.generator.uml import Classifier, Element, Property, StereotypeApplication, UmlModel
-from acordcs.profile import PROFILE_NAME, Stereotype, stereotype
+from acordcs.profile import PROFILE_NAME, Stereotype, profile, stereotype
 
 CONTAINER, COMPONENT, PORT, CONNECTION = (
     "CtxContainer",
@@ -186,6 +186,19 @@ def interpret(uml: UmlModel) -> Architecture:
 
 def _role(uml: UmlModel, app: StereotypeApplication) -> Role | None:
     element = uml.elements[app.base]
+
+    def report(code: str, message: str) -> None:
+        uml.diagnostics.append(
+            diagnostic(
+                code,
+                message,
+                file=uml.file,
+                line=app.line or element.line,
+                element=element.qualified_name(),
+                xmi_id=element.id,
+            )
+        )
+
     if app.profile == PROFILE_NAME:
         declared = stereotype(app.name)
         # BOUML drops stereotype properties the profile does not declare, so extra rule tags
@@ -198,56 +211,26 @@ def _role(uml: UmlModel, app: StereotypeApplication) -> Role | None:
                 if key not in tags and ":" not in key:
                     tags[key] = value
         if declared is None:
-            uml.diagnostics.append(
-                diagnostic(
-                    "T302",
-                    f"ACORDCS has no stereotype {app.name!r}; use one of "
-                    f"{', '.join(s.name for s in _all())}",
-                    file=uml.file,
-                    line=app.line or element.line,
-                    element=element.qualified_name(),
-                    xmi_id=element.id,
-                )
-            )
+            known = ", ".join(s.name for s in profile())
+            report("T302", f"ACORDCS has no stereotype {app.name!r}; use one of {known}")
             return None
     elif app.profile is None and stereotype(app.name) is not None:
         # A free stereotype named like ours (older BOUML models, XMI 1.2): its element's tagged
         # values are the tags.
         declared = stereotype(app.name)
         tags = dict(element.tagged_values)
-        uml.diagnostics.append(
-            diagnostic(
-                "R206",
-                f"free stereotype {app.name!r} read as ACORDCS:{app.name}",
-                file=uml.file,
-                line=app.line or element.line,
-                element=element.qualified_name(),
-                xmi_id=element.id,
-            )
-        )
+        report("R206", f"free stereotype {app.name!r} read as ACORDCS:{app.name}")
     else:
         return None
     covered = set().union(*(_METACLASS_COVERS.get(m, {m}) for m in declared.metaclasses))
     if element.kind not in covered:
-        uml.diagnostics.append(
-            diagnostic(
-                "T301",
-                f"<<{declared.name}>> applies to {' or '.join(declared.metaclasses)}, not to a "
-                f"{element.kind}; move the stereotype to the right element",
-                file=uml.file,
-                line=app.line or element.line,
-                element=element.qualified_name(),
-                xmi_id=element.id,
-            )
+        report(
+            "T301",
+            f"<<{declared.name}>> applies to {' or '.join(declared.metaclasses)}, not to a "
+            f"{element.kind}; move the stereotype to the right element",
         )
         return None
     return Role(declared, element, app, tags)
-
-
-def _all() -> list[Stereotype]:
-    from acordcs.profile import profile
-
-    return list(profile())
 
 
 def _link_relations(arch: Architecture) -> None:
