@@ -127,6 +127,22 @@ class MaxMinCog:
         return moment / area if area > 0.0 else None
 
 
+_U_FIRST, _U_LAST = math.nextafter(0.0, 1.0), math.nextafter(1.0, 0.0)
+
+
+def _crossing(lev: float, p: float, q: float) -> float | None:
+    """Where (0..1) the line from p to q crosses the clip level ``lev``, if it does inside.
+
+    Kept strictly inside even when rounding puts it on an end: a tiny level clipping a steep line
+    (a rule firing at 1e-28) crosses within 1e-16 of the end, and losing that kink would turn the
+    flat clipped band into a slope and move the centroid or bisector by a third of the interval.
+    """
+    if not (p < lev < q or q < lev < p):
+        return None
+    u = (lev - p) / (q - p)
+    return min(max(u, _U_FIRST), _U_LAST)
+
+
 def _max_of_clipped(x0: float, x1: float, live) -> tuple[float, float]:
     """Exact integral of max_i min(level_i, line_i) over [x0, x1] with two or more lines."""
     us = [0.0, 1.0]
@@ -136,9 +152,9 @@ def _max_of_clipped(x0: float, x1: float, live) -> tuple[float, float]:
         s = q - p
         if s != 0.0:
             for lev, _, _ in live:
-                u = (lev - p) / s
-                if 0.0 < u < 1.0:
-                    us.append(u)
+                if p < lev < q or q < lev < p:  # _crossing, inlined: this loop is the hot path
+                    u = (lev - p) / s
+                    us.append(_U_FIRST if u <= 0.0 else _U_LAST if u >= 1.0 else u)
         for j in range(i + 1, n):
             _, pj, qj = live[j]
             sj = qj - pj
@@ -221,8 +237,8 @@ class ExactGeneric:
                 levels = [f[0] for f in fs] if accu == "MAX" else [own]
                 if s != 0.0:
                     for lev in levels:
-                        u = (lev - p) / s
-                        if lev != math.inf and 0.0 < u < 1.0:
+                        u = _crossing(lev, p, q)
+                        if u is not None:
                             us.add(u)
                 if accu == "MAX":
                     for _, pj, qj in fs[i + 1 :]:
