@@ -1,10 +1,10 @@
-"""Where lark may keep its analysed grammars: a private per-user directory, or nowhere.
+"""Where analysed grammars are kept: a private per-user directory, or nowhere.
 
 lark's ``cache=True`` writes a pickle to a predictable name in the shared temp directory and loads
 whatever it finds there, so anyone able to write to /tmp could run code as our user. The cache goes to
 ``$XDG_CACHE_HOME/acordcs`` (default ``~/.cache/acordcs``), created with mode 0700 and used only while
 it belongs to us and nobody else can write to it; otherwise grammars are analysed afresh (slower
-start-up, same results).
+start-up, same results). The rule language's parse tables live there too (:mod:`acordcs.metamodel.lalr`).
 """
 
 from __future__ import annotations
@@ -14,7 +14,8 @@ import os
 import stat
 
 
-def _private_dir() -> str | None:
+def private_dir() -> str | None:
+    """The private cache directory, or None when it cannot be made or is not safely ours."""
     base = os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache")
     path = os.path.join(base, "acordcs")
     try:
@@ -29,7 +30,7 @@ def _private_dir() -> str | None:
 
 def lark_cache(grammar: str, name: str) -> str | bool:
     """The ``cache`` argument for ``Lark(...)``: a file in the private directory, or False."""
-    directory = _private_dir()
+    directory = private_dir()
     if directory is None:
         return False
     import lark

@@ -9,21 +9,20 @@ Two rule syntaxes share keywords and layout:
 
 Variables are ``attribute`` or ``Element.attribute``. Linguistic terms of a variable are written FCL
 style: ``slow := trape 0 0 40 80; fast := trian 60 200 200``. One parser serves the validator and the
-engines; every error is a :class:`RuleSyntaxError` with the column in the rule text.
+engines (lark analyses the grammar; :mod:`acordcs.metamodel.lalr` runs its tables); every error is a
+:class:`RuleSyntaxError` with the column in the rule text.
 """
 
 from __future__ import annotations
 
 import os
+from collections.abc import Callable, Iterable
 from dataclasses import dataclass, field
 from functools import cache
 from typing import Literal
 
-from lark import Lark, Token, Transformer, v_args
-from lark.exceptions import LarkError, UnexpectedCharacters, UnexpectedInput, UnexpectedToken
-
-from acordcs.cachedir import lark_cache
 from acordcs.errors import AcordError
+from acordcs.metamodel.lalr import Node, Tables, Tok, Unexpected
 
 RuleKind = Literal["fuzzy", "crisp"]
 HEDGES = ("not", "very", "somewhat")
@@ -201,127 +200,76 @@ def names_in(node: object) -> list[Name]:
 
 
 # ------------------------------------------------------------------------------ building the tree
-def _name(tok: Token) -> Name:
-    return Name(str(tok), tok.column or 0)
+# One function per grammar rule (or alias), called with the rule's kept children; tokens are
+# lalr.Tok (keyword tokens such as IF or IS arrive too and are skipped).
+def _name(tok: Tok) -> Name:
+    return Name(tok.text, tok.column)
 
 
-def _num(tok: Token) -> float:
-    if len(tok) > 64:
-        raise RuleSyntaxError(f"number {str(tok)[:12]}... is too long", column=tok.column)
-    return float(tok)
+def _num(tok: Tok) -> float:
+    if len(tok.text) > 64:
+        raise RuleSyntaxError(f"number {tok.text[:12]}... is too long", column=tok.column)
+    return float(tok.text)
 
 
-@v_args(inline=True)
-class _ToTree(Transformer):
-    def label(self, name):
-        return ("label", str(name))
+def _c_num(tok: Tok) -> Const:
+    # Integer literals stay integers: `retries + 1` must not turn a count into 1.0.
+    text = tok.text
+    if len(text) > 64:  # int() refuses 4,300+ digits; no rule needs more than a double's range
+        raise RuleSyntaxError(f"number {text[:12]}... is too long", column=tok.column)
+    value = int(text) if text.lstrip("+-").isdigit() else float(text)
+    return Const(value, tok.column)
 
-    def weight(self, _with, number):
-        return ("weight", _num(number))
 
-    def f_is(self, var, _is, *rest):
-        *hedges, term = rest
-        return Is(_name(var), tuple(str(h).lower() for h in hedges), _name(term))
+def _f_is(var: Tok, _is: Tok, *rest: Tok) -> Is:
+    *hedges, term = rest
+    return Is(_name(var), tuple(h.text.lower() for h in hedges), _name(term))
 
-    def f_and(self, left, _kw, right):
-        return BoolOp("and", left, right)
 
-    def f_or(self, left, _kw, right):
-        return BoolOp("or", left, right)
+def _mf(shape: str) -> Callable[..., tuple[str, tuple[float, ...]]]:
+    return lambda _kw, *nums: (shape, tuple(map(_num, nums)))
 
-    def f_not(self, _kw, operand):
-        return Not(operand)
 
-    def consequent(self, var, _is, term):
-        return Consequent(_name(var), _name(term))
+_BUILDERS: dict[str, Callable] = {
+    "label": lambda name, *_colon: ("label", name.text),
+    "weight": lambda _with, number: ("weight", _num(number)),
+    "f_is": _f_is,
+    "f_and": lambda left, _kw, right: BoolOp("and", left, right),
+    "f_or": lambda left, _kw, right: BoolOp("or", left, right),
+    "f_not": lambda _kw, operand: Not(operand),
+    "consequent": lambda var, _is, term: Consequent(_name(var), _name(term)),
+    "c_or": lambda left, _kw, right: BoolOp("or", left, right),
+    "c_and": lambda left, _kw, right: BoolOp("and", left, right),
+    "c_not": lambda _kw, operand: Not(operand),
+    "c_cmp": lambda left, op, right: Compare(op.text, left, right),
+    "c_arith": lambda left, op, right: Arith(op.text, left, right),
+    "c_neg": lambda operand: Neg(operand),
+    "c_num": _c_num,
+    "c_str": lambda tok: Const(tok.text[1:-1], tok.column),
+    "c_true": lambda tok: Const(True, tok.column),
+    "c_false": lambda tok: Const(False, tok.column),
+    "c_var": lambda tok: VarRef(_name(tok)),
+    "a_assign": lambda var, value: Assign(_name(var), value),
+    "a_call": lambda target, *args: Call(_name(target), tuple(a for a in args if a is not None)),
+    "term_def": lambda name, mf: TermDef(_name(name), *mf),
+    "mf_trape": _mf("trapezoid"),
+    "mf_trian": _mf("triangle"),
+    "mf_gauss": _mf("gaussian"),
+    "mf_gbell": _mf("bell"),
+    "mf_sigm": _mf("sigmoid"),
+    "mf_points": lambda *points: ("points", tuple(v for p in points for v in p)),
+    "point": lambda x, y: (_num(x), _num(y)),
+    "mf_singleton": lambda tok: ("singleton", (_num(tok),)),
+}
 
-    def c_or(self, left, _kw, right):
-        return BoolOp("or", left, right)
-
-    def c_and(self, left, _kw, right):
-        return BoolOp("and", left, right)
-
-    def c_not(self, _kw, operand):
-        return Not(operand)
-
-    def c_cmp(self, left, op, right):
-        return Compare(str(op), left, right)
-
-    def c_arith(self, left, op, right):
-        return Arith(str(op), left, right)
-
-    def c_neg(self, operand):
-        return Neg(operand)
-
-    def c_num(self, tok):
-        # Integer literals stay integers: `retries + 1` must not turn a count into 1.0.
-        text = str(tok)
-        if len(text) > 64:  # int() refuses 4,300+ digits; no rule needs more than a double's range
-            raise RuleSyntaxError(f"number {text[:12]}... is too long", column=tok.column)
-        value = int(text) if text.lstrip("+-").isdigit() else float(text)
-        return Const(value, tok.column)
-
-    def c_str(self, tok):
-        return Const(str(tok)[1:-1], tok.column)
-
-    def c_true(self, tok):
-        return Const(True, tok.column)
-
-    def c_false(self, tok):
-        return Const(False, tok.column)
-
-    def c_var(self, tok):
-        return VarRef(_name(tok))
-
-    def a_assign(self, var, value):
-        return Assign(_name(var), value)
-
-    def a_call(self, target, *args):
-        return Call(_name(target), tuple(a for a in args if a is not None))
-
-    def term_def(self, name, mf):
-        shape, params = mf
-        return TermDef(_name(name), shape, params)
-
-    def mf_trape(self, _kw, *nums):
-        return ("trapezoid", tuple(map(_num, nums)))
-
-    def mf_trian(self, _kw, *nums):
-        return ("triangle", tuple(map(_num, nums)))
-
-    def mf_gauss(self, _kw, *nums):
-        return ("gaussian", tuple(map(_num, nums)))
-
-    def mf_gbell(self, _kw, *nums):
-        return ("bell", tuple(map(_num, nums)))
-
-    def mf_sigm(self, _kw, *nums):
-        return ("sigmoid", tuple(map(_num, nums)))
-
-    def mf_points(self, *points):
-        return ("points", tuple(v for p in points for v in p))
-
-    def point(self, x, y):
-        return (_num(x), _num(y))
-
-    def mf_singleton(self, tok):
-        return ("singleton", (_num(tok),))
+_STARTS = ("start_fuzzy", "start_crisp", "start_terms")
 
 
 @cache
-def _parser(start: str) -> Lark:
+def _tables() -> Tables:
     with open(os.path.join(os.path.dirname(__file__), "rules.lark"), encoding="utf-8") as handle:
         grammar = handle.read()
-    # A cached analysis halves start-up of `acordcs-gen`; it lives in a private directory only,
-    # never lark's cache=True (a predictable pickle in the shared temp dir: see acordcs.cachedir).
-    return Lark(
-        grammar,
-        start=start,
-        parser="lalr",
-        transformer=_ToTree(),
-        maybe_placeholders=True,
-        cache=lark_cache(grammar, f"rules-{start}"),
-    )
+    return Tables.for_grammar(grammar, _STARTS, "rules")
 
 
 _EXPECT_WORDS = {
@@ -353,29 +301,24 @@ _EXPECT_WORDS = {
 }
 
 
-def _describe_expected(expected: set[str]) -> str:
+def _describe_expected(expected: Iterable[str]) -> str:
     words = sorted({_EXPECT_WORDS.get(e, e.lower()) for e in expected})
     if len(words) > 6:
         words = [*words[:6], "..."]
     return ", ".join(words)
 
 
-def _syntax_error(err: UnexpectedInput, text: str) -> RuleSyntaxError:
-    column = getattr(err, "column", None) or 0
-    if isinstance(err, UnexpectedToken):
-        found = "end of rule" if err.token.type == "$END" else repr(str(err.token))
-        if err.token.type == "$END":
-            column = len(text) + 1
-        msg = f"unexpected {found}; expected {_describe_expected(set(err.expected))}"
-    elif isinstance(err, UnexpectedCharacters):
-        msg = (
-            f"unexpected character {text[err.pos_in_stream]!r}"
-            if err.pos_in_stream < len(text)
-            else "unexpected end"
+def syntax_error(err: Unexpected, text: str) -> RuleSyntaxError:
+    """The error a parse that stopped at ``err`` reports (column 1-based in ``text``)."""
+    if err.expected is None:
+        return RuleSyntaxError(
+            f"unexpected character {text[err.column - 1]!r}", column=err.column or None
         )
-    else:
-        msg = "syntax error"
-    return RuleSyntaxError(msg, column=column or None)
+    found = "end of rule" if err.found is None else repr(err.found)
+    return RuleSyntaxError(
+        f"unexpected {found}; expected {_describe_expected(err.expected)}",
+        column=err.column or None,
+    )
 
 
 def _parse(start: str, text: str):
@@ -384,14 +327,12 @@ def _parse(start: str, text: str):
             "a rule is one line; put each rule on its own line", column=text.find("\n") + 1
         )
     try:
-        return _parser(start).parse(text)
-    except UnexpectedInput as err:
-        raise _syntax_error(err, text) from None
-    except LarkError as err:  # grammar-level surprises must still come out as our error
-        raise RuleSyntaxError(f"cannot parse: {err}") from None
+        return _tables().parse(text, start, _BUILDERS)
+    except Unexpected as err:
+        raise syntax_error(err, text) from None
 
 
-def _assemble(kind: RuleKind, tree, text: str) -> Rule:
+def _assemble(kind: RuleKind, tree: Node, text: str) -> Rule:
     label = None
     weight = 1.0
     condition = None
@@ -401,7 +342,7 @@ def _assemble(kind: RuleKind, tree, text: str) -> Rule:
             label = child[1]
         elif isinstance(child, tuple) and child[0] == "weight":
             weight = child[1]
-        elif isinstance(child, Token):
+        elif isinstance(child, Tok):
             continue
         elif condition is None:
             condition = child

@@ -55,6 +55,8 @@ _MEMBER_TAGS = frozenset(
     ]
 )
 _PACKAGE_KINDS = frozenset(("Package", "Model", "Profile"))
+# What the children of a property or an operation are, by local tag name.
+_TYPE, _DEFAULT, _LOWER, _UPPER, _EXT, _COMMENT, _PARAM = range(7)
 _DEPENDENCY_KINDS = frozenset(
     ("Dependency", "Realization", "Usage", "Abstraction", "Substitution", "InterfaceRealization")
 )
@@ -107,6 +109,20 @@ class _Reader:
             self.EXTENSION: self._extension,
             **dict.fromkeys(_MEMBER_TAGS, self._packageable),
         }
+        self._property_children = {
+            "type": _TYPE,
+            "defaultValue": _DEFAULT,
+            "lowerValue": _LOWER,
+            "upperValue": _UPPER,
+            "ownedComment": _COMMENT,
+            self.EXTENSION: _EXT,
+        }
+        self._operation_children = {
+            "ownedParameter": _PARAM,
+            "ownedComment": _COMMENT,
+            self.EXTENSION: _EXT,
+        }
+        self.elements = self.model.elements
         self.annotated: list[tuple[str, str]] = []  # (element id, comment body), Eclipse comments
         self.refs: list[tuple[str, str, int, Element]] = []  # (id, what, line, from element)
         self.type_refs: list[Element] = []
@@ -151,22 +167,21 @@ class _Reader:
             return _local(el.tag)
         return default
 
-    def _base(self, el: etree._Element, kind: str, owner: Element | None, cls=Element, **kw):
+    def _base(self, el: etree._Element, kind: str, owner: Element | None, cls=Element):
         ident = el.get(self.XID)
+        line = el.sourceline or 0
         if ident is None:
-            ident = f"<line {el.sourceline}>"
+            ident = f"<line {line}>"
             self.model.diagnostics.append(
                 diagnostic(
                     "R207",
                     f"{kind} {el.get('name', '')!r} has no xmi:id; references to it cannot work",
                     file=self.model.file,
-                    line=el.sourceline,
+                    line=line,
                 )
             )
-        obj = cls(
-            id=ident, kind=kind, name=el.get("name", ""), line=el.sourceline or 0, owner=owner, **kw
-        )
-        self.model.elements.setdefault(ident, obj)
+        obj = cls(id=ident, kind=kind, name=el.get("name", ""), line=line, owner=owner)
+        self.elements.setdefault(ident, obj)
         return obj
 
     def _packageable(self, el: etree._Element, owner: Element | None) -> None:
@@ -278,61 +293,76 @@ class _Reader:
             obj.type_ref = child.get(self.XIDREF) or obj.type_ref
 
     def _typed(self, el: etree._Element, obj) -> None:
-        type_ids = (el.get("type") or "").split()
-        if type_ids:
+        type_ids = el.get("type")
+        if type_ids and (type_ids := type_ids.split()):
             obj.type_ref = type_ids[0]
-        for child in el.iterchildren("type"):
-            self._type_child(child, obj)
+        if len(el):
+            for child in el.iterchildren("type"):
+                self._type_child(child, obj)
         if obj.type_ref:
             self.type_refs.append(obj)
 
     def _property(self, el: etree._Element, owner: Element) -> Property:
-        kind = self._kind(el, "Property")
-        prop = self._base(el, kind, owner, Property)
-        prop.association = el.get("association")
+        # The hottest code of a read (a large model has tens of thousands of properties and
+        # parameters): one pass over the children, dispatched on the tag as written.
+        xtype = el.get(self.XTYPE)
+        prop = self._base(el, xtype.rpartition(":")[2] if xtype else "Property", owner, Property)
+        prop.association = association = el.get("association")
         prop.aggregation = el.get("aggregation", "none")
-        type_ids = (el.get("type") or "").split()
-        if type_ids:
+        type_ids = el.get("type")
+        if type_ids and (type_ids := type_ids.split()):
             prop.type_ref = type_ids[0]
-        for child in el:
-            tag = child.tag
-            if not isinstance(tag, str):
-                continue
-            local = _local(tag)
-            if local == "type":
-                self._type_child(child, prop)
-            elif local == "defaultValue":
-                prop.default = _literal(child)
-            elif local == "lowerValue":
-                prop.lower = _literal(child)
-            elif local == "upperValue":
-                prop.upper = _literal(child)
-            elif tag == self.EXTENSION:
-                self._extension(child, prop)
-            elif local == "ownedComment":
-                self._comment(child, prop)
+        if len(el):
+            children = self._property_children
+            for child in el:
+                code = children.get(child.tag)
+                if code is None:
+                    tag = child.tag
+                    if not isinstance(tag, str) or tag[0] != "{":
+                        continue
+                    code = children.get(_local(tag))
+                    if code is None:
+                        continue
+                if code == _TYPE:
+                    self._type_child(child, prop)
+                elif code == _DEFAULT:
+                    prop.default = _literal(child)
+                elif code == _LOWER:
+                    prop.lower = _literal(child)
+                elif code == _UPPER:
+                    prop.upper = _literal(child)
+                elif code == _EXT:
+                    self._extension(child, prop)
+                else:
+                    self._comment(child, prop)
         if prop.type_ref:
             self.type_refs.append(prop)
-        if prop.association:
-            self.refs.append((prop.association, f"end {prop.name!r}", prop.line, prop))
+        if association:
+            self.refs.append((association, f"end {prop.name!r}", prop.line, prop))
         return prop
 
     def _operation(self, el: etree._Element, owner: Classifier) -> Operation:
         op = self._base(el, "Operation", owner, Operation)
+        children = self._operation_children
         for child in el:
-            tag = child.tag
-            if not isinstance(tag, str):
-                continue
-            local = _local(tag)
-            if local == "ownedParameter":
+            code = children.get(child.tag)
+            if code is None:
+                tag = child.tag
+                if not isinstance(tag, str) or tag[0] != "{":
+                    continue
+                code = children.get(_local(tag))
+                if code is None:
+                    continue
+            if code == _PARAM:
                 param = self._base(child, "Parameter", op, Parameter)
-                direction = child.get("direction", "in")
-                param.direction = direction.removeprefix("pk_")
+                direction = child.get("direction")
+                if direction is not None:
+                    param.direction = direction.removeprefix("pk_")
                 self._typed(child, param)
                 op.parameters.append(param)
-            elif tag == self.EXTENSION:
+            elif code == _EXT:
                 self._extension(child, op)
-            elif local == "ownedComment":
+            elif code == _COMMENT:
                 self._comment(child, op)
         return op
 
@@ -453,21 +483,25 @@ class _Reader:
         app.places.add("root")
 
     # ------------------------------------------------------------------ references
-    def _ids(self) -> list[tuple[str, int]]:
-        """Every xmi:id with its line; lines are looked up only for ids defined twice (rare, slow)."""
+    def _known_ids(self) -> set[str]:
+        """Every xmi:id of the file; R203 for ids defined twice (their lines: a slow walk, rare)."""
         root = self.xml.root
         ids = root.xpath("//@x:id", namespaces={"x": self.xmi_ns}, smart_strings=False)
-        if len(ids) == len(set(ids)):
-            return [(i, 0) for i in ids]
-        return [
-            (el.get(self.XID), el.sourceline or 0)
-            for el in root.iter(etree.Element)
-            if el.get(self.XID) is not None
-        ]
+        known = set(ids)
+        if len(known) == len(ids):
+            return known
+        return check_ids(
+            self.model,
+            [
+                (el.get(self.XID), el.sourceline or 0)
+                for el in root.iter(etree.Element)
+                if el.get(self.XID) is not None
+            ],
+        )
 
     def _resolve(self) -> None:
         model = self.model
-        known = check_ids(model, self._ids())
+        known = self._known_ids()
         for obj in self.type_refs:
             target = model.elements.get(obj.type_ref)
             if target is not None:

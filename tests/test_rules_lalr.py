@@ -1,0 +1,293 @@
+"""The lean LALR driver (acordcs.metamodel.lalr) against lark's own parser on the same grammar.
+
+lark is the oracle: for every input, both must build the same tree (through the same builders) or
+stop at the same place with the same expectation. Inputs are generated: token soup from the
+grammar's vocabulary (mostly errors, at every position) and well-formed rules (mostly successes).
+"""
+
+from __future__ import annotations
+
+import json
+import os
+
+import pytest
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
+from lark import Lark, Token, Transformer
+from lark.exceptions import UnexpectedCharacters, UnexpectedToken
+
+from acordcs.metamodel import lalr, rules
+from acordcs.metamodel.lalr import Node, Tables, Tok, Unexpected
+
+GRAMMAR_PATH = os.path.join(os.path.dirname(rules.__file__), "rules.lark")
+with open(GRAMMAR_PATH, encoding="utf-8") as _handle:
+    GRAMMAR = _handle.read()
+STARTS = ["start_fuzzy", "start_crisp", "start_terms"]
+
+
+class _SameBuilders(Transformer):
+    """Runs the driver's builders inside lark's parser, tokens converted to the driver's Tok."""
+
+    def __default__(self, data, children, meta):
+        kids = [Tok(c.type, str(c), c.column) if isinstance(c, Token) else c for c in children]
+        build = rules._BUILDERS.get(data)
+        return build(*kids) if build is not None else Node(data, kids)
+
+
+@pytest.fixture(scope="module")
+def oracle() -> Lark:
+    return Lark(
+        GRAMMAR,
+        start=STARTS,
+        parser="lalr",
+        lexer="contextual",
+        maybe_placeholders=True,
+        transformer=_SameBuilders(),
+    )
+
+
+@pytest.fixture(scope="module")
+def driver() -> Tables:
+    return Tables(lalr.analyse(GRAMMAR, STARTS))
+
+
+def _plain(value):
+    if isinstance(value, Node):
+        return ("node", value.data, [_plain(c) for c in value.children])
+    if isinstance(value, Tok):
+        return ("tok", value.type, value.text, value.column)
+    if isinstance(value, tuple | list):
+        return type(value)(_plain(v) for v in value)
+    return value
+
+
+def _outcome_lark(parser: Lark, text: str, start: str):
+    try:
+        return ("ok", _plain(parser.parse(text, start=start)))
+    except UnexpectedToken as err:
+        if err.token.type == "$END":
+            return ("stop", None, len(text) + 1, frozenset(err.expected))
+        return ("stop", str(err.token), err.column, frozenset(err.expected))
+    except UnexpectedCharacters as err:
+        return ("stop", None, err.column, None)
+    except rules.RuleSyntaxError as err:  # a builder's own check (a number too long)
+        return ("error", str(err))
+    except Exception as err:  # lark wraps builder errors in VisitError
+        inner = getattr(err, "orig_exc", err)
+        if isinstance(inner, rules.RuleSyntaxError):
+            return ("error", str(inner))
+        raise
+
+
+def _outcome_driver(tables: Tables, text: str, start: str):
+    try:
+        return ("ok", _plain(tables.parse(text, start, rules._BUILDERS)))
+    except Unexpected as err:
+        return ("stop", err.found, err.column, err.expected)
+    except rules.RuleSyntaxError as err:
+        return ("error", str(err))
+
+
+WORDS = [
+    "if", "IF", "then", "and", "Or", "not", "is", "with", "true", "false", "very", "somewhat",
+    "trape", "trian", "gauss", "gbell", "sigm", "speed", "Robot.speed", "a.b.c", "x1", "_y",
+    "ifx", "isn", "0", "12", "-3", "+4.5", "1e3", ".5", "2.", "(", ")", ",", ":", ";", ":=", "=",
+    "==", "!=", "<=", ">=", "<", ">", "+", "-", "*", "/", '"s"', "'t'", "?", "#", "&", "é", "",
+]  # fmt: skip
+SEPARATORS = ["", " ", "  ", "\t", " \t "]
+
+
+@st.composite
+def token_soup(draw) -> str:
+    words = draw(st.lists(st.sampled_from(WORDS), max_size=14))
+    out = draw(st.sampled_from(SEPARATORS))
+    for word in words:
+        out += word + draw(st.sampled_from(SEPARATORS))
+    return out
+
+
+VARS = st.sampled_from(["speed", "Robot.speed", "angle", "Camera.rate", "cycleRate"])
+TERMS = st.sampled_from(["slow", "fast", "narrow", "small", "Idle_2"])
+
+
+@st.composite
+def fuzzy_rule(draw) -> str:
+    def atom(depth: int) -> str:
+        choice = draw(st.integers(0, 3 if depth < 3 else 0))
+        if choice == 0:
+            hedges = " ".join(
+                draw(st.lists(st.sampled_from(["not", "very", "somewhat"]), max_size=2))
+            )
+            return f"{draw(VARS)} is {hedges} {draw(TERMS)}".replace("  ", " ")
+        if choice == 1:
+            return f"({cond(depth + 1)})"
+        if choice == 2:
+            return f"not ({cond(depth + 1)})"
+        return f"{atom(depth + 1)} {draw(st.sampled_from(['and', 'or', 'AND']))} {atom(depth + 1)}"
+
+    def cond(depth: int) -> str:
+        return atom(depth)
+
+    label = draw(st.sampled_from(["", "r1: ", "Slow_down : "]))
+    outs = " and ".join(f"{draw(VARS)} is {draw(TERMS)}" for _ in range(draw(st.integers(1, 3))))
+    weight = draw(st.sampled_from(["", " with 0.5", " with 1", " WITH .25"]))
+    return f"{label}if {cond(0)} then {outs}{weight}"
+
+
+@st.composite
+def crisp_rule(draw) -> str:
+    def operand(depth: int) -> str:
+        choice = draw(st.integers(0, 5 if depth < 3 else 2))
+        if choice == 0:
+            return draw(VARS)
+        if choice == 1:
+            return draw(st.sampled_from(["0", "3", "-1", "2.5", "1e2", '"on"', "true", "FALSE"]))
+        if choice == 2:
+            return f"-{draw(VARS)}"
+        if choice == 3:
+            return f"({expr(depth + 1)})"
+        op = draw(st.sampled_from(["+", "-", "*", "/"]))
+        return f"{operand(depth + 1)} {op} {operand(depth + 1)}"
+
+    def comparison(depth: int) -> str:
+        op = draw(st.sampled_from(["==", "!=", "<", "<=", ">", ">="]))
+        return f"{operand(depth)} {op} {operand(depth)}"
+
+    def expr(depth: int) -> str:
+        choice = draw(st.integers(0, 3 if depth < 3 else 0))
+        if choice == 0:
+            return comparison(depth + 1)
+        if choice == 1:
+            return f"not {expr(depth + 1)}"
+        return f"{expr(depth + 1)} {draw(st.sampled_from(['and', 'or']))} {expr(depth + 1)}"
+
+    def action() -> str:
+        if draw(st.booleans()):
+            return f"{draw(VARS)} = {operand(2)}"
+        args = ", ".join(operand(2) for _ in range(draw(st.integers(0, 3))))
+        return f"recovery.recover({args})"
+
+    actions = " and ".join(action() for _ in range(draw(st.integers(1, 3))))
+    return f"if {expr(0)} then {actions}"
+
+
+@st.composite
+def term_list(draw) -> str:
+    shapes = [
+        "trape 0 0 40 80",
+        "trian -10 0 10",
+        "gauss 5 2",
+        "gbell 1 2 3",
+        "sigm 2 -1",
+        "(0, 0) (5, 1) (10, 0)",
+        "42",
+    ]
+    parts = [f"t{i} := {draw(st.sampled_from(shapes))}" for i in range(draw(st.integers(1, 4)))]
+    return "; ".join(parts) + draw(st.sampled_from(["", ";", " ; "]))
+
+
+ORACLE_SETTINGS = settings(
+    max_examples=400, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture]
+)
+
+
+@ORACLE_SETTINGS
+@given(text=token_soup(), start=st.sampled_from(STARTS))
+def test_token_soup_stops_where_lark_stops(oracle, driver, text, start):
+    assert _outcome_driver(driver, text, start) == _outcome_lark(oracle, text, start)
+
+
+@ORACLE_SETTINGS
+@given(text=fuzzy_rule())
+def test_fuzzy_rules_build_what_lark_builds(oracle, driver, text):
+    outcome = _outcome_driver(driver, text, "start_fuzzy")
+    assert outcome[0] == "ok", (text, outcome)
+    assert outcome == _outcome_lark(oracle, text, "start_fuzzy")
+
+
+@ORACLE_SETTINGS
+@given(text=crisp_rule())
+def test_crisp_rules_build_what_lark_builds(oracle, driver, text):
+    outcome = _outcome_driver(driver, text, "start_crisp")
+    assert outcome[0] == "ok", (text, outcome)
+    assert outcome == _outcome_lark(oracle, text, "start_crisp")
+
+
+@ORACLE_SETTINGS
+@given(text=term_list())
+def test_term_lists_build_what_lark_builds(oracle, driver, text):
+    outcome = _outcome_driver(driver, text, "start_terms")
+    assert outcome[0] == "ok", (text, outcome)
+    assert outcome == _outcome_lark(oracle, text, "start_terms")
+
+
+@pytest.mark.parametrize(
+    ("text", "start"),
+    [
+        ("", "start_fuzzy"),
+        ("   ", "start_crisp"),
+        ("if speed is slow then", "start_fuzzy"),
+        ("if x == 1 then y = 9" + "9" * 70, "start_crisp"),  # a builder's own error
+        ("if a is b then c is d with 0.5 ?", "start_fuzzy"),
+        ("if a is then", "start_fuzzy"),
+        ("t := trian 1 2", "start_terms"),
+    ],
+)
+def test_edge_cases_agree(oracle, driver, text, start):
+    assert _outcome_driver(driver, text, start) == _outcome_lark(oracle, text, start)
+
+
+SAMPLES = [
+    ("if Robot.speed is very slow and (angle is narrow or not (x is y)) then speed is slow", 0),
+    ("r: if a is b then c is d and e is f with 0.5", 0),
+    ("if speed is slow then", 0),
+    ("if retries < 3 and not done then recovery.recover(retries + 1, 'x') and n = -n * 2", 1),
+    ("if x = 1 then y = 2", 1),
+    ("slow := trape 0 0 40 80; fast := (0, 0) (1, 1);", 2),
+    ("slow := gauss 1", 2),
+]
+
+
+def test_stored_tables_parse_as_lark_does(oracle, tmp_path, monkeypatch):
+    # lark numbers its states differently from one analysis to the next (set order), so the
+    # stored tables are held to lark's behaviour, not to another analysis.
+    monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path))
+    Tables.for_grammar(GRAMMAR, STARTS, "rules")  # analysed, then stored
+    assert len(list((tmp_path / "acordcs").glob("rules-*.lalr.json"))) == 1
+    stored = Tables.for_grammar(GRAMMAR, STARTS, "rules")  # read back
+    for text, start in SAMPLES:
+        expected = _outcome_lark(oracle, text, STARTS[start])
+        assert _outcome_driver(stored, text, STARTS[start]) == expected, text
+
+
+def test_a_damaged_cache_file_is_analysed_again(tmp_path, monkeypatch):
+    monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path))
+    Tables.for_grammar(GRAMMAR, STARTS, "rules")
+    (stored,) = (tmp_path / "acordcs").glob("rules-*.lalr.json")
+    stored.write_text('{"format": 1, "actions": "garbage"')
+    tables = Tables.for_grammar(GRAMMAR, STARTS, "rules")
+    assert (
+        _plain(tables.parse("if a is b then c is d", "start_fuzzy", rules._BUILDERS))[0] == "node"
+    )
+    assert json.loads(stored.read_text())["format"] == lalr.TABLE_FORMAT
+
+
+def test_validate_never_imports_lark():
+    """Once the tables are stored, reading and checking a model runs without lark."""
+    import subprocess
+    import sys
+
+    from acordcs.cachedir import private_dir
+
+    assert private_dir() is not None, "no private cache directory: lark would run every time"
+    rules._tables()  # analysed and stored, if this is the first parse on this machine
+    code = (
+        "import sys; from acordcs.generator.pipeline import read_model; "
+        "read_model('samples/weblab/weblab.xmi'); "
+        "print(sorted(m for m in sys.modules if m == 'lark' or m.startswith('lark.')))"
+    )
+    root = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+    done = subprocess.run(
+        [sys.executable, "-c", code], capture_output=True, text=True, cwd=root, check=True
+    )
+    assert done.stdout.strip() == "[]"
