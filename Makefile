@@ -12,12 +12,16 @@ $(BIN)/python:
 	$(PY) -m venv $(VENV)
 	$(BIN)/python -m pip install -q --upgrade pip
 
+# Byte-compiled as pip does for a regular install: an editable install never is, and with
+# PYTHONDONTWRITEBYTECODE set every `acordcs-gen` run would compile the toolchain again.
 $(STAMP): pyproject.toml | $(BIN)/python
 	$(BIN)/python -m pip install -q -e .
+	$(BIN)/python -m compileall -q src > /dev/null
 	touch $@
 
 $(DEV_STAMP): pyproject.toml | $(BIN)/python
 	$(BIN)/python -m pip install -q -e '.[dev]'
+	$(BIN)/python -m compileall -q src > /dev/null
 	touch $@ $(STAMP)
 
 # Services some tests need (EMF jars + JDK for the EMF load test, mosquitto for MQTT tests).
