@@ -20,6 +20,7 @@ from acordcs.generator.readers.common import (
     primitive_from_href,
     unknown_type_message,
 )
+from acordcs.generator.readers.stereotypes import StereotypeApplications, local_name
 from acordcs.generator.uml import (
     CLASSIFIER_KINDS,
     Association,
@@ -31,7 +32,6 @@ from acordcs.generator.uml import (
     Package,
     Parameter,
     Property,
-    StereotypeApplication,
     UmlModel,
 )
 from acordcs.generator.xmlsafe import XmlInput
@@ -43,7 +43,6 @@ _UML_NS = re.compile(
     r"|^http://www\.eclipse\.org/uml2/\d+(\.\d+)*/UML$"
 )
 _XMI_NS = re.compile(r"^https?://(schema\.omg\.org|www\.omg\.org)/(spec/)?XMI")
-_PROFILE_NS = re.compile(r"^http:///schemas/([^/]+)/")
 _MEMBER_TAGS = frozenset(
     [
         "packagedElement",
@@ -81,10 +80,6 @@ def read(xml: XmlInput) -> UmlModel:
     return _Reader(xml).read()
 
 
-def _local(tag: str) -> str:
-    return tag.rpartition("}")[2]
-
-
 class _Reader:
     def __init__(self, xml: XmlInput) -> None:
         self.xml = xml
@@ -98,6 +93,7 @@ class _Reader:
         self.EXTENSION = f"{{{self.xmi_ns}}}Extension"
         dialect = "eclipse-uml2" if "eclipse.org" in uml else "bouml-xmi2"
         self.model = UmlModel(file=xml.path, dialect=dialect)
+        self.stereotypes = StereotypeApplications(self.model, self.XID)
         self._handlers = {
             "ownedAttribute": self._on_attribute,
             "ownedEnd": self._on_end,
@@ -106,7 +102,7 @@ class _Reader:
             "ownedLiteral": self._on_literal,
             "generalization": self._generalization,
             "ownedComment": self._comment,
-            self.EXTENSION: self._extension,
+            self.EXTENSION: self.stereotypes.extension,
             **dict.fromkeys(_MEMBER_TAGS, self._packageable),
         }
         self._property_children = {
@@ -132,11 +128,11 @@ class _Reader:
         root = self.xml.root
         model = self.model
         top = root
-        if _local(root.tag) == "XMI":
+        if local_name(root.tag) == "XMI":
             for child in root:
                 if not isinstance(child.tag, str):
                     continue
-                local = _local(child.tag)
+                local = local_name(child.tag)
                 if child.tag == f"{{{self.xmi_ns}}}Documentation":
                     model.exporter = (
                         f"{child.get('exporter', '')} {child.get('exporterVersion', '')}".strip()
@@ -151,7 +147,7 @@ class _Reader:
                 elif child.tag in _MEMBER_TAGS:  # BOUML's "no model" option: packages at the top
                     self._packageable(child, None)
                 else:
-                    self._root_application(child)
+                    self.stereotypes.root_application(child)
         else:  # Eclipse: a single uml:Model (or Package/Profile) as the document root
             self._packageable(top, None)
             model.name = top.get("name", "")
@@ -164,7 +160,7 @@ class _Reader:
         if xtype:
             return xtype.rpartition(":")[2]
         if el.tag.startswith(f"{{{self.uml_ns}}}"):
-            return _local(el.tag)
+            return local_name(el.tag)
         return default
 
     def _base(self, el: etree._Element, kind: str, owner: Element | None, cls=Element):
@@ -234,7 +230,7 @@ class _Reader:
                 tag = child.tag
                 if not isinstance(tag, str) or tag[0] != "{":
                     continue  # XML comments, or parts the ACORD-CS view does not need
-                handler = handlers.get(_local(tag))  # a namespace-qualified member tag (rare)
+                handler = handlers.get(local_name(tag))  # a namespace-qualified member tag (rare)
                 if handler is None:
                     continue
             handler(child, owner)
@@ -270,8 +266,8 @@ class _Reader:
     def _extensions_only(self, el: etree._Element, owner: Element) -> None:
         for child in el:
             if child.tag == self.EXTENSION:
-                self._extension(child, owner)
-            elif isinstance(child.tag, str) and _local(child.tag) == "ownedComment":
+                self.stereotypes.extension(child, owner)
+            elif isinstance(child.tag, str) and local_name(child.tag) == "ownedComment":
                 self._comment(child, owner)
 
     def _refs_of(self, el: etree._Element) -> list[str]:
@@ -320,7 +316,7 @@ class _Reader:
                     tag = child.tag
                     if not isinstance(tag, str) or tag[0] != "{":
                         continue
-                    code = children.get(_local(tag))
+                    code = children.get(local_name(tag))
                     if code is None:
                         continue
                 if code == _TYPE:
@@ -332,7 +328,7 @@ class _Reader:
                 elif code == _UPPER:
                     prop.upper = _literal(child)
                 elif code == _EXT:
-                    self._extension(child, prop)
+                    self.stereotypes.extension(child, prop)
                 else:
                     self._comment(child, prop)
         if prop.type_ref:
@@ -350,7 +346,7 @@ class _Reader:
                 tag = child.tag
                 if not isinstance(tag, str) or tag[0] != "{":
                     continue
-                code = children.get(_local(tag))
+                code = children.get(local_name(tag))
                 if code is None:
                     continue
             if code == _PARAM:
@@ -361,7 +357,7 @@ class _Reader:
                 self._typed(child, param)
                 op.parameters.append(param)
             elif code == _EXT:
-                self._extension(child, op)
+                self.stereotypes.extension(child, op)
             elif code == _COMMENT:
                 self._comment(child, op)
         return op
@@ -385,102 +381,6 @@ class _Reader:
             self.annotated += [(ident, body) for ident in annotated]
         else:
             owner.comments.append(body)
-
-    # ------------------------------------------------------------------ stereotypes
-    def _application(
-        self, profile: str | None, name: str, base: str, line: int
-    ) -> StereotypeApplication:
-        key = (base, f"{profile}:{name}" if profile else name)
-        app = self.model.applications.get(key)
-        if app is None:
-            app = StereotypeApplication(profile=profile, name=name, base=base, line=line)
-            self.model.applications[key] = app
-        return app
-
-    def _set_tag(
-        self, app: StereotypeApplication, tag: str, value: str, line: int, place: str
-    ) -> None:
-        old = app.tags.get(tag)
-        if old is not None and old != value and place not in app.places:
-            base = self.model.elements.get(app.base)
-            self.model.diagnostics.append(
-                diagnostic(
-                    "R205",
-                    f"tag {tag!r} of {app.key} is {old!r} in one place and {value!r} in the other; "
-                    f"using {old!r}: re-export the model",
-                    file=self.model.file,
-                    line=line,
-                    element=base.qualified_name() if base is not None else None,
-                    xmi_id=app.base,
-                )
-            )
-            return
-        app.tags[tag] = value
-        app.tag_lines.setdefault(tag, line)
-
-    def _extension(self, el: etree._Element, owner: Element) -> None:
-        if el.get("extender", "Bouml") != "Bouml":
-            return
-        # BOUML marks its profile definitions with their own metaclass keyword (a Stereotype is
-        # <<stereotype>>, a Profile <<profile>>): keywords, not stereotype applications.
-        keyword = owner.kind.lower()
-        stereotypes = [s.get("name", "") for s in el.iterchildren("stereotype")]
-        for name in stereotypes:
-            if name == keyword:
-                continue
-            profile, _, stereo = name.rpartition(":")
-            app = self._application(profile or None, stereo, owner.id, el.sourceline or owner.line)
-            app.places.add("extension")
-        for tv in el.iterchildren("taggedValue"):
-            tag = tv.get("tag", "")
-            value = tv.get("value", "")
-            if tag.startswith("gxmi "):
-                continue  # BOUML's own export options
-            parts = tag.split(":")
-            if len(parts) == 3:
-                app = self._application(parts[0], parts[1], owner.id, tv.sourceline or owner.line)
-                self._set_tag(app, parts[2], value, tv.sourceline or 0, "extension")
-            else:
-                owner.tagged_values[tag] = value
-
-    def _root_application(self, el: etree._Element) -> None:
-        base_attr = next((k for k in el.attrib if k.startswith("base_")), None)
-        if base_attr is None:
-            return
-        if (
-            el.tag[0] != "{" and ":" in el.tag
-        ):  # a recovered element whose prefix was never declared
-            self.model.diagnostics.append(
-                diagnostic(
-                    "R201",
-                    f"element {el.tag} uses an undeclared namespace prefix; the stereotype application "
-                    "is skipped: declare the prefix on the root element",
-                    file=self.model.file,
-                    line=el.sourceline,
-                )
-            )
-            return
-        ns = etree.QName(el).namespace or ""
-        match = _PROFILE_NS.match(ns)
-        # The namespace names the profile; a prefix is the writer's choice (xmlns:acs= works too).
-        profile = match.group(1) if match else el.prefix
-        app = self._application(
-            profile, etree.QName(el).localname, el.get(base_attr), el.sourceline or 0
-        )
-        app.id = el.get(self.XID)
-        app.line = el.sourceline or app.line
-        for key, value in el.items():
-            if key.startswith(("base_", "{")):
-                continue
-            self._set_tag(app, key, value, el.sourceline or 0, "root")
-        for child in el:  # Eclipse writes multi-valued and reference tags as child elements
-            if isinstance(child.tag, str):
-                tag = _local(child.tag)
-                value = child.text if child.text is not None else child.get("href", "")
-                old = app.tags.get(tag)
-                app.tags[tag] = value if old is None else f"{old}\n{value}"
-                app.tag_lines.setdefault(tag, child.sourceline or 0)
-        app.places.add("root")
 
     # ------------------------------------------------------------------ references
     def _known_ids(self) -> set[str]:
