@@ -15,7 +15,7 @@ from collections import Counter
 from pathlib import Path
 
 import pytest
-from gen_helpers import SMARTROOM, WEBLAB, XMI_SAMPLES, replace, run_main, run_process
+from gen_helpers import SMARTROOM, WEBLAB, XMI_SAMPLES, no_crash, replace, run_main, run_process
 from lxml import etree
 
 from acordcs.generator.architecture import interpret
@@ -500,6 +500,28 @@ def test_iso_8859_1_export_reads_with_correct_names(tmp_path: Path) -> None:
     assert inspect_json(target) | {"file": None} == inspect_json(source) | {
         "file": None,
     }
+
+
+def test_utf8_bytes_declared_iso_8859_1_are_reported_not_garbled_silently(tmp_path: Path) -> None:
+    source = XMI_SAMPLES / "SecondStageModels__CDKatalog.xmi"
+    text = source.read_text(encoding="utf-8")
+    text = replace(text, 'encoding="UTF-8"', 'encoding="ISO-8859-1"')
+    text = replace(text, 'name="Laenge"', 'name="Länge"', count=2)
+    target = tmp_path / "mojibake.xmi"
+    target.write_bytes(text.encode("utf-8"))  # the declaration lies: the bytes are UTF-8
+    reading = read_model(str(target))
+    assert [d.code for d in reading.diagnostics] == ["X110"]
+    (warning,) = reading.diagnostics
+    assert warning.line == 1 and warning.severity.name == "WARNING"
+    data = text.encode("utf-8")
+    line = data.count(b"\n", 0, data.index("Länge".encode())) + 1
+    assert f"first at line {line}:" in warning.message
+    assert "'ä' would read as 'Ã¤'" in warning.message
+    # The model is still read (as the declaration says), and the exit code is 0 at --fail-on error
+    assert "LÃ¤nge" in {a.name for c in reading.uml.classifiers for a in c.attributes}
+    result = run_main(["validate", str(target)])
+    no_crash(result)
+    assert result.code == 0 and " X110: " in result.out
 
 
 def test_classifier_members_by_kind() -> None:

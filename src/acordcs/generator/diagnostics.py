@@ -48,6 +48,7 @@ CODES: dict[str, tuple[Severity, str]] = {
     "X107": (E, "XML not well-formed; read in recovery mode so that the other checks could run"),
     "X108": (E, "XML not well-formed and not recoverable"),
     "X109": (E, "not an XMI/UML file"),
+    "X110": (W, "the file declares a single-byte encoding but its bytes are UTF-8"),
     # R: reading XMI as UML
     "R201": (E, "unknown xmi:type (the element is skipped)"),
     "R202": (E, "reference to an id that does not exist"),

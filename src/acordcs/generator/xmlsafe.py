@@ -205,7 +205,34 @@ def parse_bytes(data: bytes, path: str = "<input>") -> XmlInput:
     if root.getroottree().docinfo.doctype:  # a DOCTYPE past the scanned prefix
         msg = "document type declaration refused: UML exports have none"
         return XmlInput(path, None, [diagnostic("X102", msg, file=path)])
+    result.diagnostics += _utf8_declared_single_byte(data, result.encoding, path)
     return result
+
+
+_NON_ASCII = re.compile(r"[^\x00-\x7f]")
+# Encodings in which every byte is a character: UTF-8 bytes decode without error, as mojibake.
+_SINGLE_BYTE = re.compile(r"^(iso-?8859-\d+|latin-?\d|(windows|cp)-?125\d|us-ascii|ascii)$", re.I)
+
+
+def _utf8_declared_single_byte(data: bytes, encoding: str | None, path: str) -> list[Diagnostic]:
+    """X110 when a file declared ISO-8859-1 (or similar) is really UTF-8: its accented names
+    would read as 'ConfiguraÃ§Ã£o'. BOUML writes the declaration from an export option, not from
+    the bytes, so the two can disagree."""
+    if not encoding or not _SINGLE_BYTE.match(encoding) or data.isascii():
+        return []
+    try:
+        text = data.decode("utf-8")
+    except UnicodeDecodeError:
+        return []  # really single-byte text
+    first = _NON_ASCII.search(text).start()
+    line = text.count("\n", 0, first) + 1
+    sample = text[first : first + 1]
+    msg = (
+        f"the file declares encoding {encoding} but its bytes are UTF-8 (first at line {line}: "
+        f"{sample!r} would read as {sample.encode('utf-8').decode('latin-1')!r}): names are read "
+        "garbled; change the declaration to UTF-8, or export again with the encoding option UTF-8"
+    )
+    return [diagnostic("X110", msg, file=path, line=1)]
 
 
 def _at_end(data: bytes, line: int, col: int) -> bool:
