@@ -363,6 +363,24 @@ def test_tag_from_either_place(weblab_text: str, tmp_path: Path) -> None:
         assert reading.diagnostics == [], path.name
 
 
+def test_a_second_root_application_that_disagrees_gives_r205(
+    weblab_text: str, tmp_path: Path
+) -> None:
+    first = '<ACORDCS:CtxMonitor xmi:id="BOUML_STELT_0x20102_4" frequency="1" base_Element="BOUML_0x20102_4"/>'
+    second = first.replace('frequency="1"', 'frequency="5"').replace("STELT_", "STELT2_")
+    target = tmp_path / "twice.xmi"
+    target.write_text(replace(weblab_text, first, first + "\n" + second))
+    reading, role = _usage_role(target)
+    found = [d for d in reading.diagnostics if d.severity >= Severity.WARNING]
+    assert [d.code for d in found] == ["R205"]
+    assert "stated twice, '1' then '5'; using '1'" in found[0].message
+    assert role.tag("frequency") == "1"
+    # Stated twice with the same value: nothing to say.
+    same = tmp_path / "same.xmi"
+    same.write_text(replace(weblab_text, first, first + "\n" + first.replace("STELT_", "STELT2_")))
+    assert _usage_role(same)[0].diagnostics == []
+
+
 def test_disagreeing_tag_places_give_r205(weblab_text: str, tmp_path: Path) -> None:
     target = tmp_path / "r205.xmi"
     target.write_text(

@@ -54,7 +54,10 @@ CODES: dict[str, tuple[Severity, str]] = {
     "R202": (E, "reference to an id that does not exist"),
     "R203": (E, "id defined more than once"),
     "R204": (E, "stereotype application whose base element does not exist"),
-    "R205": (W, "the two places BOUML writes a tag disagree"),
+    "R205": (
+        W,
+        "a tag is stated twice with different values (BOUML's two places, or two applications)",
+    ),
     "R206": (INFO, "free stereotype read as the ACORDCS stereotype of the same name"),
     "R207": (W, "element without an id"),
     # T: stereotypes and tagged values

@@ -44,13 +44,21 @@ class StereotypeApplications:
         self, app: StereotypeApplication, tag: str, value: str, line: int, place: str
     ) -> None:
         old = app.tags.get(tag)
-        if old is not None and old != value and place not in app.places:
+        if old is not None and old != value:
+            if place not in app.places:  # BOUML's other place
+                says = (
+                    f"is {old!r} in one place and {value!r} in the other; using {old!r}: re-export"
+                )
+            else:  # one place twice: two applications of one stereotype to one element
+                says = (
+                    f"is stated twice, {old!r} then {value!r}; using {old!r}: apply the stereotype "
+                    "once"
+                )
             base = self.model.elements.get(app.base)
             self.model.diagnostics.append(
                 diagnostic(
                     "R205",
-                    f"tag {tag!r} of {app.key} is {old!r} in one place and {value!r} in the other; "
-                    f"using {old!r}: re-export the model",
+                    f"tag {tag!r} of {app.key} {says} the model",
                     file=self.model.file,
                     line=line,
                     element=base.qualified_name() if base is not None else None,
