@@ -291,3 +291,24 @@ def test_validate_never_imports_lark():
         [sys.executable, "-c", code], capture_output=True, text=True, cwd=root, check=True
     )
     assert done.stdout.strip() == "[]"
+
+
+def test_long_runs_of_blanks_cost_linear_time():
+    """Blanks are skipped atomically: a backtracking skip would need 2**n steps before a bad
+    character (n = 40 would not finish today). Run apart, with a bound a hang cannot pass."""
+    import subprocess
+    import sys
+
+    code = (
+        "from acordcs.metamodel.rules import parse_rule, RuleSyntaxError\n"
+        "for text in ('if' + ' ' * 100000 + '?', 'if' + ' \\t' * 50000 + 'a is b then c is d'):\n"
+        "    try:\n"
+        "        parse_rule(text)\n"
+        "        print('ok')\n"
+        "    except RuleSyntaxError as err:\n"
+        "        print(err.column)\n"
+    )
+    done = subprocess.run(
+        [sys.executable, "-c", code], capture_output=True, text=True, timeout=120, check=True
+    )
+    assert done.stdout.split() == ["100003", "ok"]

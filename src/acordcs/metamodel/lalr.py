@@ -69,7 +69,9 @@ class _Scanner:
         # after it: one match per token, not two. This equals lark's loop because no terminal of
         # the grammar can begin with ignored text (the oracle test would show it otherwise).
         skip = "|".join(f"(?:{p})" for p in spec["ignore"])
-        blanks = f"(?:{skip})*" if skip else ""
+        # Atomic: blanks once skipped are never given back. A backtracking (?:(?: |\t)+)* would
+        # try every way of splitting a run of n blanks before a bad character: 2**n steps.
+        blanks = f"(?>(?:{skip})*)" if skip else ""
         self.match = re.compile(f"{blanks}(?:{spec['pattern']})", spec["flags"]).match
         self.blanks = re.compile(blanks, spec["flags"]).match  # always matches, maybe nothing
         self.unless = spec["unless"]  # terminal -> {exact text: string terminal it really is}
