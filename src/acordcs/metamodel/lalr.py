@@ -1,9 +1,9 @@
 """A lean LALR(1) driver for the tables lark computes from a grammar: lark analyses, we parse.
 
 lark is the grammar compiler: it reads the ``.lark`` file and computes the LALR(1) parse table and
-the contextual lexer (one scanner per parser state). Its own parse loop costs about 90 µs for a
-fifteen-token rule and importing it about 45 ms, which would be most of ``acordcs-gen validate``
-on a large model. So the analysis is done once and kept as plain data (JSON) in the private cache
+the contextual lexer (one scanner per parser state). Its own parse loop takes about 120 µs for a
+fifteen-token rule (this one about 40) and importing it about 45 ms: a large share of
+``acordcs-gen validate`` on a large model (``benchmarks/bench_validate.py`` measures both). So the analysis is done once and kept as plain data (JSON) in the private cache
 directory (see :mod:`acordcs.cachedir`), and this module runs the same automaton with the same
 tree-building rules (child filtering, ``_rule`` inlining, ``?rule`` single-child expansion,
 ``[]`` placeholders) without importing lark. ``tests/test_rules_lalr.py`` holds it to lark's own
