@@ -2,7 +2,8 @@
 
 It keeps what the file says (names, kinds, ids, lines, stereotype applications with their tagged values)
 and nothing ACORD-CS specific: :mod:`acordcs.generator.architecture` interprets it. Classes are slotted
-dataclasses because a 4 MB export makes tens of thousands of them.
+dataclasses because a 4 MB export makes tens of thousands of them; readers pass id, kind, name, line
+and owner positionally (half the cost of keywords).
 """
 
 from __future__ import annotations
@@ -13,7 +14,7 @@ from dataclasses import dataclass, field
 from acordcs.generator.diagnostics import Diagnostic
 
 
-@dataclass(slots=True, eq=False, kw_only=True)
+@dataclass(slots=True, eq=False)
 class Element:
     id: str
     kind: str  # the UML metaclass: Class, Property, Association, ...
@@ -33,18 +34,18 @@ class Element:
         return "::".join(reversed(parts)) or self.name or f"<{self.kind}>"
 
 
-@dataclass(slots=True, eq=False, kw_only=True)
+@dataclass(slots=True, eq=False)
 class Package(Element):
     members: list[Element] = field(default_factory=list)
 
 
-@dataclass(slots=True, eq=False, kw_only=True)
+@dataclass(slots=True, eq=False)
 class TypedElement(Element):
     type_name: str | None = None  # the type as the modeller wrote it (int, double, varchar(20))
     type_ref: str | None = None  # id of a classifier of the model, when typed by one
 
 
-@dataclass(slots=True, eq=False, kw_only=True)
+@dataclass(slots=True, eq=False)
 class Property(TypedElement):
     association: str | None = None  # set on association ends
     aggregation: str = "none"
@@ -54,12 +55,12 @@ class Property(TypedElement):
     navigable: bool = True
 
 
-@dataclass(slots=True, eq=False, kw_only=True)
+@dataclass(slots=True, eq=False)
 class Parameter(TypedElement):
     direction: str = "in"
 
 
-@dataclass(slots=True, eq=False, kw_only=True)
+@dataclass(slots=True, eq=False)
 class Operation(Element):
     parameters: list[Parameter] = field(default_factory=list)
 
@@ -72,7 +73,7 @@ class Operation(Element):
         return next((p.type_name for p in self.parameters if p.direction == "return"), None)
 
 
-@dataclass(slots=True, eq=False, kw_only=True)
+@dataclass(slots=True, eq=False)
 class Classifier(Element):
     attributes: list[Property] = field(default_factory=list)  # owned, not association ends
     ends: list[Property] = field(default_factory=list)  # owned association ends
@@ -83,19 +84,19 @@ class Classifier(Element):
     member_ends: list[str] = field(default_factory=list)  # for AssociationClass
 
 
-@dataclass(slots=True, eq=False, kw_only=True)
+@dataclass(slots=True, eq=False)
 class Association(Element):
     member_ends: list[str] = field(default_factory=list)  # ids of the end properties
     owned_ends: list[Property] = field(default_factory=list)
 
 
-@dataclass(slots=True, eq=False, kw_only=True)
+@dataclass(slots=True, eq=False)
 class Dependency(Element):
     clients: list[str] = field(default_factory=list)
     suppliers: list[str] = field(default_factory=list)
 
 
-@dataclass(slots=True, eq=False, kw_only=True)
+@dataclass(slots=True, eq=False)
 class Generalization(Element):
     specific: str = ""
     general: str = ""

@@ -119,6 +119,7 @@ class _Reader:
             self.EXTENSION: _EXT,
         }
         self.elements = self.model.elements
+        self._href_names: dict[str, str] = {}  # a few distinct hrefs, written thousands of times
         self.annotated: list[tuple[str, str]] = []  # (element id, comment body), Eclipse comments
         self.refs: list[tuple[str, str, int, Element]] = []  # (id, what, line, from element)
         self.type_refs: list[Element] = []
@@ -176,7 +177,7 @@ class _Reader:
                     line=line,
                 )
             )
-        obj = cls(id=ident, kind=kind, name=el.get("name", ""), line=line, owner=owner)
+        obj = cls(ident, kind, el.get("name", ""), line, owner)
         self.elements.setdefault(ident, obj)
         return obj
 
@@ -284,7 +285,10 @@ class _Reader:
     def _type_child(self, child: etree._Element, obj) -> None:
         href = child.get("href")
         if href:
-            obj.type_name = primitive_from_href(href)
+            name = self._href_names.get(href)
+            if name is None:
+                name = self._href_names[href] = primitive_from_href(href)
+            obj.type_name = name
         else:
             obj.type_ref = child.get(self.XIDREF) or obj.type_ref
 
