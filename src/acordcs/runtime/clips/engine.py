@@ -16,6 +16,13 @@ Nothing a rule does at fire time raises: evaluation errors (a string compared wi
 division by zero), unbound operations and operations that raise are logged with their rule set and
 rule, counted in :attr:`ClipsEngine.error_count`, kept in :attr:`ClipsEngine.errors`, and the fire
 carries on. Errors in what you define (syntax, unknown variable or operation) raise RuleError.
+
+Numeric mode, a matter of speed only: a crisp condition that reads only variables declared as
+numbers (``type="double"``...) and number literals, with no division, is compiled twice, checked
+and unchecked; CLIPS takes the unchecked branch while its flag ``?*acord-num*`` is TRUE, which the
+engine keeps so only while every numeric variable holds a number (not unset, not given a string by
+a rule). A native rule, or a variable whose declared type changes, turns it off for good: either
+could put anything in a numeric variable without the engine knowing.
 """
 
 from __future__ import annotations
@@ -27,12 +34,20 @@ from collections.abc import Callable
 from dataclasses import dataclass
 
 from acordcs.metamodel.rules import Name
-from acordcs.runtime.clips.bridge import Bridge, ClipsFailure
+from acordcs.runtime.clips.bridge import MULTIFIELD, Bridge, ClipsFailure
 from acordcs.runtime.clips.compiler import Target
 from acordcs.runtime.clips.operations import Faults, FireError, Operations
-from acordcs.runtime.clips.prelude import FIRE, RUN, assign_dispatcher, pusher, put_dispatcher
+from acordcs.runtime.clips.prelude import (
+    FIRE,
+    NUMERIC_FLAG,
+    RUN,
+    assign_dispatcher,
+    pusher,
+    put_dispatcher,
+)
+from acordcs.runtime.clips.records import decode
 from acordcs.runtime.clips.rulesets import RuleSet, RuleSets
-from acordcs.runtime.clips.values import Value, from_clips, kind_of_type, normalise
+from acordcs.runtime.clips.values import Value, kind_of_type, normalise
 from acordcs.runtime.engine import RuleError
 
 __all__ = ["ClipsEngine", "FireError"]
@@ -47,6 +62,8 @@ class _Variable:
     index: int
     kind: str | None
     target: Target
+    # set's hot path stores a float as it is: untyped, or numeric and already holding a number
+    floats: bool = False
 
 
 class ClipsEngine:
@@ -59,15 +76,28 @@ class ClipsEngine:
         self._ops = Operations()
         self._bridge = Bridge()
         self._variables: dict[str, _Variable] = {}
+        self._names: list[str] = [""]  # by number
         self._by_member: dict[str, list[str]] = {}
-        self._values: list[Value] = [None]  # 1-based, like the CLIPS dispatcher
-        self._globals: list[str] = [""]
+        # 1-based, like the CLIPS dispatcher; number 0 is the numeric-mode flag (_sync_numeric)
+        self._values: list[Value] = [False]
+        self._globals: list[str] = [NUMERIC_FLAG]
         self._dirty: dict[int, Value] = {}
+        # Numeric mode: crisp conditions reading only variables declared as numbers run without
+        # type checks while CLIPS's flag is TRUE, which it is only while each of those variables
+        # holds a number. _odd: the numeric variables that do not (unset, or given another value
+        # by a rule); _flag: what the flag is in CLIPS after the next push; _numeric_ok: False for
+        # good once something could write a numeric variable unseen (a native rule, a type change).
+        self._odd: set[int] = set()
+        self._numeric: set[int] = set()  # the variables declared as numbers
+        self._flag = False
+        self._numeric_ok = True
         self._stale = False
         self._pusher_count = 0
         self._rulesets = RuleSets(self._bridge, self._target_for, self._ops.number_for)
         self._sets = self._rulesets.sets
-        self._bridge.build(put_dispatcher([]))
+        self._sites = self._rulesets.sites.entries  # the same list, grown by each defrule
+        self._ptr = self._bridge.ptr
+        self._bridge.build(put_dispatcher(self._globals))
         self._bridge.build(assign_dispatcher([], []))
         self._bridge.build(RUN)
         self._bridge.build(FIRE)
@@ -109,19 +139,30 @@ class ClipsEngine:
             index = len(self._values)
             existing = _Variable(variable, index, kind, Target(index, f"?*{variable}*"))
             try:
+                # Its acord-var fact is asserted when a rule first reads it (RuleSets.define_crisp).
                 self._bridge.build(
                     f"(defglobal MAIN {existing.target.global_name} = nil ?*acord-vf{index}* = FALSE)"
                 )
-                self._bridge.run(f"(bind ?*acord-vf{index}* (assert (acord-var (i {index}))))")
             except ClipsFailure as err:
                 raise RuleError(f"CLIPS cannot hold variable {variable!r}: {err}") from None
             self._variables[variable] = existing
+            self._names.append(variable)
             self._by_member.setdefault(variable.rpartition(".")[2], []).append(variable)
             self._values.append(None)
             self._globals.append(existing.target.global_name)
             self._stale = True
-        else:
+            existing.floats = kind is None
+            if kind == "number":
+                self._numeric.add(index)
+                self._odd.add(index)  # unset until a number is set
+        elif existing.kind != kind:
+            # Rules compiled before may write it without the check a numeric variable needs.
+            self._numeric_ok = False
+            self._numeric.discard(existing.index)
+            self._odd.discard(existing.index)
             existing.kind = kind
+            existing.floats = kind in (None, "number")  # untracked from now on
+        self._sync_numeric()
         if initial is not None:
             self.set(variable, initial)
 
@@ -155,57 +196,76 @@ class ClipsEngine:
                 "the rule is empty; write 'label: if ... then ...' or (defrule ...)",
                 ruleset=str(ruleset),
             )
-        return self._rulesets.define(rule, ruleset)
+        label = self._rulesets.define(rule, ruleset)
+        if self._numeric_ok and self._sets[ruleset].natives:
+            # A native rule may bind any global: numeric mode can no longer be sure of anything.
+            self._numeric_ok = False
+            self._sync_numeric()
+        return label
 
     def set(self, variable: str, value: object) -> None:
         """Set a variable's value; it reaches CLIPS with the next ``fire``."""
-        var = self._variables.get(variable) if type(variable) is str else None
-        if (
-            var is not None
-            and type(value) is float
-            and var.kind != "string"
-            and var.kind != "boolean"
-        ):
-            self._values[var.index] = self._dirty[var.index] = value  # the monitor's hot path
-            return
-        if var is None:
+        try:
+            var = self._variables[variable]
+        except (KeyError, TypeError):  # not a declared name (or not even hashable)
             var = self._lookup_for_set(variable)
+        else:
+            if type(value) is float and var.floats:  # the monitor's hot path: nothing to check
+                index = var.index
+                self._values[index] = self._dirty[index] = value
+                return
         try:
             clean = normalise(value, var.kind)
         except ValueError as err:
             raise RuleError(f"cannot set {var.name} to {value!r}: {err}") from None
         self._values[var.index] = clean
         self._dirty[var.index] = clean
+        if var.index in self._numeric:
+            self._track(var.index, clean)
 
     def fire(self, ruleset: str) -> None:
         """Fire the rules of ``ruleset`` on the current values (see the module docstring)."""
-        target = self._sets.get(ruleset)
-        if target is None:
+        try:
+            target = self._sets[ruleset]
+        except (KeyError, TypeError):
             known = ", ".join(sorted(self._sets)) or "none yet"
             raise RuleError(
                 f"no rule set {ruleset!r} (known: {known}); define its rules with defrule first"
-            )
+            ) from None
         if self._stale:
             self._rebuild_dispatchers()
-        function, args = self._push_call(target)
+        dirty = self._dirty
+        function = target.pushers.get(tuple(dirty))
+        if function is None:
+            function, args = self._push_call(target)
+        else:  # the usual case: this pattern's push function takes the values, in dirty's order
+            args = dirty.values()
+        bridge = self._bridge
         try:
-            out = self._bridge.call(function, args)
+            result = bridge.call(function, args)
         except ClipsFailure as err:
-            out = self._recover(target, str(err))
-        else:
-            printed = self._bridge.messages() if self._bridge.captured else ""
-            if type(out) is not tuple:  # a native rule's error halted the run before it returned
-                out = self._recover(target, printed or "the run was halted")
-            elif printed:
-                self._faults.add(target.name, None, f"CLIPS reported: {printed}")
-        if out:
-            self._apply(target, out)
+            self._recover(target, str(err))
+            return
+        dirty.clear()
+        if bridge.capture.text:
+            printed = bridge.messages()
+            if result.header.type != MULTIFIELD:  # a native rule's error halted the run
+                self._recover(target, printed or "the run was halted")
+                return
+            self._faults.add(target.name, None, f"CLIPS reported: {printed}")
+        elif result.header.type != MULTIFIELD:
+            self._recover(target, "the run was halted")
+            return
+        multifield = result.multifieldValue
+        if multifield.length:
+            self._apply(target, multifield)
 
     def get(self, variable: str) -> Value:
         """The current value of a variable (None if never set)."""
-        found = self._variables.get(variable) if isinstance(variable, str) else None
-        if found is not None:
-            return self._values[found.index]
+        try:
+            return self._values[self._variables[variable].index]
+        except (KeyError, TypeError):
+            pass
         if not isinstance(variable, str):
             raise RuleError(f"{variable!r} is not a variable name; write Element.attribute")
         try:
@@ -260,18 +320,40 @@ class ClipsEngine:
         return self._variables[variable]
 
     def _target_for(self, name: Name) -> Target:
-        return self._lookup(name.text).target
+        var = self._lookup(name.text)
+        if self._numeric_ok and var.kind == "number":  # the compiler may leave its checks out
+            return Target(var.index, var.target.global_name, numeric=True)
+        return var.target
+
+    def _track(self, index: int, value: Value) -> None:
+        """A numeric variable got ``value``: keep ``_odd`` and the flag in step."""
+        var = self._variables[self._names[index]]
+        if type(value) is float or type(value) is int:
+            self._odd.discard(index)
+            var.floats = True  # set's hot path may store floats again, unchecked
+        else:
+            self._odd.add(index)
+            var.floats = False
+        self._sync_numeric()
+
+    def _sync_numeric(self) -> None:
+        """Push the flag with the next fire if what it should be changed (``_flag``: what CLIPS
+        holds once the changed values are pushed)."""
+        flag = self._numeric_ok and not self._odd
+        if flag != self._flag:
+            self._flag = self._values[0] = self._dirty[0] = flag
 
     def _rebuild_dispatchers(self) -> None:
         names = list(self._variables)
         targets = [self._variables[n].target for n in names]
-        self._bridge.build(put_dispatcher([t.global_name for t in targets]))
+        self._bridge.build(put_dispatcher(self._globals))
         self._bridge.build(assign_dispatcher(names, targets))
         self._stale = False
 
     def _push_call(self, target: RuleSet) -> tuple[bytes, list[object]]:
-        """The one call of a fire: a push function made for this (set, changed variables) pattern,
-        taking just the values; past _MAX_PUSHERS patterns, the generic (index, value) pairs."""
+        """The one call of a fire, when the pattern of changed variables has no push function yet:
+        make one, taking just the values; past _MAX_PUSHERS patterns, the generic (index, value)
+        pairs. Clears the changed values (they are in the arguments)."""
         dirty = self._dirty
         key = tuple(dirty)
         function = target.pushers.get(key)
@@ -296,46 +378,37 @@ class ClipsEngine:
         dirty.clear()
         return function, args
 
-    def _recover(self, target: RuleSet, message: str) -> tuple:
+    def _recover(self, target: RuleSet, message: str) -> None:
         self._faults.add(target.name, None, f"CLIPS error while firing: {message}")
-        try:
-            out = self._bridge.value_of("acord-out")
-            self._bridge.call(b"acord-cleanup", [])
+        try:  # acord-cleanup returns the records of what happened before the error: they stand
+            result = self._bridge.call(b"acord-cleanup", [])
         except ClipsFailure:
-            out = ()
+            result = None
         self._bridge.messages()
         # Whatever was pushed may not have arrived: push everything with the next fire.
-        self._dirty = {i: self._values[i] for i in range(1, len(self._values))}
-        return out if isinstance(out, tuple) else ()
+        self._dirty = dict(enumerate(self._values))
+        if result is not None and result.header.type == MULTIFIELD:
+            self._apply(target, result.multifieldValue)
 
-    def _apply(self, target: RuleSet, out: tuple) -> None:
+    def _apply(self, target: RuleSet, multifield: object) -> None:
         """Records from CLIPS, in firing order: assignments first, then the operations called."""
-        values, labels = self._values, self._rulesets.labels
-        calls: list[tuple[int | str, object, tuple]] = []
-        i, n = 0, len(out)
-        while i < n:
-            tag = out[i]
-            if type(tag) is int and tag > 0:
-                values[tag] = from_clips(out[i + 1])
-                i += 2
-            elif type(tag) is int and tag < 0:
-                count = out[i + 2]
-                calls.append((-tag, out[i + 1], out[i + 3 : i + 3 + count]))
-                i += 3 + count
-            elif tag == "err":
-                self._faults.add(target.name, labels.get(out[i + 1]), self._describe(out[i + 2]))
-                i += 3
-            elif tag == "op":
-                count = out[i + 2]
-                calls.append((str(out[i + 1]), 0, out[i + 3 : i + 3 + count]))
-                i += 3 + count
+        calls, notes = decode(
+            multifield, self._ptr, self._sites, self._values, self._numeric, self._odd
+        )
+        if notes is None and calls is None:
+            return
+        labels = self._rulesets.labels
+        for what, number, value in notes or ():
+            if what == "set":
+                if type(value) is not float and type(value) is not int:
+                    # A crisp rule's assignment cleared the flag in CLIPS (compiler.numeric_check):
+                    # that is what CLIPS holds now, whatever an earlier note meant to push.
+                    self._dirty.pop(0, None)
+                    self._flag = self._values[0] = False
+                self._track(number, value)
             else:
-                message = (
-                    f"unreadable record {tag!r} from CLIPS; did a native rule bind ?*acord-out*?"
-                )
-                self._faults.add(target.name, None, message)
-                break
-        for op, rule, args in calls:
+                self._faults.add(target.name, labels.get(number), self._describe(value))
+        for op, rule, args in calls or ():
             self._ops.invoke(op, args, target.name, labels.get(rule), self._faults)
 
     def _describe(self, message: object) -> str:

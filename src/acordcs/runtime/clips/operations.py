@@ -13,7 +13,7 @@ from collections.abc import Callable
 from dataclasses import dataclass
 
 from acordcs.metamodel.rules import Name
-from acordcs.runtime.clips.values import from_clips
+from acordcs.runtime.clips.values import Value
 
 log = logging.getLogger("acordcs.runtime.clips")
 
@@ -99,9 +99,6 @@ class Operations:
             self._names.append(full)
         return number
 
-    def name_of(self, op: int | str) -> str:
-        return self._names[op] if isinstance(op, int) else op
-
     def function(self, name: str) -> Callable[..., object] | None:
         found = self._functions.get(name)
         if found is not None:
@@ -115,10 +112,11 @@ class Operations:
         return candidates[0] if len(candidates) == 1 else None
 
     def invoke(
-        self, op: int | str, args: tuple, ruleset: str, rule: str | None, faults: Faults
+        self, op: int | str, args: list[Value], ruleset: str, rule: str | None, faults: Faults
     ) -> None:
-        name = self.name_of(op)
-        function = self.function(name)
+        """Call operation ``op`` (number, or name) with ``args`` (rule values already)."""
+        name = self._names[op] if type(op) is int else op
+        function = self._functions.get(name) or self.function(name)
         if function is None:
             element = name.rpartition(".")[0] or "Element"
             faults.add(
@@ -129,7 +127,7 @@ class Operations:
             )
             return
         try:
-            function(*(from_clips(a) for a in args))
+            function(*args)
         except Exception as err:  # an application callback must not stop the other rules' actions
             faults.add(
                 ruleset, rule, f"operation {name!r} raised {type(err).__name__}: {err}", exc=err

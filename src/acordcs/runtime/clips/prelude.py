@@ -8,9 +8,12 @@ made for the pattern of changed variables, see :func:`pusher`, or the generic ``
 it gets back ``?*acord-out*``, a flat multifield of records in firing order:
 
 - ``idx value``            (idx > 0): variable number idx was assigned value;
-- ``-op rule nargs args..`` (negative): rule number ``rule`` called operation number ``op``;
+- ``-site args..``         (negative): site number ``site`` of a crisp rule (see
+  :class:`.records.Sites`) called its operation with ``args``, or assigned its literal;
 - ``err rule message``     an evaluation error (rule 0: the engine itself, e.g. the firing limit);
 - ``op name nargs args..`` a native rule called an operation by name (``acord-op``).
+
+Variable number 0 is :data:`NUMERIC_FLAG` (see ClipsEngine._sync_numeric).
 
 Why records and not Python callbacks from CLIPS: a callback crossing CLIPS costs microseconds, and a
 Python exception inside a CLIPS run halts the run (clipspy issue #48); records keep Python outside the
@@ -18,17 +21,18 @@ run, so a raising operation cannot disturb the rules, and re-entering the engine
 
 Crisp rules fire at most once per fire: each has a global holding the number of the fire it last
 fired in. They match ``(acord-eval (set S))``, asserted at the start of a fire, and one
-``(acord-var (i k))`` fact per variable k their condition reads. A firing that changed variable k
-re-asserts that fact after its last action, so CLIPS evaluates again the rules reading k, and only
-those, on the new value (chaining to quiescence at the cost of the rules actually affected). Native
-rules match ``(acord-fire)``, asserted for the duration of a fire of a set that has native rules.
+``(acord-var (i k))`` fact per variable k their condition reads (asserted when a first rule reads
+k). A firing that changed variable k re-asserts that fact after its last action, so CLIPS evaluates
+again the rules reading k, and only those, on the new value (chaining to quiescence at the cost of
+the rules actually affected). Native rules match ``(acord-fire)``, asserted for the duration of a
+fire of a set that has native rules.
 """
 
 from __future__ import annotations
 
 from collections.abc import Sequence
 
-from acordcs.runtime.clips.compiler import Target, assignment, quote
+from acordcs.runtime.clips.compiler import NUMERIC_FLAG, Target, assignment, quote, touch
 
 _ORDER_TEMPLATE = """
 (deffunction MAIN::acord-{name} (?a ?b)
@@ -48,6 +52,17 @@ _ARITH_TEMPLATE = """
         0))
 """
 
+# NUMERIC_FLAG (compiler.py) is pushed by the engine as variable number 0.
+__all__ = [
+    "FIRE",
+    "NUMERIC_FLAG",
+    "RUN",
+    "assign_dispatcher",
+    "fixed_constructs",
+    "pusher",
+    "put_dispatcher",
+]
+
 _FIXED = [
     "(defmodule MAIN (export ?ALL))",
     "(deftemplate MAIN::acord-fire (slot set))",
@@ -58,7 +73,8 @@ _FIXED = [
         ?*acord-err* = FALSE
         ?*acord-tick* = FALSE
         ?*acord-limit* = 10000
-        ?*acord-cycle* = 0)""",
+        ?*acord-cycle* = 0
+        ?*acord-num* = FALSE)""",
     """(deffunction MAIN::acord-kind (?x)
         (if (numberp ?x) then "number"
          else (if (stringp ?x) then "string"
@@ -88,13 +104,15 @@ _FIXED = [
          else (acord-fail (str-cat "'-' needs a number, not " (acord-kind ?a))) 0))""",
     """(deffunction MAIN::acord-op (?name $?args)
         (bind ?*acord-out* (create$ ?*acord-out* op ?name (length$ ?args) ?args)))""",
-    # Leftovers of a fire interrupted by a CLIPS error must not leak into the next fire.
+    # Leftovers of a fire interrupted by a CLIPS error must not leak into the next fire; returns
+    # the records of what happened before the error.
     """(deffunction MAIN::acord-cleanup ()
         (clear-focus-stack)
         (do-for-all-facts ((?f acord-fire)) TRUE (retract ?f))
         (do-for-all-facts ((?f acord-eval)) TRUE (retract ?f))
         (bind ?*acord-tick* FALSE)
-        (bind ?*acord-err* FALSE))""",
+        (bind ?*acord-err* FALSE)
+        ?*acord-out*)""",
 ]
 
 # Defined after the dispatchers exist (they call acord-put).
@@ -142,7 +160,7 @@ def fixed_constructs() -> list[str]:
 def _bisect(globals_: Sequence[str], low: int, high: int) -> str:
     # A balanced tree of ifs: pushing a value costs O(log n) tests, not O(n).
     if low == high:
-        return f"(bind {globals_[low - 1]} ?v)"
+        return f"(bind {globals_[low]} ?v)"
     mid = (low + high) // 2
     return f"(if (<= ?i {mid}) then {_bisect(globals_, low, mid)} else {_bisect(globals_, mid + 1, high)})"
 
@@ -150,23 +168,39 @@ def _bisect(globals_: Sequence[str], low: int, high: int) -> str:
 def pusher(name: str, module: str, natives: bool, globals_: Sequence[str]) -> str:
     """A push function for one pattern of changed variables: it takes just their values, binds
     them and fires ``module``; half the arguments of (index, value) pairs, and no dispatch.
-    ``natives``: assert ``(acord-fire)`` (only native rules match it: a set without any skips it)."""
+
+    It does what ``acord-run`` does, inline and specialised for ``module`` (a deffunction call less
+    per fire). ``natives``: assert ``(acord-fire)`` (only native rules match it: a set without any
+    skips it); without native rules nothing else can retract the ``acord-eval`` fact."""
     params = " ".join(f"?v{i}" for i in range(len(globals_)))
-    binds = " ".join(f"(bind {g} ?v{i})" for i, g in enumerate(globals_))
-    flag = "TRUE" if natives else "FALSE"
-    return f"(deffunction MAIN::{name} ({params}) {binds} (acord-run {module} {flag}))"
+    binds = "".join(f" (bind {g} ?v{i})" for i, g in enumerate(globals_))
+    started = f" (bind ?acord-started (assert (acord-fire (set {module}))))" if natives else ""
+    if natives:
+        done = (
+            " (if (fact-existp ?acord-tick) then (retract ?acord-tick))"
+            " (if (fact-existp ?acord-started) then (retract ?acord-started))"
+        )
+    else:
+        done = " (retract ?acord-tick)"
+    return (
+        f"(deffunction MAIN::{name} ({params}){binds}"
+        " (bind ?*acord-out* (create$)) (bind ?*acord-cycle* (+ ?*acord-cycle* 1))"
+        f"{started} (bind ?acord-tick (assert (acord-eval (set {module}))))"
+        f" (focus {module}) (run ?*acord-limit*)"
+        ' (if (get-focus) then (bind ?*acord-out* (create$ ?*acord-out* err 0 "limit")) (clear-focus-stack))'
+        f"{done} ?*acord-out*)"
+    )
 
 
 def put_dispatcher(globals_: Sequence[str]) -> str:
-    """``(acord-put i v)``: bind the global of variable number i (1-based) to v."""
-    body = _bisect(globals_, 1, len(globals_)) if globals_ else "FALSE"
-    return f"(deffunction MAIN::acord-put (?i ?v) {body})"
+    """``(acord-put i v)``: bind ``globals_[i]`` (variable number i; 0 is :data:`NUMERIC_FLAG`) to v."""
+    return f"(deffunction MAIN::acord-put (?i ?v) {_bisect(globals_, 0, len(globals_) - 1)})"
 
 
 def assign_dispatcher(names: Sequence[str], targets: Sequence[Target]) -> str:
     """``(acord-assign "Element.attr" v)`` for native rules: assign by name, as a crisp rule would."""
     cases = " ".join(
-        f"(case {quote(name)} then {assignment(target, '?v')})"
+        f"(case {quote(name)} then {assignment(target, '?v', touch(target.index))})"
         for name, target in zip(names, targets, strict=True)
     )
     unknown = '(acord-fail (str-cat "acord-assign: unknown variable " ?name)) (acord-report 0)'

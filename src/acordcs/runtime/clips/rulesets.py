@@ -15,6 +15,7 @@ from clips.values import Symbol
 from acordcs.metamodel.rules import RuleSyntaxError, parse_rule
 from acordcs.runtime.clips.bridge import Bridge, ClipsFailure
 from acordcs.runtime.clips.compiler import OperationResolver, VariableResolver, compile_rule
+from acordcs.runtime.clips.records import Sites
 from acordcs.runtime.engine import RuleError
 
 _SET_NAME = re.compile(r"[A-Za-z_][A-Za-z0-9_]*\Z")
@@ -51,8 +52,10 @@ class RuleSets:
         self.bridge = bridge
         self.variables = variables
         self.operations = operations
+        self.sites = Sites()  # what the negative records of crisp rules stand for
         self.sets: dict[str, RuleSet] = {}
         self.labels: dict[int, str] = {}
+        self.read: set[int] = set()  # variables with an acord-var fact: some crisp rule reads them
 
     def define(self, rule: str, ruleset: str) -> str:
         target = self.ensure(ruleset)
@@ -108,8 +111,15 @@ class RuleSets:
             salience=9999 - position,
             variables=self.variables,
             operations=self.operations,
+            sites=self.sites,
         )
         self.labels[rule_id] = label
+        for index in compiled.reads:
+            if index not in self.read:
+                # A variable's fact exists once a rule reads it (see compiler.touch); a fact
+                # asserted now is matched by the rule when it is built, like any older fact.
+                self.bridge.run(f"(bind ?*acord-vf{index}* (assert (acord-var (i {index}))))")
+                self.read.add(index)
         entry = Entry(
             label, "crisp", f"{target.name}::{label}", text, compiled.constructs, position
         )

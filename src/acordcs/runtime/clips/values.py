@@ -1,4 +1,5 @@
-"""Values of model variables: which Python values the CLIPS engine takes, and how they come back.
+"""Values of model variables: which Python values the CLIPS engine takes (how they come back from
+CLIPS: :func:`.records.read_value`).
 
 A value is a bool, a number (int within 64 bits, or float, NaN and infinities included), a string
 (no NUL character: CLIPS strings are C strings) or None (never set). Declared types narrow that:
@@ -8,8 +9,6 @@ a ``number`` variable takes numbers only, and so on.
 from __future__ import annotations
 
 import numbers
-
-from clips.values import Symbol
 
 Value = bool | int | float | str | None
 
@@ -126,16 +125,3 @@ def parse_default(text: str, kind: str | None) -> Value:
             raise ValueError(f"{text!r} is not a number") from None
         return number
     raise ValueError(f"{text!r} is not true or false")
-
-
-def from_clips(value: object) -> Value:
-    """A value CLIPS returned: TRUE/FALSE are booleans, nil is unset, other symbols become strings."""
-    if type(value) is Symbol:
-        if value == "TRUE":
-            return True
-        if value == "FALSE":
-            return False
-        if value == "nil":
-            return None
-        return str(value)
-    return value  # type: ignore[return-value]
