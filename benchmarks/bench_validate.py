@@ -96,12 +96,9 @@ def main() -> int:
 
 def _rule_parsers(reading) -> tuple[float, float, int]:
     """Median time to parse every rule of the model: our driver vs lark's, same builders."""
-    from lark import Lark, Token, Transformer
-
     from acordcs.generator.architecture import POLICY_SET
     from acordcs.generator.checks.rules import policy_rules
-    from acordcs.metamodel import rules
-    from acordcs.metamodel.lalr import Node, Tok
+    from acordcs.metamodel import lalr, rules
     from acordcs.metamodel.rules import parse_rule
 
     arch = reading.architecture
@@ -111,17 +108,9 @@ def _rule_parsers(reading) -> tuple[float, float, int]:
         for policy in arch.policies(policy_set):
             texts += [(prule.text, kind) for prule in policy_rules(policy)]
 
-    class SameBuilders(Transformer):
-        def __default__(self, data, children, meta):
-            kids = [Tok(c.type, str(c), c.column) if isinstance(c, Token) else c for c in children]
-            build = rules._BUILDERS.get(data)
-            return build(*kids) if build is not None else Node(data, kids)
-
     grammar = Path(rules.__file__).with_name("rules.lark").read_text(encoding="utf-8")
     starts = ["start_fuzzy", "start_crisp", "start_terms"]
-    lark_parser = Lark(
-        grammar, start=starts, parser="lalr", maybe_placeholders=True, transformer=SameBuilders()
-    )
+    lark_parser = lalr.lark_parser(grammar, starts, rules._BUILDERS)
     ours = median_seconds(lambda: [parse_rule(t, k) for t, k in texts])
     theirs = median_seconds(lambda: [lark_parser.parse(t, start=f"start_{k}") for t, k in texts])
     return ours, theirs, len(texts)

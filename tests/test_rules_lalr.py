@@ -13,7 +13,7 @@ import os
 import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
-from lark import Lark, Token, Transformer
+from lark import Lark
 from lark.exceptions import UnexpectedCharacters, UnexpectedToken
 
 from acordcs.metamodel import lalr, rules
@@ -25,25 +25,9 @@ with open(GRAMMAR_PATH, encoding="utf-8") as _handle:
 STARTS = ["start_fuzzy", "start_crisp", "start_terms"]
 
 
-class _SameBuilders(Transformer):
-    """Runs the driver's builders inside lark's parser, tokens converted to the driver's Tok."""
-
-    def __default__(self, data, children, meta):
-        kids = [Tok(c.type, str(c), c.column) if isinstance(c, Token) else c for c in children]
-        build = rules._BUILDERS.get(data)
-        return build(*kids) if build is not None else Node(data, kids)
-
-
 @pytest.fixture(scope="module")
 def oracle() -> Lark:
-    return Lark(
-        GRAMMAR,
-        start=STARTS,
-        parser="lalr",
-        lexer="contextual",
-        maybe_placeholders=True,
-        transformer=_SameBuilders(),
-    )
+    return lalr.lark_parser(GRAMMAR, STARTS, rules._BUILDERS)
 
 
 @pytest.fixture(scope="module")

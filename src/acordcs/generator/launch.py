@@ -10,7 +10,7 @@ model about a third faster (README, "Benchmarks"):
 - the process ends with ``os._exit`` once the output is flushed: tearing down the interpreter would
   free the parsed tree and tens of thousands of model objects one by one, for nothing.
 
-Tests and library users call ``main()``, which does neither.
+Tests and library users call ``main()``, which does none of them.
 """
 
 from __future__ import annotations

@@ -227,12 +227,9 @@ def _store(path: str, data: dict) -> None:
 def analyse(grammar: str, starts: list[str]) -> dict:
     """Let lark analyse ``grammar`` (LALR(1), contextual lexer, ``maybe_placeholders``) and return
     its automaton as plain data for :class:`Tables`."""
-    from lark import Lark
     from lark.parsers.lalr_analysis import Shift
 
-    frontend = Lark(
-        grammar, start=starts, parser="lalr", lexer="contextual", maybe_placeholders=True
-    ).parser
+    frontend = lark_parser(grammar, starts).parser
     table = frontend.parser.parser.parse_table
     contextual = frontend.lexer
     scanners: list[dict] = []
@@ -266,6 +263,28 @@ def analyse(grammar: str, starts: list[str]) -> dict:
         "start": dict(table.start_states),
         "end": dict(table.end_states),
     }
+
+
+def lark_parser(grammar: str, starts: list[str], builders: Mapping[str, Callable] | None = None):
+    """lark's own parser for ``grammar``, as :func:`analyse` configures it; with ``builders``, it
+    builds trees with them as :meth:`Tables.parse` does (tokens as :class:`Tok`): the oracle the
+    tests and ``benchmarks/bench_validate.py`` compare this module with."""
+    from lark import Lark, Token, Transformer
+
+    class SameBuilders(Transformer):
+        def __default__(self, data, children, meta):
+            kids = [Tok(c.type, str(c), c.column) if isinstance(c, Token) else c for c in children]
+            build = builders.get(data)
+            return build(*kids) if build is not None else Node(data, kids)
+
+    return Lark(
+        grammar,
+        start=starts,
+        parser="lalr",
+        lexer="contextual",
+        maybe_placeholders=True,
+        transformer=SameBuilders() if builders is not None else None,
+    )
 
 
 def _scanner_spec(lexer) -> dict:

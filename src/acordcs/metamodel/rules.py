@@ -206,17 +206,20 @@ def _name(tok: Tok) -> Name:
     return Name(tok.text, tok.column)
 
 
-def _num(tok: Tok) -> float:
+def _number_text(tok: Tok) -> str:
+    # int() refuses 4,300+ digits; no rule needs more than a double's range
     if len(tok.text) > 64:
         raise RuleSyntaxError(f"number {tok.text[:12]}... is too long", column=tok.column)
-    return float(tok.text)
+    return tok.text
+
+
+def _num(tok: Tok) -> float:
+    return float(_number_text(tok))
 
 
 def _c_num(tok: Tok) -> Const:
     # Integer literals stay integers: `retries + 1` must not turn a count into 1.0.
-    text = tok.text
-    if len(text) > 64:  # int() refuses 4,300+ digits; no rule needs more than a double's range
-        raise RuleSyntaxError(f"number {text[:12]}... is too long", column=tok.column)
+    text = _number_text(tok)
     value = int(text) if text.lstrip("+-").isdigit() else float(text)
     return Const(value, tok.column)
 

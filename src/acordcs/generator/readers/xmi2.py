@@ -226,15 +226,9 @@ class _Reader:
         # One dict lookup per child: a 4 MB export has some 40,000 of them.
         handlers = self._handlers
         for child in el:
-            handler = handlers.get(child.tag)
-            if handler is None:
-                tag = child.tag
-                if not isinstance(tag, str) or tag[0] != "{":
-                    continue  # XML comments, or parts the ACORD-CS view does not need
-                handler = handlers.get(local_name(tag))  # a namespace-qualified member tag (rare)
-                if handler is None:
-                    continue
-            handler(child, owner)
+            handler = handlers.get(child.tag) or _by_local_name(handlers, child.tag)
+            if handler is not None:
+                handler(child, owner)
         member_ends = el.get("memberEnd")
         if member_ends and isinstance(owner, Association | Classifier):
             owner.member_ends.extend(member_ends.split())
@@ -316,13 +310,8 @@ class _Reader:
             children = self._property_children
             for child in el:
                 code = children.get(child.tag)
-                if code is None:
-                    tag = child.tag
-                    if not isinstance(tag, str) or tag[0] != "{":
-                        continue
-                    code = children.get(local_name(tag))
-                    if code is None:
-                        continue
+                if code is None and (code := _by_local_name(children, child.tag)) is None:
+                    continue
                 if code == _TYPE:
                     self._type_child(child, prop)
                 elif code == _DEFAULT:
@@ -346,13 +335,8 @@ class _Reader:
         children = self._operation_children
         for child in el:
             code = children.get(child.tag)
-            if code is None:
-                tag = child.tag
-                if not isinstance(tag, str) or tag[0] != "{":
-                    continue
-                code = children.get(local_name(tag))
-                if code is None:
-                    continue
+            if code is None and (code := _by_local_name(children, child.tag)) is None:
+                continue
             if code == _PARAM:
                 param = self._base(child, "Parameter", op, Parameter)
                 direction = child.get("direction")
@@ -444,6 +428,14 @@ class _Reader:
                         xmi_id=app.base,
                     )
                 )
+
+
+def _by_local_name(table: dict, tag: object):
+    """``table``'s entry for a namespace-qualified tag (rare) by its local name; None for XML
+    comments and processing instructions, and for plain tags (already looked up as written)."""
+    if not isinstance(tag, str) or tag[0] != "{":
+        return None
+    return table.get(local_name(tag))
 
 
 def _literal(el: etree._Element) -> str | None:
