@@ -9,6 +9,7 @@ and owner positionally (half the cost of keywords).
 from __future__ import annotations
 
 from collections import Counter
+from collections.abc import Callable
 from dataclasses import dataclass, field
 
 from acordcs.generator.diagnostics import Diagnostic
@@ -75,13 +76,30 @@ class Operation(Element):
 
 @dataclass(slots=True, eq=False)
 class Classifier(Element):
-    attributes: list[Property] = field(default_factory=list)  # owned, not association ends
     ends: list[Property] = field(default_factory=list)  # owned association ends
-    operations: list[Operation] = field(default_factory=list)
     literals: list[str] = field(default_factory=list)
     generals: list[str] = field(default_factory=list)  # ids of general classifiers
     nested: list[Classifier] = field(default_factory=list)
     member_ends: list[str] = field(default_factory=list)  # for AssociationClass
+    # A reader may leave attributes and operations to be read on first use (readers/xmi2.py):
+    # ``_pending`` holds what is left and ``_load(self)`` reads it.
+    _attributes: list[Property] = field(default_factory=list, repr=False)
+    _operations: list[Operation] = field(default_factory=list, repr=False)
+    _pending: list | None = field(default=None, repr=False)
+    _load: Callable[[Classifier], None] | None = field(default=None, repr=False)
+
+    @property
+    def attributes(self) -> list[Property]:
+        """Owned attributes that are not association ends, in file order."""
+        if self._pending is not None:
+            self._load(self)
+        return self._attributes
+
+    @property
+    def operations(self) -> list[Operation]:
+        if self._pending is not None:
+            self._load(self)
+        return self._operations
 
 
 @dataclass(slots=True, eq=False)

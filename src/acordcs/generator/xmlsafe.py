@@ -12,11 +12,14 @@ from __future__ import annotations
 import os
 import re
 import threading
-from dataclasses import dataclass, field
 
 from lxml import etree
 
-from acordcs.generator.diagnostics import Diagnostic, diagnostic
+TYPE_CHECKING = False  # typing itself costs start-up time: see launch.py
+if TYPE_CHECKING:
+    from collections.abc import Callable
+
+    from acordcs.generator.diagnostics import Diagnostic
 
 MAX_BYTES = 256 * 1024 * 1024
 _DOCTYPE = re.compile(rb"<!DOCTYPE|<!ENTITY", re.IGNORECASE)
@@ -26,15 +29,57 @@ _WIDE_DECLARATION = re.compile(
 _SCAN_BYTES = 64 * 1024
 
 
-@dataclass
 class XmlInput:
     """A parsed file: its root (None when unreadable) and what reading it found."""
 
-    path: str
-    root: etree._Element | None
-    diagnostics: list[Diagnostic] = field(default_factory=list)
-    recovered: bool = False
-    encoding: str | None = None
+    __slots__ = ("_index", "_indexing", "diagnostics", "encoding", "path", "recovered", "root")
+
+    def __init__(
+        self,
+        path: str,
+        root: etree._Element | None,
+        diagnostics: list[Diagnostic] | None = None,
+        recovered: bool = False,
+        encoding: str | None = None,
+    ) -> None:
+        self.path = path
+        self.root = root
+        self.diagnostics = diagnostics if diagnostics is not None else []
+        self.recovered = recovered
+        self.encoding = encoding
+        self._index: object | None = None
+        self._indexing: threading.Event | None = None  # set once the prefetch thread's index is in
+
+    @property
+    def indexed(self) -> bool:
+        """Whether the prefetch thread computes an index of this file (see :meth:`index`)."""
+        return self._indexing is not None
+
+    def index(self) -> object | None:
+        """What the prefetch thread's ``index`` function returned for this file (waiting for it if
+        it is still at work); None when the file was not prefetched with one, or it failed."""
+        if self._indexing is not None:
+            self._indexing.wait()
+        return self._index
+
+    def _run_index(self, index: Callable[[etree._Element], object]) -> None:
+        # On the prefetch thread, after the tree is handed over: libxml2 evaluates XPath without
+        # the GIL, so whole-document queries run while the main thread walks the model.
+        try:
+            self._index = index(self.root)
+        except Exception:  # the reader does without
+            self._index = None
+        finally:
+            self._indexing.set()
+
+
+def diagnostic(code: str, message: str, **where) -> Diagnostic:
+    # Imported on first use: `acordcs-gen` starts parsing the model on a second thread as soon as
+    # this module is loaded (launch.py), and diagnostics (with dataclasses) would delay that by
+    # some 10 ms. A clean file never needs it here.
+    from acordcs.generator.diagnostics import diagnostic as make
+
+    return make(code, message, **where)
 
 
 def hardened_parser(*, recover: bool = False) -> etree.XMLParser:
@@ -102,24 +147,30 @@ def _line_col(data: bytes, offset: int) -> tuple[int, int]:
     return line, offset - (data.rfind(b"\n", 0, offset) + 1) + 1
 
 
-def prefetch(paths: list[str]) -> None:
+def prefetch(paths: list[str], index: Callable[[etree._Element], object] | None = None) -> None:
     """Start parsing ``paths`` in a background thread; :func:`read_xml` picks the results up.
 
     libxml2 parses with the GIL released, so a model is parsed on the second core while the
     interpreter imports the rest of the toolchain (``acordcs-gen`` does this for its file
-    arguments). A result is used only if the file is still the one that was parsed.
+    arguments). A result is used only if the file is still the one that was parsed. ``index``, if
+    given, then runs on the same thread for each parsed tree; :meth:`XmlInput.index` returns what
+    it returned.
     """
     slots = {path: _Prefetch() for path in dict.fromkeys(paths) if path not in _prefetched}
     if not slots:
         return
     _prefetched.update(slots)
-    threading.Thread(target=_prefetch_all, args=(slots,), daemon=True).start()
+    threading.Thread(target=_prefetch_all, args=(slots, index), daemon=True).start()
+    # Until the thread is inside libxml2 it needs the GIL, and a busy main thread hands it over
+    # only every switch interval (5 ms), several times: wait for it instead (a few ms, bounded).
+    next(iter(slots.values())).parsing.wait(0.25)
 
 
 class _Prefetch:
-    __slots__ = ("done", "identity", "result")
+    __slots__ = ("done", "identity", "parsing", "result")
 
     def __init__(self) -> None:
+        self.parsing = threading.Event()  # set when libxml2 is about to parse (or never will)
         self.done = threading.Event()
         self.result: XmlInput | None = None
         self.identity: tuple[int, ...] | None = None
@@ -132,14 +183,21 @@ def _identity(st: os.stat_result) -> tuple[int, ...]:
     return (st.st_dev, st.st_ino, st.st_size, st.st_mtime_ns)
 
 
-def _prefetch_all(slots: dict[str, _Prefetch]) -> None:
+def _prefetch_all(slots: dict[str, _Prefetch], index: Callable | None) -> None:
     for path, slot in slots.items():
         try:
             slot.identity = _identity(os.stat(path))
-            slot.result = _read_xml(path)
+            slot.result = _read_xml(path, slot.parsing)
         except Exception:  # the main thread reads the file again and reports what it finds
             slot.result = None
         finally:
+            slot.parsing.set()
+        result = slot.result
+        if index is not None and result is not None and result.root is not None:
+            result._indexing = threading.Event()
+            slot.done.set()
+            result._run_index(index)
+        else:
             slot.done.set()
 
 
@@ -160,7 +218,7 @@ def read_xml(path: str) -> XmlInput:
     return _take_prefetched(path) or _read_xml(path)
 
 
-def _read_xml(path: str) -> XmlInput:
+def _read_xml(path: str, parsing: threading.Event | None = None) -> XmlInput:
     try:
         with open(path, "rb") as handle:
             size = os.fstat(handle.fileno()).st_size
@@ -171,15 +229,18 @@ def _read_xml(path: str) -> XmlInput:
     except OSError as err:
         reason = err.strerror or str(err)
         return XmlInput(path, None, [diagnostic("X101", f"cannot read file: {reason}", file=path)])
-    return parse_bytes(data, path)
+    return parse_bytes(data, path, parsing)
 
 
-def parse_bytes(data: bytes, path: str = "<input>") -> XmlInput:
-    """Parse XML bytes with the hardened parser; never raises for bad input."""
+def parse_bytes(
+    data: bytes, path: str = "<input>", parsing: threading.Event | None = None
+) -> XmlInput:
+    """Parse XML bytes with the hardened parser; never raises for bad input. ``parsing`` is set
+    just before libxml2 starts (see :func:`prefetch`)."""
     if len(data) > MAX_BYTES:
         msg = f"file is larger than {MAX_BYTES // 2**20} MiB; split the model"
         return XmlInput(path, None, [diagnostic("X103", msg, file=path)])
-    if not data.strip():
+    if not data or data.isspace():  # not strip(): that would copy the whole file
         return XmlInput(
             path, None, [diagnostic("X104", "file is empty: export it again", file=path)]
         )
@@ -195,6 +256,8 @@ def parse_bytes(data: bytes, path: str = "<input>") -> XmlInput:
         msg = "document type declaration refused: UML exports have none, and it can read local files (XXE) or expand entities without bound"
         return XmlInput(path, None, [diagnostic("X102", msg, file=path, line=line, column=col)])
     parser = hardened_parser()
+    if parsing is not None:
+        parsing.set()
     try:
         root = etree.fromstring(data, parser)
     except etree.XMLSyntaxError as err:

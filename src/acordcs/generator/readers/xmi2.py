@@ -8,8 +8,6 @@ stereotype tags (BOUML also repeats them in ``xmi:Extension`` blocks). See ``sha
 
 from __future__ import annotations
 
-import re
-
 from lxml import etree
 
 from acordcs.generator.diagnostics import diagnostic
@@ -20,6 +18,7 @@ from acordcs.generator.readers.common import (
     primitive_from_href,
     unknown_type_message,
 )
+from acordcs.generator.readers.deferred import DeferringReader, LazyElements
 from acordcs.generator.readers.stereotypes import StereotypeApplications, local_name
 from acordcs.generator.uml import (
     CLASSIFIER_KINDS,
@@ -34,15 +33,9 @@ from acordcs.generator.uml import (
     Property,
     UmlModel,
 )
+from acordcs.generator.xmi_index import DEFAULT_XMI_NS, XmiIndex, namespaces
 from acordcs.generator.xmlsafe import XmlInput
 
-# Eclipse profile schemas (http://www.eclipse.org/uml2/schemas/Ecore/5) share the prefix: match only
-# the UML metamodel's own URI.
-_UML_NS = re.compile(
-    r"^https?://(schema\.omg\.org|www\.omg\.org)/spec/UML/"
-    r"|^http://www\.eclipse\.org/uml2/\d+(\.\d+)*/UML$"
-)
-_XMI_NS = re.compile(r"^https?://(schema\.omg\.org|www\.omg\.org)/(spec/)?XMI")
 _MEMBER_TAGS = frozenset(
     [
         "packagedElement",
@@ -61,32 +54,25 @@ _DEPENDENCY_KINDS = frozenset(
 )
 
 
-def _namespaces(root: etree._Element) -> tuple[str | None, str | None]:
-    uml = xmi = None
-    for uri in (root.nsmap or {}).values():
-        if uri and _UML_NS.match(uri):
-            uml = uri
-        elif uri and (_XMI_NS.match(uri) or uri == "http://www.omg.org/XMI"):
-            xmi = uri
-    return uml, xmi
-
-
 def accepts(root: etree._Element) -> bool:
-    uml, _ = _namespaces(root)
+    uml, _ = namespaces(root)
     return uml is not None
 
 
 def read(xml: XmlInput) -> UmlModel:
-    return _Reader(xml).read()
+    """The UML view of ``xml``. Plain members are read on first use when the file was prefetched
+    with an index (``acordcs-gen``; see :mod:`acordcs.generator.readers.deferred`)."""
+    return _Reader(xml, lazy=xml.indexed).read()
 
 
-class _Reader:
-    def __init__(self, xml: XmlInput) -> None:
+class _Reader(DeferringReader):
+    def __init__(self, xml: XmlInput, *, lazy: bool = False) -> None:
         self.xml = xml
+        self.lazy = lazy
         root = xml.root
-        uml, xmi = _namespaces(root)
+        uml, xmi = namespaces(root)
         self.uml_ns = uml
-        self.xmi_ns = xmi or "http://schema.omg.org/spec/XMI/2.1"
+        self.xmi_ns = xmi or DEFAULT_XMI_NS
         self.XID = f"{{{self.xmi_ns}}}id"
         self.XTYPE = f"{{{self.xmi_ns}}}type"
         self.XIDREF = f"{{{self.xmi_ns}}}idref"
@@ -123,6 +109,12 @@ class _Reader:
         self.annotated: list[tuple[str, str]] = []  # (element id, comment body), Eclipse comments
         self.refs: list[tuple[str, str, int, Element]] = []  # (id, what, line, from element)
         self.type_refs: list[Element] = []
+        self.walked = False
+        if lazy:
+            self._handlers["ownedAttribute"] = self._lazy_attribute
+            self._handlers["ownedOperation"] = self._lazy_operation
+            self.deferred = {}
+            self.now = set()
 
     # ------------------------------------------------------------------ entry
     def read(self) -> UmlModel:
@@ -152,6 +144,17 @@ class _Reader:
         else:  # Eclipse: a single uml:Model (or Package/Profile) as the document root
             self._packageable(top, None)
             model.name = top.get("name", "")
+        self.walked = True
+        if self.lazy:
+            index = self.xml.index()
+            if (
+                not isinstance(index, XmiIndex)
+                or index.xmi_ns != self.xmi_ns
+                or not index.refs_known
+                or len(index.known) != len(index.ids)
+            ):
+                return _Reader(self.xml).read()  # see deferred.py: read without deferring
+            model.elements = self.elements = LazyElements(self.elements, self.deferred)
         self._resolve()
         return model
 
@@ -374,8 +377,12 @@ class _Reader:
     def _known_ids(self) -> set[str]:
         """Every xmi:id of the file; R203 for ids defined twice (their lines: a slow walk, rare)."""
         root = self.xml.root
-        ids = root.xpath("//@x:id", namespaces={"x": self.xmi_ns}, smart_strings=False)
-        known = set(ids)
+        index = self.xml.index()
+        if isinstance(index, XmiIndex) and index.xmi_ns == self.xmi_ns:
+            ids, known = index.ids, index.known
+        else:
+            ids = root.xpath("//@x:id", namespaces={"x": self.xmi_ns}, smart_strings=False)
+            known = set(ids)
         if len(known) == len(ids):
             return known
         return check_ids(

@@ -1,0 +1,194 @@
+"""Members read on first use: what lets the XMI 2 reader skip most of a large model's classes.
+
+``acordcs-gen validate`` on a model of 2,000 classes looks inside the few hundred that play an
+ACORD-CS role; building the attributes, operations and parameters of the others was half the
+reading time. The reader (:mod:`acordcs.generator.readers.xmi2`) defers a class's plain attributes
+and operations when reading them later gives exactly what reading them at once would:
+
+- they can raise no diagnostic: every member and parameter has an xmi:id, and every reference in
+  the file names a known id (the prefetch thread's index, :mod:`acordcs.generator.xmi_index`);
+- they hold nothing read elsewhere: their children are only types, default values,
+  multiplicities and parameters (no stereotype block, no comment);
+- no id is defined twice (which element an id names would depend on reading order).
+
+A file that fails the last two file-wide conditions is read again without deferring. Reading the
+members of one class happens when its ``attributes`` or ``operations`` are first asked for, or
+when :class:`LazyElements` is asked for one of their ids.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+
+from lxml import etree
+
+from acordcs.generator.uml import Classifier, Element, Operation, Property, UmlModel
+
+# What a deferred member's children may be (plain tags, as BOUML and Papyrus write them). XML
+# comments and processing instructions are allowed: the reader skips them too.
+_ATTRIBUTE_CHILDREN = frozenset(("type", "defaultValue", "lowerValue", "upperValue"))
+
+
+def attribute_ids(el: etree._Element, xmi_id: str) -> list[str] | None:
+    """``[id]`` of a plain ``ownedAttribute`` that can be read later; None if it must be read now."""
+    ident = el.get(xmi_id)
+    if ident is None or el.tag != "ownedAttribute":
+        return None
+    for child in el:
+        tag = child.tag
+        if tag not in _ATTRIBUTE_CHILDREN and isinstance(tag, str):
+            return None
+    return [ident]
+
+
+def operation_ids(el: etree._Element, xmi_id: str) -> list[str] | None:
+    """The ids of a plain ``ownedOperation`` and its parameters if it can be read later, else None."""
+    ident = el.get(xmi_id)
+    if ident is None or el.tag != "ownedOperation":
+        return None
+    ids = [ident]
+    for child in el:
+        tag = child.tag
+        if tag == "ownedParameter":
+            param = child.get(xmi_id)
+            if param is None:
+                return None
+            ids.append(param)
+        elif isinstance(tag, str):
+            return None
+    return ids
+
+
+class DeferringReader:
+    """What the XMI 2 reader does with plain attributes and operations when it defers them.
+
+    A class's members keep file order: once one member of a class must be read now, those
+    deferred so far are read first and the rest as they come.
+    """
+
+    # The reader's: its model, walk state and readers of one member.
+    XID: str
+    model: UmlModel
+    deferred: dict[str, Classifier]  # member and parameter ids -> their class
+    now: set[int]  # ids of classes whose members are read as they come
+    type_refs: list[Element]
+    walked: bool
+    _property: Callable[[etree._Element, Element], Property]
+    _operation: Callable[[etree._Element, Classifier], Operation]
+
+    def _lazy_attribute(self, child: etree._Element, owner: Element) -> None:
+        if not isinstance(owner, Classifier):
+            return
+        if child.get("association"):  # ends link roles (architecture.py): read now
+            owner.ends.append(self._property(child, owner))
+        elif id(owner) in self.now or not self._defer(child, owner, attribute_ids):
+            self._read_now(owner)
+            owner._attributes.append(self._property(child, owner))
+
+    def _lazy_operation(self, child: etree._Element, owner: Element) -> None:
+        if not isinstance(owner, Classifier):
+            return
+        if id(owner) in self.now or not self._defer(child, owner, operation_ids):
+            self._read_now(owner)
+            owner._operations.append(self._operation(child, owner))
+
+    def _defer(
+        self,
+        child: etree._Element,
+        owner: Classifier,
+        ids_of: Callable[[etree._Element, str], list[str] | None],
+    ) -> bool:
+        ids = ids_of(child, self.XID)
+        if ids is None:
+            return False
+        if owner._pending is None:
+            owner._pending = []
+            owner._load = self._load
+        owner._pending.append(child)
+        for ident in ids:
+            self.deferred[ident] = owner
+        return True
+
+    def _read_now(self, owner: Classifier) -> None:
+        """From here on, ``owner``'s members are read as they come, after those deferred so far:
+        its lists keep file order."""
+        self.now.add(id(owner))
+        if owner._pending is not None:
+            self._load(owner)
+
+    def _load(self, owner: Classifier) -> None:
+        pending, owner._pending = owner._pending, None
+        first = len(self.type_refs)
+        for child in pending:
+            if child.tag == "ownedAttribute":
+                owner._attributes.append(self._property(child, owner))
+            else:
+                owner._operations.append(self._operation(child, owner))
+        if self.walked:  # resolved now; none dangles (see the module's docstring)
+            loaded = self.type_refs[first:]
+            del self.type_refs[first:]
+            elements = self.model.elements
+            for obj in loaded:
+                target = elements.get(obj.type_ref)
+                if target is not None:
+                    obj.type_name = target.name
+
+
+class LazyElements(dict):
+    """The model's elements by id, reading deferred members when one of their ids is asked for.
+
+    Lookups of ids that are present cost what a dict's do; enumerating reads everything first.
+    """
+
+    __slots__ = ("_owners",)
+
+    def __init__(self, elements: dict[str, Element], owners: dict[str, Classifier]) -> None:
+        super().__init__(elements)
+        self._owners = owners  # id of a deferred member or parameter -> its class
+
+    def __missing__(self, key: str) -> Element:
+        owner = self._owners.get(key)
+        if owner is not None and owner._pending is not None:
+            owner._load(owner)
+            if dict.__contains__(self, key):
+                return dict.__getitem__(self, key)
+        raise KeyError(key)
+
+    def get(self, key: str, default: Element | None = None) -> Element | None:
+        try:
+            return self[key]
+        except KeyError:
+            return default
+
+    def __contains__(self, key: object) -> bool:
+        return dict.__contains__(self, key) or self.get(key) is not None
+
+    def load_all(self) -> None:
+        for owner in dict.fromkeys(self._owners.values()):
+            if owner._pending is not None:
+                owner._load(owner)
+        self._owners = {}
+
+    def __iter__(self):
+        self.load_all()
+        return dict.__iter__(self)
+
+    def __len__(self) -> int:
+        self.load_all()
+        return dict.__len__(self)
+
+    def keys(self):
+        self.load_all()
+        return dict.keys(self)
+
+    def values(self):
+        self.load_all()
+        return dict.values(self)
+
+    def items(self):
+        self.load_all()
+        return dict.items(self)
+
+    def __repr__(self) -> str:
+        self.load_all()
+        return dict.__repr__(self)

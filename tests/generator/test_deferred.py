@@ -1,0 +1,269 @@
+"""Deferred members (readers/deferred.py): reading with them gives exactly what reading without does.
+
+The oracle is the reader itself with deferral off: for every real export, both samples, a
+synthetic model and models broken in each way that forbids deferring a member, the whole UML view
+(every element with every field, once all deferred members are read) and every diagnostic of
+``read_model`` (run before anything forced the deferred members) must be equal.
+"""
+
+from __future__ import annotations
+
+import importlib.util
+import sys
+from dataclasses import fields
+from pathlib import Path
+
+import pytest
+from gen_helpers import ROOT, SMARTROOM, WEBLAB, XMI_SAMPLES, no_crash, run_process
+from lxml import etree
+
+from acordcs.generator import xmlsafe
+from acordcs.generator.pipeline import ModelReading, read_model
+from acordcs.generator.readers.deferred import LazyElements
+from acordcs.generator.uml import Classifier, Element, UmlModel
+from acordcs.generator.xmi_index import index
+
+XMI = "http://schema.omg.org/spec/XMI/2.1"
+XID = f"{{{XMI}}}id"
+XIDREF = f"{{{XMI}}}idref"
+
+
+def _synthetic(tmp_path: Path, classes: int = 120) -> Path:
+    spec = importlib.util.spec_from_file_location(
+        "gen_synthetic_bouml", ROOT / "benchmarks" / "gen_synthetic_bouml.py"
+    )
+    mod = importlib.util.module_from_spec(spec)
+    sys.modules.setdefault("gen_synthetic_bouml", mod)
+    spec.loader.exec_module(mod)
+    path = tmp_path / "synthetic.xmi"
+    path.write_text(mod.generate(classes=classes, seed=3), encoding="utf-8")
+    return path
+
+
+def read_deferring(path: Path) -> ModelReading:
+    """``read_model`` as ``acordcs-gen`` runs it: prefetched with the index, members deferred."""
+    xmlsafe.prefetch([str(path)], index)
+    return read_model(str(path))
+
+
+def pending(uml: UmlModel) -> int:
+    return sum(1 for c in uml.classifiers if c._pending is not None)
+
+
+def dump(uml: UmlModel) -> dict:
+    """Everything the view holds, with every deferred member read."""
+
+    def value(v):
+        if isinstance(v, Element):
+            return v.id
+        if isinstance(v, list):
+            return [value(x) for x in v]
+        if isinstance(v, dict):
+            return {k: value(x) for k, x in v.items()}
+        return v
+
+    def element(e: Element) -> dict:
+        out = {"type": type(e).__name__}
+        for f in fields(e):
+            if f.name in ("_pending", "_load"):
+                continue
+            name = f.name.lstrip("_")
+            v = getattr(e, name)
+            out[name] = (
+                [element(x) for x in v]
+                if isinstance(v, list) and v and isinstance(v[0], Element)
+                else value(v)
+            )
+        return out
+
+    return {
+        "elements": {k: element(e) for k, e in sorted(uml.elements.items())},
+        "classifiers": [element(c) for c in uml.classifiers],
+        "packages": [p.id for p in uml.packages],
+        "associations": [a.id for a in uml.associations],
+        "applications": [
+            (k, a.line, list(a.tags.items()), list(a.tag_lines.items()), a.id, sorted(a.places))
+            for k, a in uml.applications.items()
+        ],
+        "counts": uml.counts(),
+    }
+
+
+def assert_same_reading(path: Path) -> tuple[ModelReading, ModelReading]:
+    eager = read_model(str(path))
+    lazy = read_deferring(path)
+    assert [repr(d) for d in lazy.diagnostics] == [repr(d) for d in eager.diagnostics]
+    assert dump(lazy.uml) == dump(eager.uml)
+    return eager, lazy
+
+
+SAMPLES = [
+    WEBLAB,
+    SMARTROOM,
+    *sorted(XMI_SAMPLES.glob("*.xmi")),
+    *sorted(XMI_SAMPLES.glob("*.uml")),
+]
+
+
+@pytest.mark.parametrize("path", SAMPLES, ids=lambda p: p.name)
+def test_real_exports_read_the_same_with_deferred_members(path: Path) -> None:
+    assert_same_reading(path)
+
+
+def test_synthetic_model_defers_and_reads_the_same(tmp_path: Path) -> None:
+    path = _synthetic(tmp_path)
+    lazy = read_deferring(path)
+    # Validation left most plain classes unread: the point of deferring.
+    assert pending(lazy.uml) > len(lazy.uml.classifiers) // 2
+    assert_same_reading(path)
+
+
+# ------------------------------------------------------------------- models that forbid deferring
+def _plain_classes(root: etree._Element) -> list[etree._Element]:
+    """Classes with plain attributes and an operation with parameters, and no stereotype."""
+    stereotyped = {e.get(next(iter(e.attrib))) for e in root if "base_" in "".join(e.attrib)}
+    return [
+        cls
+        for cls in root.iter("packagedElement")
+        if cls.get(f"{{{XMI}}}type") == "uml:Class"
+        and cls.get(XID) not in stereotyped
+        and cls.find(f"{{{XMI}}}Extension") is None
+        and any(a.get("association") is None for a in cls.iterfind("ownedAttribute"))
+        and any(len(op) for op in cls.iterfind("ownedOperation"))
+    ]
+
+
+def _plain_class(root: etree._Element) -> etree._Element:
+    return _plain_classes(root)[0]
+
+
+def _attribute(cls: etree._Element) -> etree._Element:
+    return next(a for a in cls.iterfind("ownedAttribute") if a.get("association") is None)
+
+
+def _retype(attr: etree._Element, ident: str) -> None:
+    """Type ``attr`` by the element with id ``ident``, as BOUML writes it."""
+    typ = attr.find("type")
+    if typ is None:
+        typ = etree.SubElement(attr, "type")
+    typ.attrib.clear()
+    typ.set(f"{{{XMI}}}type", "uml:Class")
+    typ.set(XIDREF, ident)
+
+
+def _mutations():
+    def dangling_type(root, cls):
+        _retype(_attribute(cls), "NO_SUCH_ID")
+
+    def attribute_without_id(root, cls):
+        del _attribute(cls).attrib[XID]
+
+    def parameter_without_id(root, cls):
+        op = next(op for op in cls.iterfind("ownedOperation") if len(op))
+        del op.find("ownedParameter").attrib[XID]
+
+    def duplicate_id(root, cls):
+        _attribute(cls).set(XID, cls.get(XID))
+
+    def stereotype_in_attribute(root, cls):
+        ext = etree.SubElement(_attribute(cls), f"{{{XMI}}}Extension", extender="Bouml")
+        etree.SubElement(ext, "stereotype", name="ACORDCS:CtxVariable")
+        etree.SubElement(ext, "taggedValue", tag="ACORDCS:CtxVariable:min", value="0")
+
+    def comment_in_operation(root, cls):
+        op = cls.find("ownedOperation")
+        etree.SubElement(op, "ownedComment", body="see the class").set(XID, "NEW_COMMENT")
+
+    def namespaced_member(root, cls):
+        _attribute(cls).tag = f"{{{root.nsmap['uml']}}}ownedAttribute"
+
+    def root_application_on_attribute(root, cls):
+        app = etree.SubElement(root, "{http:///schemas/ACORDCS/1}CtxVariable")
+        app.set(XID, "NEW_APPLICATION")
+        app.set("base_Element", _attribute(cls).get(XID))
+        app.set("min", "0")
+
+    def type_is_a_deferred_member(root, cls):
+        other = _attribute(cls)
+        target = next(a for a in root.iter("ownedAttribute") if a is not other)
+        _retype(target, other.get(XID))
+
+    return [
+        dangling_type,
+        attribute_without_id,
+        parameter_without_id,
+        duplicate_id,
+        stereotype_in_attribute,
+        comment_in_operation,
+        namespaced_member,
+        root_application_on_attribute,
+        type_is_a_deferred_member,
+    ]
+
+
+@pytest.mark.parametrize("mutate", _mutations(), ids=lambda f: f.__name__)
+def test_broken_models_read_the_same_with_deferred_members(tmp_path: Path, mutate) -> None:
+    tree = etree.parse(str(_synthetic(tmp_path)))
+    root = tree.getroot()
+    mutate(root, _plain_class(root))
+    path = tmp_path / "mutated.xmi"
+    tree.write(str(path), xml_declaration=True, encoding="UTF-8")
+    eager, _ = assert_same_reading(path)
+    if mutate.__name__ in ("dangling_type", "attribute_without_id", "duplicate_id"):
+        assert any(d.code in ("R202", "R203", "R207") for d in eager.diagnostics)
+
+
+def test_files_with_dangling_or_duplicate_ids_are_read_without_deferring(tmp_path: Path) -> None:
+    tree = etree.parse(str(_synthetic(tmp_path)))
+    root = tree.getroot()
+    _retype(_attribute(_plain_class(root)), "NO_SUCH_ID")
+    path = tmp_path / "dangling.xmi"
+    tree.write(str(path), xml_declaration=True, encoding="UTF-8")
+    assert pending(read_deferring(path).uml) == 0
+    assert pending(read_deferring(_synthetic(tmp_path)).uml) > 0
+
+
+def test_lazy_elements_read_a_class_when_one_of_its_member_ids_is_asked_for(
+    tmp_path: Path,
+) -> None:
+    path = _synthetic(tmp_path)
+    root = etree.parse(str(path)).getroot()
+    cls_el = _plain_class(root)
+    attr_id = _attribute(cls_el).get(XID)
+    param_id = next(op for op in cls_el.iterfind("ownedOperation") if len(op))[0].get(XID)
+    uml = read_deferring(path).uml
+    elements = uml.elements
+    assert isinstance(elements, LazyElements)
+    cls = dict.__getitem__(elements, cls_el.get(XID))
+    assert isinstance(cls, Classifier) and cls._pending is not None
+    assert not dict.__contains__(elements, attr_id)
+    assert attr_id in elements  # reads the class
+    assert cls._pending is None
+    assert elements[attr_id] in cls.attributes
+    assert elements.get(param_id).kind == "Parameter"
+    assert elements.get("NO_SUCH_ID") is None and "NO_SUCH_ID" not in elements
+    with pytest.raises(KeyError):
+        elements["NO_SUCH_ID"]
+    before = pending(uml)
+    assert before > 0
+    assert len(elements) == len(list(elements)) == len(dict(elements.items()))
+    assert pending(uml) == 0
+
+
+def test_validate_reports_what_a_deferred_member_holds(tmp_path: Path) -> None:
+    """Through ``acordcs-gen`` itself (prefetch, index, deferral): a dangling type reference and a
+    missing id inside plain classes are reported as without deferring."""
+    tree = etree.parse(str(_synthetic(tmp_path)))
+    root = tree.getroot()
+    first, second = _plain_classes(root)[:2]
+    _retype(_attribute(first), "NO_SUCH_ID")
+    op = next(op for op in second.iterfind("ownedOperation") if len(op))
+    del op.find("ownedParameter").attrib[XID]
+    path = tmp_path / "broken.xmi"
+    tree.write(str(path), xml_declaration=True, encoding="UTF-8")
+    result = run_process(["validate", str(path)])
+    no_crash(result)
+    assert result.code == 1
+    assert "R202" in result.out and "NO_SUCH_ID" in result.out
+    assert "R207" in result.out
+    assert result.out == run_process(["validate", "--format", "text", str(path)]).out
