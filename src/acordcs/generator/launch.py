@@ -6,9 +6,7 @@ model about a third faster (README, "Benchmarks"):
 - the cyclic garbage collector is off: nearly every object the command makes (modules, the model
   view, rule trees) lives until the end, so each collection would scan a growing heap for nothing;
 - the model files named on the command line are parsed on a second thread while the interpreter
-  imports the rest of the toolchain (libxml2 parses without holding the GIL), and the same thread
-  then indexes them with XPath (:mod:`acordcs.generator.xmi_index`) while the main thread reads
-  them, which lets the reader defer the members of classes nothing asks about;
+  imports the rest of the toolchain (libxml2 parses without holding the GIL);
 - the process ends with ``os._exit`` once the output is flushed: tearing down the interpreter would
   free the parsed tree and tens of thousands of model objects one by one, for nothing.
 
@@ -34,10 +32,9 @@ def run() -> NoReturn:
     gc.disable()
     args = sys.argv[1:]
     if args and args[0] in _READS_MODELS:
-        from acordcs.generator.xmi_index import index
         from acordcs.generator.xmlsafe import prefetch
 
-        prefetch([a for a in args[1:] if not a.startswith("-") and os.path.isfile(a)], index)
+        prefetch([a for a in args[1:] if not a.startswith("-") and os.path.isfile(a)])
     from acordcs.generator.cli import main
 
     code = main()

@@ -17,8 +17,6 @@ from lxml import etree
 
 TYPE_CHECKING = False  # typing itself costs start-up time: see launch.py
 if TYPE_CHECKING:
-    from collections.abc import Callable
-
     from acordcs.generator.diagnostics import Diagnostic
 
 MAX_BYTES = 256 * 1024 * 1024
@@ -32,7 +30,7 @@ _SCAN_BYTES = 64 * 1024
 class XmlInput:
     """A parsed file: its root (None when unreadable) and what reading it found."""
 
-    __slots__ = ("_index", "_indexing", "diagnostics", "encoding", "path", "recovered", "root")
+    __slots__ = ("diagnostics", "encoding", "path", "recovered", "root")
 
     def __init__(
         self,
@@ -47,30 +45,6 @@ class XmlInput:
         self.diagnostics = diagnostics if diagnostics is not None else []
         self.recovered = recovered
         self.encoding = encoding
-        self._index: object | None = None
-        self._indexing: threading.Event | None = None  # set once the prefetch thread's index is in
-
-    @property
-    def indexed(self) -> bool:
-        """Whether the prefetch thread computes an index of this file (see :meth:`index`)."""
-        return self._indexing is not None
-
-    def index(self) -> object | None:
-        """What the prefetch thread's ``index`` function returned for this file (waiting for it if
-        it is still at work); None when the file was not prefetched with one, or it failed."""
-        if self._indexing is not None:
-            self._indexing.wait()
-        return self._index
-
-    def _run_index(self, index: Callable[[etree._Element], object]) -> None:
-        # On the prefetch thread, after the tree is handed over: libxml2 evaluates XPath without
-        # the GIL, so whole-document queries run while the main thread walks the model.
-        try:
-            self._index = index(self.root)
-        except Exception:  # the reader does without
-            self._index = None
-        finally:
-            self._indexing.set()
 
 
 def diagnostic(code: str, message: str, **where) -> Diagnostic:
@@ -147,20 +121,18 @@ def _line_col(data: bytes, offset: int) -> tuple[int, int]:
     return line, offset - (data.rfind(b"\n", 0, offset) + 1) + 1
 
 
-def prefetch(paths: list[str], index: Callable[[etree._Element], object] | None = None) -> None:
+def prefetch(paths: list[str]) -> None:
     """Start parsing ``paths`` in a background thread; :func:`read_xml` picks the results up.
 
     libxml2 parses with the GIL released, so a model is parsed on the second core while the
     interpreter imports the rest of the toolchain (``acordcs-gen`` does this for its file
-    arguments). A result is used only if the file is still the one that was parsed. ``index``, if
-    given, then runs on the same thread for each parsed tree; :meth:`XmlInput.index` returns what
-    it returned.
+    arguments). A result is used only if the file is still the one that was parsed.
     """
     slots = {path: _Prefetch() for path in dict.fromkeys(paths) if path not in _prefetched}
     if not slots:
         return
     _prefetched.update(slots)
-    threading.Thread(target=_prefetch_all, args=(slots, index), daemon=True).start()
+    threading.Thread(target=_prefetch_all, args=(slots,), daemon=True).start()
     # Until the thread is inside libxml2 it needs the GIL, and a busy main thread hands it over
     # only every switch interval (5 ms), several times: wait for it instead (a few ms, bounded).
     next(iter(slots.values())).parsing.wait(0.25)
@@ -183,7 +155,7 @@ def _identity(st: os.stat_result) -> tuple[int, ...]:
     return (st.st_dev, st.st_ino, st.st_size, st.st_mtime_ns)
 
 
-def _prefetch_all(slots: dict[str, _Prefetch], index: Callable | None) -> None:
+def _prefetch_all(slots: dict[str, _Prefetch]) -> None:
     for path, slot in slots.items():
         try:
             slot.identity = _identity(os.stat(path))
@@ -192,12 +164,6 @@ def _prefetch_all(slots: dict[str, _Prefetch], index: Callable | None) -> None:
             slot.result = None
         finally:
             slot.parsing.set()
-        result = slot.result
-        if index is not None and result is not None and result.root is not None:
-            result._indexing = threading.Event()
-            slot.done.set()
-            result._run_index(index)
-        else:
             slot.done.set()
 
 

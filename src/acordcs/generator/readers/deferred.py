@@ -5,13 +5,14 @@ ACORD-CS role; building the attributes, operations and parameters of the others 
 reading time. The reader (:mod:`acordcs.generator.readers.xmi2`) defers a class's plain attributes
 and operations when reading them later gives exactly what reading them at once would:
 
-- they can raise no diagnostic: every member and parameter has an xmi:id, and every reference in
-  the file names a known id (the prefetch thread's index, :mod:`acordcs.generator.xmi_index`);
+- they can raise no diagnostic: every member and parameter has an xmi:id, and every id they
+  refer to exists;
 - they hold nothing read elsewhere: their children are only types, default values,
   multiplicities and parameters (no stereotype block, no comment);
 - no id is defined twice (which element an id names would depend on reading order).
 
-A file that fails the last two file-wide conditions is read again without deferring. Reading the
+The reader checks the ids after its walk: a file where a deferred member refers to a missing id,
+or where an id is defined twice, is read again without deferring. Reading the
 members of one class happens when its ``attributes`` or ``operations`` are first asked for, or
 when :class:`LazyElements` is asked for one of their ids.
 """
@@ -27,26 +28,42 @@ from acordcs.generator.uml import Classifier, Element, Operation, Property, UmlM
 # What a deferred member's children may be (plain tags, as BOUML and Papyrus write them). XML
 # comments and processing instructions are allowed: the reader skips them too.
 _ATTRIBUTE_CHILDREN = frozenset(("type", "defaultValue", "lowerValue", "upperValue"))
+Found = tuple[list[str], list[str]]  # ids of a member (and its parameters), ids it refers to
 
 
-def attribute_ids(el: etree._Element, xmi_id: str) -> list[str] | None:
-    """``[id]`` of a plain ``ownedAttribute`` that can be read later; None if it must be read now."""
+def _typed_refs(el: etree._Element, xmi_idref: str, allowed: frozenset[str]) -> list[str] | None:
+    """The ids ``el`` may name as its type (a superset of what the reader uses): its ``type``
+    attribute (Eclipse) and the ``xmi:idref`` of its plain ``type`` children (BOUML). None if a
+    child's tag is not in ``allowed``."""
+    ids = el.get("type")
+    refs = ids.split() if ids else []
+    for child in el:
+        tag = child.tag
+        if tag == "type":
+            ref = child.get(xmi_idref)
+            if ref is not None:
+                refs.append(ref)
+        elif tag not in allowed and isinstance(tag, str):
+            return None
+    return refs
+
+
+def attribute_ids(el: etree._Element, xmi_id: str, xmi_idref: str) -> Found | None:
+    """What a plain ``ownedAttribute`` that can be read later holds; None if it must be read now."""
     ident = el.get(xmi_id)
     if ident is None or el.tag != "ownedAttribute":
         return None
-    for child in el:
-        tag = child.tag
-        if tag not in _ATTRIBUTE_CHILDREN and isinstance(tag, str):
-            return None
-    return [ident]
+    refs = _typed_refs(el, xmi_idref, _ATTRIBUTE_CHILDREN)
+    return None if refs is None else ([ident], refs)
 
 
-def operation_ids(el: etree._Element, xmi_id: str) -> list[str] | None:
-    """The ids of a plain ``ownedOperation`` and its parameters if it can be read later, else None."""
+def operation_ids(el: etree._Element, xmi_id: str, xmi_idref: str) -> Found | None:
+    """What a plain ``ownedOperation`` that can be read later holds; None if it must be read now."""
     ident = el.get(xmi_id)
     if ident is None or el.tag != "ownedOperation":
         return None
     ids = [ident]
+    refs: list[str] = []
     for child in el:
         tag = child.tag
         if tag == "ownedParameter":
@@ -54,9 +71,16 @@ def operation_ids(el: etree._Element, xmi_id: str) -> list[str] | None:
             if param is None:
                 return None
             ids.append(param)
+            type_ids = child.get("type")
+            if type_ids:
+                refs += type_ids.split()
+            for typ in child.iterchildren("type"):
+                ref = typ.get(xmi_idref)
+                if ref is not None:
+                    refs.append(ref)
         elif isinstance(tag, str):
             return None
-    return ids
+    return ids, refs
 
 
 class DeferringReader:
@@ -68,8 +92,10 @@ class DeferringReader:
 
     # The reader's: its model, walk state and readers of one member.
     XID: str
+    XIDREF: str
     model: UmlModel
     deferred: dict[str, Classifier]  # member and parameter ids -> their class
+    deferred_refs: list[str]  # the ids deferred members refer to: must all exist
     now: set[int]  # ids of classes whose members are read as they come
     type_refs: list[Element]
     walked: bool
@@ -96,11 +122,13 @@ class DeferringReader:
         self,
         child: etree._Element,
         owner: Classifier,
-        ids_of: Callable[[etree._Element, str], list[str] | None],
+        ids_of: Callable[[etree._Element, str, str], Found | None],
     ) -> bool:
-        ids = ids_of(child, self.XID)
-        if ids is None:
+        found = ids_of(child, self.XID, self.XIDREF)
+        if found is None:
             return False
+        ids, refs = found
+        self.deferred_refs += refs
         if owner._pending is None:
             owner._pending = []
             owner._load = self._load

@@ -8,6 +8,8 @@ stereotype tags (BOUML also repeats them in ``xmi:Extension`` blocks). See ``sha
 
 from __future__ import annotations
 
+import re
+
 from lxml import etree
 
 from acordcs.generator.diagnostics import diagnostic
@@ -33,9 +35,15 @@ from acordcs.generator.uml import (
     Property,
     UmlModel,
 )
-from acordcs.generator.xmi_index import DEFAULT_XMI_NS, XmiIndex, namespaces
 from acordcs.generator.xmlsafe import XmlInput
 
+# Eclipse profile schemas (http://www.eclipse.org/uml2/schemas/Ecore/5) share the prefix: match only
+# the UML metamodel's own URI.
+_UML_NS = re.compile(
+    r"^https?://(schema\.omg\.org|www\.omg\.org)/spec/UML/"
+    r"|^http://www\.eclipse\.org/uml2/\d+(\.\d+)*/UML$"
+)
+_XMI_NS = re.compile(r"^https?://(schema\.omg\.org|www\.omg\.org)/(spec/)?XMI")
 _MEMBER_TAGS = frozenset(
     [
         "packagedElement",
@@ -54,15 +62,24 @@ _DEPENDENCY_KINDS = frozenset(
 )
 
 
+def _namespaces(root: etree._Element) -> tuple[str | None, str | None]:
+    uml = xmi = None
+    for uri in (root.nsmap or {}).values():
+        if uri and _UML_NS.match(uri):
+            uml = uri
+        elif uri and (_XMI_NS.match(uri) or uri == "http://www.omg.org/XMI"):
+            xmi = uri
+    return uml, xmi
+
+
 def accepts(root: etree._Element) -> bool:
-    uml, _ = namespaces(root)
+    uml, _ = _namespaces(root)
     return uml is not None
 
 
 def read(xml: XmlInput) -> UmlModel:
-    """The UML view of ``xml``. Plain members are read on first use when the file was prefetched
-    with an index (``acordcs-gen``; see :mod:`acordcs.generator.readers.deferred`)."""
-    return _Reader(xml, lazy=xml.indexed).read()
+    """The UML view of ``xml``; plain members are read on first use (readers/deferred.py)."""
+    return _Reader(xml, lazy=True).read()
 
 
 class _Reader(DeferringReader):
@@ -70,9 +87,9 @@ class _Reader(DeferringReader):
         self.xml = xml
         self.lazy = lazy
         root = xml.root
-        uml, xmi = namespaces(root)
+        uml, xmi = _namespaces(root)
         self.uml_ns = uml
-        self.xmi_ns = xmi or DEFAULT_XMI_NS
+        self.xmi_ns = xmi or "http://schema.omg.org/spec/XMI/2.1"
         self.XID = f"{{{self.xmi_ns}}}id"
         self.XTYPE = f"{{{self.xmi_ns}}}type"
         self.XIDREF = f"{{{self.xmi_ns}}}idref"
@@ -114,6 +131,7 @@ class _Reader(DeferringReader):
             self._handlers["ownedAttribute"] = self._lazy_attribute
             self._handlers["ownedOperation"] = self._lazy_operation
             self.deferred = {}
+            self.deferred_refs = []
             self.now = set()
 
     # ------------------------------------------------------------------ entry
@@ -145,17 +163,13 @@ class _Reader(DeferringReader):
             self._packageable(top, None)
             model.name = top.get("name", "")
         self.walked = True
-        if self.lazy:
-            index = self.xml.index()
-            if (
-                not isinstance(index, XmiIndex)
-                or index.xmi_ns != self.xmi_ns
-                or not index.refs_known
-                or len(index.known) != len(index.ids)
-            ):
-                return _Reader(self.xml).read()  # see deferred.py: read without deferring
+        ids = self.xml.root.xpath("//@x:id", namespaces={"x": self.xmi_ns}, smart_strings=False)
+        known = set(ids)
+        if self.lazy and self.deferred:
+            if len(known) != len(ids) or not known.issuperset(self.deferred_refs):
+                return _Reader(self.xml, lazy=False).read()  # see deferred.py
             model.elements = self.elements = LazyElements(self.elements, self.deferred)
-        self._resolve()
+        self._resolve(ids, known)
         return model
 
     # ------------------------------------------------------------------ structure
@@ -374,29 +388,22 @@ class _Reader(DeferringReader):
             owner.comments.append(body)
 
     # ------------------------------------------------------------------ references
-    def _known_ids(self) -> set[str]:
-        """Every xmi:id of the file; R203 for ids defined twice (their lines: a slow walk, rare)."""
-        root = self.xml.root
-        index = self.xml.index()
-        if isinstance(index, XmiIndex) and index.xmi_ns == self.xmi_ns:
-            ids, known = index.ids, index.known
-        else:
-            ids = root.xpath("//@x:id", namespaces={"x": self.xmi_ns}, smart_strings=False)
-            known = set(ids)
+    def _known_ids(self, ids: list[str], known: set[str]) -> set[str]:
+        """R203 for ids defined twice (their lines: a slow walk, rare)."""
         if len(known) == len(ids):
             return known
         return check_ids(
             self.model,
             [
                 (el.get(self.XID), el.sourceline or 0)
-                for el in root.iter(etree.Element)
+                for el in self.xml.root.iter(etree.Element)
                 if el.get(self.XID) is not None
             ],
         )
 
-    def _resolve(self) -> None:
+    def _resolve(self, ids: list[str], known: set[str]) -> None:
         model = self.model
-        known = self._known_ids()
+        known = self._known_ids(ids, known)
         for obj in self.type_refs:
             target = model.elements.get(obj.type_ref)
             if target is not None:
