@@ -2,7 +2,7 @@
 
 lark is the grammar compiler: it reads the ``.lark`` file and computes the LALR(1) parse table and
 the contextual lexer (one scanner per parser state). Its own parse loop takes about 120 µs for a
-fifteen-token rule (this one about 40) and importing it about 45 ms: a large share of
+fifteen-token rule (this one about 30) and importing it about 45 ms: a large share of
 ``acordcs-gen validate`` on a large model (``benchmarks/bench_validate.py`` measures both). So the analysis is done once and kept as plain data (JSON) in the private cache
 directory (see :mod:`acordcs.cachedir`), and this module runs the same automaton with the same
 tree-building rules (child filtering, ``_rule`` inlining, ``?rule`` single-child expansion,
@@ -14,16 +14,17 @@ The input is one line (columns are offsets + 1): the rule language has no multi-
 
 from __future__ import annotations
 
-import hashlib
 import json
 import os
 import re
+import zlib
 from collections.abc import Callable, Iterable, Mapping
+from operator import itemgetter
 
 from acordcs.cachedir import private_dir
 
 # Bump when the layout of the stored tables, or what the driver expects of them, changes.
-TABLE_FORMAT = 1
+TABLE_FORMAT = 2
 
 
 class Unexpected(Exception):
@@ -62,7 +63,7 @@ class Node:
 
 
 class _Scanner:
-    __slots__ = ("allowed", "blanks", "match", "unless")
+    __slots__ = ("_blanks", "_flags", "_pattern", "allowed", "match", "unless")
 
     def __init__(self, spec: dict) -> None:
         # Ignored text (blanks) is skipped by the same regular expression that reads the token
@@ -71,15 +72,32 @@ class _Scanner:
         skip = "|".join(f"(?:{p})" for p in spec["ignore"])
         # Atomic: blanks once skipped are never given back. A backtracking (?:(?: |\t)+)* would
         # try every way of splitting a run of n blanks before a bad character: 2**n steps.
-        blanks = f"(?>(?:{skip})*)" if skip else ""
-        self.match = re.compile(f"{blanks}(?:{spec['pattern']})", spec["flags"]).match
-        self.blanks = re.compile(blanks, spec["flags"]).match  # always matches, maybe nothing
-        self.unless = spec["unless"]  # terminal -> {exact text: string terminal it really is}
+        self._blanks = f"(?>(?:{skip})*)" if skip else ""
+        self._pattern = f"{self._blanks}(?:{spec['pattern']})"
+        self._flags = spec["flags"]
+        # Compiled on first use: compiling every state's scanner costs about 9 ms (Python's
+        # regex compiler is slow), and a run visits about half of them.
+        self.match: Callable = self._compile
+        self.unless = spec["unless"] or None  # terminal -> {exact text: string terminal it is}
         self.allowed = frozenset(spec["allowed"])
+
+    def _compile(self, text: str, pos: int) -> re.Match | None:
+        self.match = re.compile(self._pattern, self._flags).match
+        return self.match(text, pos)
+
+    def blanks(self, text: str, pos: int) -> re.Match:
+        """Skip blanks from ``pos`` (always matches, maybe nothing); only on errors and at the end."""
+        return re.compile(self._blanks, self._flags).match(text, pos)
+
+
+# How a reduction builds its value (see _Rule.plan): the kept child at one index, unchanged; the
+# builder (or a Node) on every child; on the children at some indices; anything else (inlined
+# _rules, [] placeholders): the general _build.
+_PASS, _ALL, _PICK, _GENERAL = range(4)
 
 
 class _Rule:
-    __slots__ = ("append_none", "callback", "expand1", "keep", "origin", "size")
+    __slots__ = ("append_none", "callback", "expand1", "keep", "origin", "plan", "size")
 
     def __init__(self, spec: dict) -> None:
         self.origin = spec["origin"]
@@ -89,6 +107,22 @@ class _Rule:
         self.keep = None if keep is None else [tuple(k) for k in keep]
         self.append_none = spec["append_none"]
         self.expand1 = spec["expand1"]
+        self.plan = self._plan()
+
+    def _plan(self) -> tuple:
+        # What _build would do, decided once here instead of on every reduction.
+        if self.keep is None:
+            indices = list(range(self.size))
+        elif self.append_none or any(splice or nones for _, splice, nones in self.keep):
+            return (self.origin, self.size, _GENERAL, None, self.callback, self)
+        else:
+            indices = [index for index, _, _ in self.keep]
+        if self.expand1 and len(indices) == 1:  # ?rule with one child: that child
+            return (self.origin, self.size, _PASS, indices[0] - self.size, self.callback, self)
+        if indices == list(range(self.size)):
+            return (self.origin, self.size, _ALL, None, self.callback, self)
+        pick = itemgetter(*indices) if len(indices) > 1 else lambda c, i=indices[0]: (c[i],)
+        return (self.origin, self.size, _PICK, pick, self.callback, self)
 
 
 class Tables:
@@ -99,30 +133,38 @@ class Tables:
             raise ValueError("stored parse tables have another format")
         scanners = [_Scanner(s) for s in data["scanners"]]
         self._rules = [_Rule(r) for r in data["rules"]]
+        self._plans = [rule.plan for rule in self._rules]
         # Actions: a state number to shift to (>= 0), or -1 - the index of the rule to reduce by.
         self._actions: list[dict[str, int]] = data["actions"]
         self._scanner_of = [scanners[i] for i in data["scanner_of"]]
         self._root = scanners[data["root_scanner"]]
         self._start: dict[str, int] = data["start"]
         self._end: dict[str, int] = data["end"]
+        if len(self._scanner_of) != len(self._actions):
+            raise ValueError("stored parse tables are inconsistent")
 
     # ------------------------------------------------------------------------------ building
     @classmethod
     def for_grammar(cls, grammar: str, starts: Iterable[str], name: str) -> Tables:
         """Tables for ``grammar``: from the private cache, else analysed by lark (and stored)."""
         starts = list(starts)
-        key = hashlib.sha256(f"{TABLE_FORMAT}\0{starts}\0{grammar}".encode()).hexdigest()[:32]
+        # The name only tells grammars apart; what a file holds is verified when it is read
+        # (checksum, grammar, starts), so a cheap checksum serves (hashlib costs 3 ms to import).
+        source = f"{TABLE_FORMAT}\0{starts}\0{grammar}".encode()
+        key = f"{zlib.crc32(source):08x}{len(source):x}"
         directory = private_dir()
         path = os.path.join(directory, f"{name}-{key}.lalr.json") if directory else None
         if path is not None:
             try:
                 with open(path, encoding="utf-8") as handle:
-                    return cls(json.load(handle))
-            except (OSError, ValueError, KeyError, TypeError, re.error):
-                pass  # absent, or not what this version writes: analyse again
+                    data = _load(handle.read())
+                if data.get("grammar") == grammar and data.get("starts") == starts:
+                    return cls(data)
+            except (OSError, ValueError, LookupError, TypeError):
+                pass  # absent, damaged, or not what this version writes: analyse again
         data = analyse(grammar, starts)
         if path is not None:
-            _store(path, data)
+            _store(path, {**data, "grammar": grammar, "starts": starts})
         return cls(data)
 
     # ------------------------------------------------------------------------------- parsing
@@ -131,56 +173,84 @@ class Tables:
         to functions of the rule's kept children. Raises :class:`Unexpected`."""
         if "\n" in text:
             raise ValueError("the LALR driver reads one line at a time")
+        # The loop below is the hot path of validating a model's rules: names are local, the
+        # current state is kept in a variable, and each reduction follows its rule's plan.
         actions = self._actions
         scanner_of = self._scanner_of
-        rules = self._rules
+        plans = self._plans
+        get = builders.get
+        new = object.__new__
         end_state = self._end[start]
-        states = [self._start[start]]
+        state = self._start[start]
+        states = [state]
         values: list = []
+        push_state = states.append
+        push_value = values.append
         pos = 0
         length = len(text)
         while True:
             # The scanner of the state reached so far: the contextual lexing lark does.
-            token = None
             if pos < length:
-                scanner = scanner_of[states[-1]]
+                scanner = scanner_of[state]
                 found = scanner.match(text, pos)
-                if found is not None:
-                    kind = found.lastgroup
-                    value = found.group(kind)
-                    if kind in scanner.unless:
-                        kind = scanner.unless[kind].get(value, kind)
-                    token = Tok(kind, value, found.start(kind) + 1)
-                    pos = found.end()
-                else:
+                if found is None:
                     pos = scanner.blanks(text, pos).end()
                     if pos < length:
                         raise self._bad_character(text, pos, scanner)
-            kind = token.type if token is not None else "$END"
+                    token = None
+                    kind = "$END"
+                else:
+                    kind = found.lastgroup
+                    begin, pos = found.span(kind)
+                    token = new(Tok)  # Tok(...) without the call of __init__
+                    token.text = value = text[begin:pos]
+                    token.column = begin + 1
+                    if scanner.unless is not None and kind in scanner.unless:
+                        kind = scanner.unless[kind].get(value, kind)
+                    token.type = kind
+            else:
+                token = None
+                kind = "$END"
+            action = actions[state].get(kind)
             while True:
-                state = states[-1]
-                action = actions[state].get(kind)
                 if action is None:
                     expected = frozenset(s for s in actions[state] if s.isupper())
                     if token is None:
                         raise Unexpected(None, length + 1, expected)
                     raise Unexpected(token.text, token.column, expected)
                 if action >= 0:  # shift the token, then read the next one
-                    states.append(action)
-                    values.append(token)
+                    state = action
+                    push_state(state)
+                    push_value(token)
                     break
-                rule = rules[-1 - action]
-                size = rule.size
-                if size:
-                    children = values[-size:]
-                    del states[-size:]
-                    del values[-size:]
+                origin, size, mode, arg, callback, rule = plans[~action]
+                if mode == _PASS and size == 1:  # the value stays where it is
+                    state = actions[states[-2]][origin]
+                    states[-1] = state
                 else:
-                    children = []
-                states.append(actions[states[-1]][rule.origin])
-                values.append(_build(rule, children, builders))
-                if token is None and states[-1] == end_state:
+                    if size:
+                        children = values[-size:]
+                        del values[-size:]
+                        del states[-size:]
+                    else:
+                        children = []
+                    if mode == _ALL:
+                        build = get(callback)
+                        value = build(*children) if build is not None else Node(callback, children)
+                    elif mode == _PICK:
+                        children = list(arg(children))
+                        build = get(callback)
+                        value = build(*children) if build is not None else Node(callback, children)
+                    elif mode == _PASS:
+                        value = children[arg]
+                    else:
+                        value = _build(rule, children, builders)
+                    state = actions[states[-1]][origin]
+                    push_state(state)
+                    push_value(value)
+                if token is None and state == end_state:
                     return values[-1]
+                action = actions[state].get(kind)
 
     def _bad_character(self, text: str, pos: int, scanner: _Scanner) -> Unexpected:
         """``pos``: the first character after blanks that the state's scanner cannot read."""
@@ -211,13 +281,34 @@ def _build(rule: _Rule, children: list, builders: Mapping[str, Callable]) -> obj
     return build(*children) if build is not None else Node(rule.callback, children)
 
 
+# A stored file is JSON: {"format": F, "check": crc32 of the tables' text, "tables": {...}}. The
+# checksum finds a damaged file before any of it is used (scanners are compiled only when needed,
+# so a bad pattern would otherwise surface in the middle of a parse).
+_HEAD = '{"format":%d,"check":'
+
+
+def _load(stored: str) -> dict:
+    head = _HEAD % TABLE_FORMAT
+    if not stored.startswith(head) or not stored.endswith("}"):
+        raise ValueError("not a table file of this version")
+    check, sep, body = stored[len(head) : -1].partition(',"tables":')
+    if not sep or not check.isdigit() or zlib.crc32(body.encode("utf-8")) != int(check):
+        raise ValueError("damaged table file")
+    data = json.loads(body)
+    if not isinstance(data, dict):
+        raise ValueError("damaged table file")
+    return data
+
+
 def _store(path: str, data: dict) -> None:
     import tempfile  # only on a cache miss: it costs start-up time
 
+    body = json.dumps(data, separators=(",", ":"))
     try:
         fd, tmp = tempfile.mkstemp(dir=os.path.dirname(path), suffix=".tmp")
         with os.fdopen(fd, "w", encoding="utf-8") as handle:
-            json.dump(data, handle, separators=(",", ":"))
+            check = zlib.crc32(body.encode("utf-8"))
+            handle.write(f'{_HEAD % TABLE_FORMAT}{check},"tables":{body}}}')
         os.replace(tmp, path)
     except OSError:
         pass  # a read-only cache only costs start-up time

@@ -14,10 +14,12 @@ from acordcs.generator.diagnostics import Diagnostic
 from acordcs.generator.uml import Operation, Property
 from acordcs.metamodel.rules import (
     Assign,
+    BoolOp,
     Call,
     Consequent,
     Is,
     Name,
+    Not,
     Rule,
     RuleSyntaxError,
     names_in,
@@ -44,8 +46,9 @@ def policy_rules(policy: Role) -> list[PolicyRule]:
     for tag, value in policy.tags.items():
         if declared is None or not declared.matches(tag):
             continue
+        line = policy.tag_line(tag)
         for n, rule_line in enumerate(split_rules(value), start=1):
-            out.append(PolicyRule(policy, tag, n, rule_line.text, policy.tag_line(tag)))
+            out.append(PolicyRule(policy, tag, n, rule_line.text, line))
     return out
 
 
@@ -53,7 +56,8 @@ class _Scope:
     """Name resolution for one policy set: elements by name, attributes and operations by name.
 
     Indexed once per policy set: a model with hundreds of sets and thousands of rule atoms would
-    otherwise scan the scope for every name.
+    otherwise scan the scope for every name. Answers are kept by (text, kind): the same variables
+    recur in every rule of a set, and an answer depends on nothing else (not on the column).
     """
 
     def __init__(self, ctx: Context, policy_set: Role) -> None:
@@ -65,6 +69,7 @@ class _Scope:
             "attribute": {},
             "operation": {},
         }
+        self.answers: dict[tuple[str, str], tuple[Role, Property | Operation] | str] = {}
         for role in self.roles:
             self.by_element.setdefault(role.name, []).append(role)
             element = role.element
@@ -83,6 +88,13 @@ class _Scope:
 
     def resolve(self, name: Name, kind: str) -> tuple[Role, Property | Operation] | str:
         """The (element, member) a name denotes, or a message saying why it denotes none."""
+        key = (name.text, kind)
+        answer = self.answers.get(key)
+        if answer is None:
+            answer = self.answers[key] = self._resolve(name, kind)
+        return answer
+
+    def _resolve(self, name: Name, kind: str) -> tuple[Role, Property | Operation] | str:
         found = self.members[kind].get(name.member, [])
         if name.element is not None:
             owners = self.by_element.get(name.element)
@@ -117,16 +129,19 @@ def _suggest(word: str, names: list[str]) -> str:
     return f" (did you mean {close[0]!r}?)" if close else ""
 
 
+def _where(prule: PolicyRule) -> str:
+    # Only when there is something to report: most rules have nothing.
+    return f"rule {prule.index} of tag {prule.tag!r} of policy {prule.policy.name!r}"
+
+
 @check
 def rules(ctx: Context) -> Iterator[Diagnostic]:
+    terms: dict[str, tuple[Role | None, list[str], set[str]]] = {}  # by attribute id, for all sets
     for policy_set in ctx.arch.of_kind(POLICY_SET):
         engine = policy_set.tag("engine") or "fuzzy"
         kind = "crisp" if engine == "clips" else "fuzzy"
-        scope = _Scope(ctx, policy_set)
+        checker = _RuleChecker(ctx, _Scope(ctx, policy_set), terms)
         labels: dict[str, PolicyRule] = {}
-        # The set is one rule block: its engine fires all its policies' rules together.
-        inputs: dict[str, Name] = {}
-        outputs: list[tuple[str, Name, PolicyRule]] = []
         for policy in ctx.arch.policies(policy_set):
             found = policy_rules(policy)
             if not found:
@@ -136,13 +151,12 @@ def rules(ctx: Context) -> Iterator[Diagnostic]:
                     policy,
                 )
             for prule in found:
-                where = f"rule {prule.index} of tag {prule.tag!r} of policy {policy.name!r}"
                 try:
                     rule = parse_rule(prule.text, kind)
                 except RuleSyntaxError as err:
                     yield ctx.diag(
                         "L401",
-                        f"{where}, column {err.column}: {err.message}: {prule.text!r}",
+                        f"{_where(prule)}, column {err.column}: {err.message}: {prule.text!r}",
                         policy,
                         line=prule.line,
                     )
@@ -151,15 +165,20 @@ def rules(ctx: Context) -> Iterator[Diagnostic]:
                     if rule.label in labels:
                         yield ctx.diag(
                             "L410",
-                            f"{where}: label {rule.label!r} is also used by rule {labels[rule.label].index} "
-                            f"of tag {labels[rule.label].tag!r}; defrule would replace one with the other",
+                            f"{_where(prule)}: label {rule.label!r} is also used by rule "
+                            f"{labels[rule.label].index} of tag {labels[rule.label].tag!r}; defrule "
+                            "would replace one with the other",
                             policy,
                             line=prule.line,
                         )
                     labels[rule.label] = prule
-                yield from _check_rule(ctx, scope, rule, prule, where, inputs, outputs)
-        for attr_id, name, prule in outputs:
-            if attr_id in inputs:
+                if rule.kind == "fuzzy":
+                    yield from checker.fuzzy(rule, prule)
+                else:
+                    yield from checker.crisp(rule, prule)
+        # The set is one rule block: its engine fires all its policies' rules together.
+        for attr_id, name, prule in checker.outputs:
+            if attr_id in checker.inputs:
                 yield ctx.diag(
                     "L405",
                     f"{name.text!r} is an output of rule {prule.index} of tag {prule.tag!r} and an "
@@ -170,108 +189,150 @@ def rules(ctx: Context) -> Iterator[Diagnostic]:
                 )
 
 
-def _check_rule(
-    ctx, scope, rule: Rule, prule: PolicyRule, where, inputs, outputs
-) -> Iterator[Diagnostic]:
-    policy = prule.policy
+class _RuleChecker:
+    """The checks of the rules of one policy set, and what they gather about its rule block."""
 
-    def problem(code: str, message: str, name: Name) -> Diagnostic:
+    def __init__(self, ctx: Context, scope: _Scope, terms: dict) -> None:
+        self.ctx = ctx
+        self.scope = scope
+        self.terms = terms
+        self.inputs: dict[str, Name] = {}
+        self.outputs: list[tuple[str, Name, PolicyRule]] = []
+
+    def problem(self, prule: PolicyRule, code: str, message: str, name: Name) -> Diagnostic:
         # The column is in the rule text, not in the XML line: it goes in the message, not the location.
-        return ctx.diag(code, f"{where}, column {name.column}: {message}", policy, line=prule.line)
+        return self.ctx.diag(
+            code, f"{_where(prule)}, column {name.column}: {message}", prule.policy, line=prule.line
+        )
 
-    def variable(name: Name):
-        found = scope.resolve(name, "attribute")
+    def variable(
+        self, prule: PolicyRule, name: Name
+    ) -> tuple[Role, Property | Operation] | Diagnostic:
+        found = self.scope.resolve(name, "attribute")
         if isinstance(found, str):
             if found.startswith("ambiguous:"):
                 options = found.removeprefix("ambiguous:")
-                return problem(
-                    "L403", f"{name.text!r} is ambiguous: it may be {options}; qualify it", name
+                return self.problem(
+                    prule,
+                    "L403",
+                    f"{name.text!r} is ambiguous: it may be {options}; qualify it",
+                    name,
                 )
-            return problem("L402", f"variable {name.text!r}: {found}", name)
+            return self.problem(prule, "L402", f"variable {name.text!r}: {found}", name)
         return found
 
-    if rule.kind == "fuzzy":
+    def _terms_of(self, attr: Property) -> tuple[Role | None, list[str], set[str]]:
+        # Depends on the attribute only: kept for every policy set of the run.
+        var_role = self.ctx.arch.variable(attr)
+        names = [] if var_role is None else [t.name.text for t in variable_terms(var_role)]
+        info = self.terms[attr.id] = (var_role, names, set(names))
+        return info
+
+    def fuzzy(self, rule: Rule, prule: PolicyRule) -> Iterator[Diagnostic]:
+        atoms: list[Is | Consequent] = []  # inputs in order of appearance, then outputs
         stack = [rule.condition]
-        atoms: list[tuple[Is | Consequent, bool]] = []
         while stack:
             node = stack.pop()
-            if isinstance(node, Is):
-                atoms.append((node, True))
+            kind = node.__class__
+            if kind is Is:
+                atoms.append(node)
+            elif kind is BoolOp:  # the common nodes first; hasattr costs an exception
+                stack += (node.right, node.left)
+            elif kind is Not:
+                stack.append(node.operand)
+            elif isinstance(node, Is):
+                atoms.append(node)
             elif hasattr(node, "operand"):
                 stack.append(node.operand)
             elif hasattr(node, "left"):
                 stack += [node.right, node.left]
-        atoms += [(c, False) for c in rule.actions]
-        for atom, is_input in atoms:
-            found = variable(atom.var)
-            if not isinstance(found, tuple):
-                yield found
-                continue
-            _, attr = found
-            var_role = ctx.arch.variable(attr)
+        inputs = len(atoms)
+        atoms += rule.actions
+        answers = self.scope.answers
+        for index, atom in enumerate(atoms):
+            var = atom.var
+            found = answers.get((var.text, "attribute"))
+            if found is None or isinstance(found, str):
+                found = self.variable(prule, var)
+                if not isinstance(found, tuple):
+                    yield found
+                    continue
+            attr = found[1]
+            info = self.terms.get(attr.id)
+            if info is None:
+                info = self._terms_of(attr)
+            var_role, terms, known = info
             if var_role is None:
-                yield problem(
+                yield self.problem(
+                    prule,
                     "L408",
-                    f"{atom.var.text!r} is not a linguistic variable: apply <<CtxVariable>> to the "
+                    f"{var.text!r} is not a linguistic variable: apply <<CtxVariable>> to the "
                     "attribute with tags min, max and terms",
-                    atom.var,
+                    var,
                 )
                 continue
-            terms = [t.name.text for t in variable_terms(var_role)]
-            if terms and atom.term.text not in terms:
+            if terms and atom.term.text not in known:
                 shown = ", ".join(terms[:10]) + (
                     f", ... ({len(terms)} in all)" if len(terms) > 10 else ""
                 )
-                yield problem(
+                yield self.problem(
+                    prule,
                     "L404",
-                    f"{atom.var.text!r} has no term {atom.term.text!r} (its terms: {shown})"
+                    f"{var.text!r} has no term {atom.term.text!r} (its terms: {shown})"
                     f"{_suggest(atom.term.text, terms)}",
                     atom.term,
                 )
-            if is_input:
-                inputs.setdefault(attr.id, atom.var)
+            if index < inputs:
+                self.inputs.setdefault(attr.id, var)
             else:
-                outputs.append((attr.id, atom.var, prule))
-        return
-    for name in rule.variables_read():
-        found = variable(name)
-        if not isinstance(found, tuple):
-            yield found
-    for action in rule.actions:
-        if isinstance(action, Assign):
-            found = variable(action.var)
+                self.outputs.append((attr.id, var, prule))
+
+    def crisp(self, rule: Rule, prule: PolicyRule) -> Iterator[Diagnostic]:
+        for name in rule.variables_read():
+            found = self.variable(prule, name)
             if not isinstance(found, tuple):
                 yield found
-            for name in names_in(action.value):
-                found = variable(name)
+        for action in rule.actions:
+            if isinstance(action, Assign):
+                found = self.variable(prule, action.var)
                 if not isinstance(found, tuple):
                     yield found
-        elif isinstance(action, Call):
-            yield from _check_call(ctx, scope, action, problem, variable)
+                for name in names_in(action.value):
+                    found = self.variable(prule, name)
+                    if not isinstance(found, tuple):
+                        yield found
+            elif isinstance(action, Call):
+                yield from self.call(action, prule)
 
-
-def _check_call(ctx, scope, call: Call, problem, variable) -> Iterator[Diagnostic]:
-    found = scope.resolve(call.target, "operation")
-    if isinstance(found, str):
-        if found.startswith("ambiguous:"):
-            options = found.removeprefix("ambiguous:")
-            yield problem(
-                "L403", f"{call.target.text!r}() is ambiguous: {options}; qualify it", call.target
-            )
+    def call(self, call: Call, prule: PolicyRule) -> Iterator[Diagnostic]:
+        found = self.scope.resolve(call.target, "operation")
+        if isinstance(found, str):
+            if found.startswith("ambiguous:"):
+                options = found.removeprefix("ambiguous:")
+                yield self.problem(
+                    prule,
+                    "L403",
+                    f"{call.target.text!r}() is ambiguous: {options}; qualify it",
+                    call.target,
+                )
+            else:
+                yield self.problem(
+                    prule, "L406", f"operation {call.target.text!r}: {found}", call.target
+                )
         else:
-            yield problem("L406", f"operation {call.target.text!r}: {found}", call.target)
-    else:
-        _, op = found
-        expected = len(op.inputs)
-        if expected != len(call.args):
-            params = ", ".join(p.name for p in op.inputs)
-            yield problem(
-                "L407",
-                f"{call.target.text}() takes {expected} argument(s) ({params}), given {len(call.args)}",
-                call.target,
-            )
-    for arg in call.args:
-        for name in names_in(arg):
-            found_var = variable(name)
-            if not isinstance(found_var, tuple):
-                yield found_var
+            _, op = found
+            expected = len(op.inputs)
+            if expected != len(call.args):
+                params = ", ".join(p.name for p in op.inputs)
+                yield self.problem(
+                    prule,
+                    "L407",
+                    f"{call.target.text}() takes {expected} argument(s) ({params}), given "
+                    f"{len(call.args)}",
+                    call.target,
+                )
+        for arg in call.args:
+            for name in names_in(arg):
+                found_var = self.variable(prule, name)
+                if not isinstance(found_var, tuple):
+                    yield found_var

@@ -112,6 +112,9 @@ def variable_range(role: Role) -> tuple[float, float] | None:
 
 @check
 def linguistic_variables(ctx: Context) -> Iterator[Diagnostic]:
+    # What the terms say against the range depends on the three tags only, and models repeat a
+    # few term lists over many variables: each distinct (terms, min, max) is examined once.
+    findings: dict[tuple[str, str, str], list[tuple[str, str | tuple[float, float]]]] = {}
     for role in ctx.arch.of_kind(VARIABLE):
         line = role.tag_line("terms")
         bounds = variable_range(role)
@@ -143,49 +146,49 @@ def linguistic_variables(ctx: Context) -> Iterator[Diagnostic]:
                 line=line,
             )
             continue
-        yield from _check_terms(ctx, role, terms, bounds, line)
+        # The tags' text, not the numbers: -0 and 0 are equal but printed differently.
+        key = (text, role.tags.get("min", ""), role.tags.get("max", ""))
+        found = findings.get(key)
+        if found is None:
+            found = findings[key] = _term_findings(terms, bounds)
+        for code, what in found:
+            if isinstance(what, tuple) and bounds is not None:  # T309 names the variable
+                what = (
+                    f"no term of {role.name!r} covers [{what[0]:g}, {what[1]:g}] of its range "
+                    f"[{bounds[0]:g}, {bounds[1]:g}]: an input there fires no rule"
+                )
+            yield ctx.diag(code, what, role, line=line)
 
 
-def _check_terms(ctx, role, terms, bounds, line) -> Iterator[Diagnostic]:
+def _term_findings(
+    terms: list[TermDef], bounds: tuple[float, float] | None
+) -> list[tuple[str, str | tuple[float, float]]]:
+    """(code, message) for what is wrong with ``terms``; for T309, (code, the gap)."""
+    out: list[tuple[str, str | tuple[float, float]]] = []
     seen: set[str] = set()
-    for term in terms:
+    problems = [shape_problem(term) for term in terms]
+    for term, problem in zip(terms, problems, strict=True):
         if term.name.text in seen:
-            yield ctx.diag(
-                "T312",
-                f"term {term.name.text!r} is defined twice",
-                role,
-                line=line,
-            )
+            out.append(("T312", f"term {term.name.text!r} is defined twice"))
         seen.add(term.name.text)
-        problem = shape_problem(term)
         if problem:
-            yield ctx.diag(
-                "T311",
-                f"term {term.name.text!r}: {problem}",
-                role,
-                line=line,
-            )
+            out.append(("T311", f"term {term.name.text!r}: {problem}"))
         elif bounds is not None:
             lo, hi = bounds
             outside = [x for x in support_points(term) if x < lo or x > hi]
             if outside:
-                yield ctx.diag(
-                    "T308",
-                    f"term {term.name.text!r} has point {outside[0]:g} outside the range "
-                    f"[{lo:g}, {hi:g}]",
-                    role,
-                    line=line,
+                out.append(
+                    (
+                        "T308",
+                        f"term {term.name.text!r} has point {outside[0]:g} outside the range "
+                        f"[{lo:g}, {hi:g}]",
+                    )
                 )
-    if bounds is not None and terms and not any(shape_problem(t) for t in terms):
+    if bounds is not None and terms and not any(problems):
         gap = uncovered(terms, *bounds)
         if gap is not None:
-            yield ctx.diag(
-                "T309",
-                f"no term of {role.name!r} covers [{gap[0]:g}, {gap[1]:g}] of its range "
-                f"[{bounds[0]:g}, {bounds[1]:g}]: an input there fires no rule",
-                role,
-                line=line,
-            )
+            out.append(("T309", gap))
+    return out
 
 
 def shape_problem(term: TermDef) -> str | None:
