@@ -65,7 +65,7 @@ def hardened_parser(*, recover: bool = False) -> etree.XMLParser:
         dtd_validation=False,
         huge_tree=False,
         recover=recover,
-        remove_blank_text=False,
+        remove_blank_text=True,  # 60,000 fewer nodes in a 4 MB export: a faster parse and walk
     )
 
 
