@@ -7,6 +7,8 @@ model about a third faster (README, "Benchmarks"):
   view, rule trees) lives until the end, so each collection would scan a growing heap for nothing;
 - the model files named on the command line are parsed on a second thread while the interpreter
   imports the rest of the toolchain (libxml2 parses without holding the GIL);
+- for ``validate``, the main thread spends the rest of the parse parsing the model's rules from the
+  raw bytes into the rule parser's cache (:mod:`acordcs.generator.rule_warmup`);
 - the process ends with ``os._exit`` once the output is flushed: tearing down the interpreter would
   free the parsed tree and tens of thousands of model objects one by one, for nothing.
 
@@ -28,14 +30,29 @@ if TYPE_CHECKING:
 _READS_MODELS = frozenset(("validate", "inspect"))
 
 
+def _warm_rules(files: list[str]) -> None:
+    """While a model is still being parsed, parse its rules from the raw bytes (rule_warmup.py)."""
+    from acordcs.generator.rule_warmup import warm
+    from acordcs.generator.xmlsafe import bytes_being_parsed
+
+    for path in files:
+        data = bytes_being_parsed(path)
+        if data is not None:
+            warm(data)
+
+
 def run() -> NoReturn:
     gc.disable()
     args = sys.argv[1:]
+    files = [a for a in args[1:] if not a.startswith("-") and os.path.isfile(a)]
     if args and args[0] in _READS_MODELS:
         from acordcs.generator.xmlsafe import prefetch
 
-        prefetch([a for a in args[1:] if not a.startswith("-") and os.path.isfile(a)])
+        prefetch(files)
     from acordcs.generator.cli import main
+
+    if args and args[0] == "validate":
+        _warm_rules(files)
 
     code = main()
     for stream in (sys.stdout, sys.stderr):

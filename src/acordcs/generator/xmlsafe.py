@@ -139,16 +139,26 @@ def prefetch(paths: list[str]) -> None:
 
 
 class _Prefetch:
-    __slots__ = ("done", "identity", "parsing", "result")
+    __slots__ = ("data", "done", "identity", "parsing", "result")
 
     def __init__(self) -> None:
         self.parsing = threading.Event()  # set when libxml2 is about to parse (or never will)
+        self.data: bytes | None = None  # the file's bytes, once read
         self.done = threading.Event()
         self.result: XmlInput | None = None
         self.identity: tuple[int, ...] | None = None
 
 
 _prefetched: dict[str, _Prefetch] = {}
+
+
+def bytes_being_parsed(path: str) -> bytes | None:
+    """The bytes of ``path`` while the prefetch thread parses them (None when it is not, or it is
+    done): what can be learnt from the raw file meanwhile (see launch.py) costs no time."""
+    slot = _prefetched.get(path)
+    if slot is None or slot.done.is_set() or not slot.parsing.is_set():
+        return None
+    return slot.data
 
 
 def _identity(st: os.stat_result) -> tuple[int, ...]:
@@ -159,7 +169,7 @@ def _prefetch_all(slots: dict[str, _Prefetch]) -> None:
     for path, slot in slots.items():
         try:
             slot.identity = _identity(os.stat(path))
-            slot.result = _read_xml(path, slot.parsing)
+            slot.result = _read_xml(path, slot)
         except Exception:  # the main thread reads the file again and reports what it finds
             slot.result = None
         finally:
@@ -184,7 +194,7 @@ def read_xml(path: str) -> XmlInput:
     return _take_prefetched(path) or _read_xml(path)
 
 
-def _read_xml(path: str, parsing: threading.Event | None = None) -> XmlInput:
+def _read_xml(path: str, slot: _Prefetch | None = None) -> XmlInput:
     try:
         with open(path, "rb") as handle:
             size = os.fstat(handle.fileno()).st_size
@@ -195,7 +205,10 @@ def _read_xml(path: str, parsing: threading.Event | None = None) -> XmlInput:
     except OSError as err:
         reason = err.strerror or str(err)
         return XmlInput(path, None, [diagnostic("X101", f"cannot read file: {reason}", file=path)])
-    return parse_bytes(data, path, parsing)
+    if slot is None:
+        return parse_bytes(data, path)
+    slot.data = data
+    return parse_bytes(data, path, slot.parsing)
 
 
 def parse_bytes(

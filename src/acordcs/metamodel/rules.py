@@ -526,8 +526,22 @@ def _assemble(kind: RuleKind, tree: Node, text: str) -> Rule:
     return Rule(kind, label, condition, tuple(actions), weight, text)
 
 
+_PARSED: dict[tuple[str, str], Rule] = {}  # trees are immutable: one per (text, kind) is shared
+_PARSED_MAX = 20_000
+
+
 def parse_rule(text: str, kind: RuleKind = "fuzzy") -> Rule:
     """Parse one rule of the given syntax. Raises RuleSyntaxError with the column."""
+    rule = _PARSED.get((text, kind))
+    if rule is None:
+        rule = _parse_rule(text, kind)
+        if len(_PARSED) >= _PARSED_MAX:
+            _PARSED.clear()
+        _PARSED[text, kind] = rule
+    return rule
+
+
+def _parse_rule(text: str, kind: str) -> Rule:
     if kind not in ("fuzzy", "crisp"):
         raise ValueError(f"rule kind must be 'fuzzy' or 'crisp', not {kind!r}")
     rule = None
