@@ -28,13 +28,14 @@ from acordcs.generator.uml import Classifier, Element, Operation, Property, UmlM
 # What a deferred member's children may be (plain tags, as BOUML and Papyrus write them). XML
 # comments and processing instructions are allowed: the reader skips them too.
 _ATTRIBUTE_CHILDREN = frozenset(("type", "defaultValue", "lowerValue", "upperValue"))
-Found = tuple[list[str], list[str]]  # ids of a member (and its parameters), ids it refers to
 
 
-def _typed_refs(el: etree._Element, xmi_idref: str, allowed: frozenset[str]) -> list[str] | None:
+def _typed_refs(
+    el: etree._Element, xmi_idref: str, allowed: frozenset[str] | None
+) -> list[str] | None:
     """The ids ``el`` may name as its type (a superset of what the reader uses): its ``type``
     attribute (Eclipse) and the ``xmi:idref`` of its plain ``type`` children (BOUML). None if a
-    child's tag is not in ``allowed``."""
+    child's tag is not in ``allowed`` (None: any child; the reader ignores all but the type)."""
     ids = el.get("type")
     refs = ids.split() if ids else []
     for child in el:
@@ -43,44 +44,9 @@ def _typed_refs(el: etree._Element, xmi_idref: str, allowed: frozenset[str]) -> 
             ref = child.get(xmi_idref)
             if ref is not None:
                 refs.append(ref)
-        elif tag not in allowed and isinstance(tag, str):
+        elif allowed is not None and tag not in allowed and isinstance(tag, str):
             return None
     return refs
-
-
-def attribute_ids(el: etree._Element, xmi_id: str, xmi_idref: str) -> Found | None:
-    """What a plain ``ownedAttribute`` that can be read later holds; None if it must be read now."""
-    ident = el.get(xmi_id)
-    if ident is None or el.tag != "ownedAttribute":
-        return None
-    refs = _typed_refs(el, xmi_idref, _ATTRIBUTE_CHILDREN)
-    return None if refs is None else ([ident], refs)
-
-
-def operation_ids(el: etree._Element, xmi_id: str, xmi_idref: str) -> Found | None:
-    """What a plain ``ownedOperation`` that can be read later holds; None if it must be read now."""
-    ident = el.get(xmi_id)
-    if ident is None or el.tag != "ownedOperation":
-        return None
-    ids = [ident]
-    refs: list[str] = []
-    for child in el:
-        tag = child.tag
-        if tag == "ownedParameter":
-            param = child.get(xmi_id)
-            if param is None:
-                return None
-            ids.append(param)
-            type_ids = child.get("type")
-            if type_ids:
-                refs += type_ids.split()
-            for typ in child.iterchildren("type"):
-                ref = typ.get(xmi_idref)
-                if ref is not None:
-                    refs.append(ref)
-        elif isinstance(tag, str):
-            return None
-    return ids, refs
 
 
 class DeferringReader:
@@ -107,35 +73,60 @@ class DeferringReader:
             return
         if child.get("association"):  # ends link roles (architecture.py): read now
             owner.ends.append(self._property(child, owner))
-        elif id(owner) in self.now or not self._defer(child, owner, attribute_ids):
-            self._read_now(owner)
-            owner._attributes.append(self._property(child, owner))
+            return
+        if id(owner) not in self.now and child.tag == "ownedAttribute":
+            ident = child.get(self.XID)
+            if ident is not None:
+                refs = _typed_refs(child, self.XIDREF, _ATTRIBUTE_CHILDREN)
+                if refs is not None:
+                    self.deferred_refs += refs
+                    self.deferred[ident] = owner
+                    self._pend(child, owner)
+                    return
+        self._read_now(owner)
+        owner._attributes.append(self._property(child, owner))
 
     def _lazy_operation(self, child: etree._Element, owner: Element) -> None:
         if not isinstance(owner, Classifier):
             return
-        if id(owner) in self.now or not self._defer(child, owner, operation_ids):
-            self._read_now(owner)
-            owner._operations.append(self._operation(child, owner))
+        if id(owner) not in self.now and child.tag == "ownedOperation":
+            found = self._operation_ids(child)
+            if found is not None:
+                ids, refs = found
+                self.deferred_refs += refs
+                for ident in ids:
+                    self.deferred[ident] = owner
+                self._pend(child, owner)
+                return
+        self._read_now(owner)
+        owner._operations.append(self._operation(child, owner))
 
-    def _defer(
-        self,
-        child: etree._Element,
-        owner: Classifier,
-        ids_of: Callable[[etree._Element, str, str], Found | None],
-    ) -> bool:
-        found = ids_of(child, self.XID, self.XIDREF)
-        if found is None:
-            return False
-        ids, refs = found
-        self.deferred_refs += refs
+    def _operation_ids(self, el: etree._Element) -> tuple[list[str], list[str]] | None:
+        """The ids of an operation and its parameters and the ids they refer to, if it can be
+        read later; else None."""
+        ident = el.get(self.XID)
+        if ident is None:
+            return None
+        ids = [ident]
+        refs: list[str] = []
+        for child in el:
+            tag = child.tag
+            if tag == "ownedParameter":
+                param = child.get(self.XID)
+                param_refs = _typed_refs(child, self.XIDREF, None) if param else None
+                if param_refs is None:
+                    return None
+                ids.append(param)
+                refs += param_refs
+            elif isinstance(tag, str):
+                return None
+        return ids, refs
+
+    def _pend(self, child: etree._Element, owner: Classifier) -> None:
         if owner._pending is None:
             owner._pending = []
             owner._load = self._load
         owner._pending.append(child)
-        for ident in ids:
-            self.deferred[ident] = owner
-        return True
 
     def _read_now(self, owner: Classifier) -> None:
         """From here on, ``owner``'s members are read as they come, after those deferred so far:
