@@ -34,16 +34,19 @@ def _character(match: re.Match) -> str:
 
 
 def warm(data: bytes) -> int:
-    """Parse the fuzzy rules of the rule tags found in ``data``; return how many parsed."""
+    """Parse the rules of the rule tags found in ``data`` (fuzzy, else crisp: the engine of their
+    policy set is not known here); return how many parsed."""
     parsed = 0
     for raw in dict.fromkeys(_RULE_VALUE.findall(data)):
         value = _REFERENCE.sub(
             _character, raw.decode("utf-8", "replace").translate(_LITERAL_BLANKS)
         )
         for line in split_rules(value):
-            try:
-                parse_rule(line.text, "fuzzy")
+            for kind in ("fuzzy", "crisp"):
+                try:
+                    parse_rule(line.text, kind)
+                except Exception:  # errors, texts that are no rules: the check will tell
+                    continue
                 parsed += 1
-            except Exception:  # crisp rules, errors, texts that are no rules: the check will tell
-                pass
+                break
     return parsed

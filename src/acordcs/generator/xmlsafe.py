@@ -30,7 +30,7 @@ _SCAN_BYTES = 64 * 1024
 class XmlInput:
     """A parsed file: its root (None when unreadable) and what reading it found."""
 
-    __slots__ = ("diagnostics", "encoding", "path", "recovered", "root")
+    __slots__ = ("_ids", "diagnostics", "encoding", "path", "recovered", "root")
 
     def __init__(
         self,
@@ -45,6 +45,25 @@ class XmlInput:
         self.diagnostics = diagnostics if diagnostics is not None else []
         self.recovered = recovered
         self.encoding = encoding
+        self._ids: dict[str, list[str]] = {}
+
+    def ids(self, namespace: str) -> list[str]:
+        """Every value of an ``id`` attribute in ``namespace`` (XMI's ``xmi:id``), in document
+        order, duplicates included."""
+        found = self._ids.get(namespace)
+        if found is None:
+            found = self._ids[namespace] = self.root.xpath(
+                "//@x:id", namespaces={"x": namespace}, smart_strings=False
+            )
+        return found
+
+    def _find_xmi_ids(self) -> None:
+        # On the prefetch thread, before the tree is handed over (XPath on a tree that the main
+        # thread walks slows the walk): libxml2 evaluates XPath without the GIL, while the main
+        # thread still parses the model's rules (launch.py).
+        for uri in set((self.root.nsmap or {}).values()):
+            if uri and "XMI" in uri:
+                self.ids(uri)
 
 
 def diagnostic(code: str, message: str, **where) -> Diagnostic:
@@ -170,6 +189,8 @@ def _prefetch_all(slots: dict[str, _Prefetch]) -> None:
         try:
             slot.identity = _identity(os.stat(path))
             slot.result = _read_xml(path, slot)
+            if slot.result.root is not None:
+                slot.result._find_xmi_ids()
         except Exception:  # the main thread reads the file again and reports what it finds
             slot.result = None
         finally:

@@ -163,7 +163,7 @@ class _Reader(DeferringReader):
             self._packageable(top, None)
             model.name = top.get("name", "")
         self.walked = True
-        ids = self.xml.root.xpath("//@x:id", namespaces={"x": self.xmi_ns}, smart_strings=False)
+        ids = self.xml.ids(self.xmi_ns)
         known = set(ids)
         if self.lazy and self.deferred:
             if len(known) != len(ids) or not known.issuperset(self.deferred_refs):
