@@ -9,7 +9,6 @@ start-up, same results). The rule language's parse tables live there too (:mod:`
 
 from __future__ import annotations
 
-import hashlib
 import os
 import stat
 
@@ -33,6 +32,8 @@ def lark_cache(grammar: str, name: str) -> str | bool:
     directory = private_dir()
     if directory is None:
         return False
+    import hashlib  # here: only lark's cache needs it, and it costs every `validate` 3 ms
+
     import lark
 
     digest = hashlib.sha256(f"{lark.__version__}\0{name}\0{grammar}".encode()).hexdigest()[:32]

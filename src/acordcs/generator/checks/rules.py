@@ -3,7 +3,6 @@ policy set's scope; terms, outputs that are also inputs, operations and their ar
 
 from __future__ import annotations
 
-import difflib
 from collections.abc import Iterator
 from dataclasses import dataclass
 
@@ -125,6 +124,8 @@ class _Scope:
 
 def _suggest(word: str, names: list[str]) -> str:
     # difflib is quadratic-ish: a bounded candidate list keeps huge hostile models fast
+    import difflib  # only when a name is not found: it costs start-up time
+
     close = difflib.get_close_matches(word, names[:500], n=1)
     return f" (did you mean {close[0]!r}?)" if close else ""
 

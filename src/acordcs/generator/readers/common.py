@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import difflib
 from collections import defaultdict
 
 from acordcs.generator.diagnostics import diagnostic
@@ -238,6 +237,8 @@ UML_METACLASSES = frozenset(
 
 
 def unknown_type_message(kind: str) -> str:
+    import difflib  # only for an unknown type: it costs start-up time
+
     close = difflib.get_close_matches(kind, UML_METACLASSES, n=1)
     hint = f" (did you mean uml:{close[0]}?)" if close else ""
     return f"unknown xmi:type uml:{kind}{hint}; the element is skipped"
