@@ -22,6 +22,7 @@ from acordcs.generator.pipeline import ModelReading, read_model
 from acordcs.generator.readers import xmi2
 from acordcs.generator.readers.deferred import LazyElements
 from acordcs.generator.uml import Classifier, Element, UmlModel
+from acordcs.generator.xmlsafe import read_xml
 
 XMI = "http://schema.omg.org/spec/XMI/2.1"
 XID = f"{{{XMI}}}id"
@@ -273,3 +274,45 @@ def test_validate_reports_what_a_deferred_member_holds(tmp_path: Path) -> None:
     assert "R202" in result.out and "NO_SUCH_ID" in result.out
     assert "R207" in result.out
     assert result.out == run_process(["validate", "--format", "text", str(path)]).out
+
+
+# ------------------------------------------------------------------- ids seen instead of searched
+def _walk(path: Path):
+    xml = read_xml(str(path))
+    reader = xmi2._Reader(xml, lazy=True)
+    reader.read()
+    return xml, reader
+
+
+@pytest.mark.parametrize("path", SAMPLES, ids=lambda p: p.name)
+def test_ids_seen_by_the_walk_are_the_files_when_as_many(path: Path) -> None:
+    """The reader takes the ids its walk saw for all of them when they are as many as the file
+    has (each element is seen once): checked here against XPath."""
+    xml = read_xml(str(path))
+    if not xmi2.accepts(xml.root):
+        pytest.skip("XMI 1.2: another reader")
+    xml, reader = _walk(path)
+    if not xml._ids:  # the fast path: no XPath list was needed
+        everything = xml.root.xpath(
+            "//@x:id", namespaces={"x": reader.xmi_ns}, smart_strings=False
+        )
+        assert sorted(reader.seen) == sorted(everything)
+
+
+def test_ids_are_seen_without_xpath_in_bouml_exports(tmp_path: Path) -> None:
+    for path in (WEBLAB, _synthetic(tmp_path)):
+        xml, reader = _walk(path)
+        assert xml._ids == {}, path  # every id was seen: no XPath list
+        assert len(reader.seen) == xml.id_count(reader.xmi_ns)
+
+
+def test_a_duplicate_id_where_the_walk_does_not_look_is_still_found(tmp_path: Path) -> None:
+    tree = etree.parse(str(_synthetic(tmp_path)))
+    root = tree.getroot()
+    cls = _plain_class(root)
+    value = next(v for v in root.iter("defaultValue") if v.get(XID))
+    value.set(XID, cls.get(XID))  # a default value inside some attribute, with a class's id
+    path = tmp_path / "duplicate.xmi"
+    tree.write(str(path), xml_declaration=True, encoding="UTF-8")
+    eager, lazy = assert_same_reading(path)
+    assert [d.code for d in lazy.diagnostics].count("R203") == 1

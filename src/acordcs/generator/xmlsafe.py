@@ -30,7 +30,7 @@ _SCAN_BYTES = 64 * 1024
 class XmlInput:
     """A parsed file: its root (None when unreadable) and what reading it found."""
 
-    __slots__ = ("_ids", "diagnostics", "encoding", "path", "recovered", "root")
+    __slots__ = ("_id_counts", "_ids", "diagnostics", "encoding", "path", "recovered", "root")
 
     def __init__(
         self,
@@ -46,6 +46,7 @@ class XmlInput:
         self.recovered = recovered
         self.encoding = encoding
         self._ids: dict[str, list[str]] = {}
+        self._id_counts: dict[str, int] = {}
 
     def ids(self, namespace: str) -> list[str]:
         """Every value of an ``id`` attribute in ``namespace`` (XMI's ``xmi:id``), in document
@@ -57,13 +58,22 @@ class XmlInput:
             )
         return found
 
-    def _find_xmi_ids(self) -> None:
-        # On the prefetch thread, before the tree is handed over (XPath on a tree that the main
-        # thread walks slows the walk): libxml2 evaluates XPath without the GIL, while the main
-        # thread still parses the model's rules (launch.py).
+    def id_count(self, namespace: str) -> int:
+        """How many ``id`` attributes in ``namespace`` the document has."""
+        found = self._id_counts.get(namespace)
+        if found is None:
+            found = self._id_counts[namespace] = int(
+                self.root.xpath("count(//@x:id)", namespaces={"x": namespace})
+            )
+        return found
+
+    def _count_xmi_ids(self) -> None:
+        # On the prefetch thread, before the tree is handed over: libxml2 counts without the GIL
+        # (and XPath on a tree that the main thread walks would slow the walk). A reader that saw
+        # that many ids in its walk has seen them all (see readers/xmi2.py).
         for uri in set((self.root.nsmap or {}).values()):
             if uri and "XMI" in uri:
-                self.ids(uri)
+                self.id_count(uri)
 
 
 def diagnostic(code: str, message: str, **where) -> Diagnostic:
@@ -190,7 +200,7 @@ def _prefetch_all(slots: dict[str, _Prefetch]) -> None:
             slot.identity = _identity(os.stat(path))
             slot.result = _read_xml(path, slot)
             if slot.result.root is not None:
-                slot.result._find_xmi_ids()
+                slot.result._count_xmi_ids()
         except Exception:  # the main thread reads the file again and reports what it finds
             slot.result = None
         finally:

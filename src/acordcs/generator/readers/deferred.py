@@ -31,13 +31,14 @@ _ATTRIBUTE_CHILDREN = frozenset(("type", "defaultValue", "lowerValue", "upperVal
 
 
 def _typed_refs(
-    el: etree._Element, xmi_idref: str, allowed: frozenset[str] | None
+    el: etree._Element, xmi_id: str, xmi_idref: str, allowed: frozenset[str] | None, ids: list[str]
 ) -> list[str] | None:
     """The ids ``el`` may name as its type (a superset of what the reader uses): its ``type``
     attribute (Eclipse) and the ``xmi:idref`` of its plain ``type`` children (BOUML). None if a
-    child's tag is not in ``allowed`` (None: any child; the reader ignores all but the type)."""
-    ids = el.get("type")
-    refs = ids.split() if ids else []
+    child's tag is not in ``allowed`` (None: any child; the reader ignores all but the type).
+    Adds the xmi:ids of its other children (default values, multiplicities) to ``ids``."""
+    types = el.get("type")
+    refs = types.split() if types else []
     for child in el:
         tag = child.tag
         if tag == "type":
@@ -46,6 +47,10 @@ def _typed_refs(
                 refs.append(ref)
         elif allowed is not None and tag not in allowed and isinstance(tag, str):
             return None
+        else:
+            ident = child.get(xmi_id)
+            if ident is not None:
+                ids.append(ident)
     return refs
 
 
@@ -62,6 +67,7 @@ class DeferringReader:
     model: UmlModel
     deferred: dict[str, Classifier]  # member and parameter ids -> their class
     deferred_refs: list[str]  # the ids deferred members refer to: must all exist
+    pending_ids: dict[int, list[str]]  # id(class) -> every xmi:id in its deferred members
     now: set[int]  # ids of classes whose members are read as they come
     type_refs: list[Element]
     walked: bool
@@ -77,11 +83,12 @@ class DeferringReader:
         if id(owner) not in self.now and child.tag == "ownedAttribute":
             ident = child.get(self.XID)
             if ident is not None:
-                refs = _typed_refs(child, self.XIDREF, _ATTRIBUTE_CHILDREN)
+                ids = [ident]
+                refs = _typed_refs(child, self.XID, self.XIDREF, _ATTRIBUTE_CHILDREN, ids)
                 if refs is not None:
                     self.deferred_refs += refs
                     self.deferred[ident] = owner
-                    self._pend(child, owner)
+                    self._pend(child, owner, ids)
                     return
         self._read_now(owner)
         owner._attributes.append(self._property(child, owner))
@@ -92,40 +99,44 @@ class DeferringReader:
         if id(owner) not in self.now and child.tag == "ownedOperation":
             found = self._operation_ids(child)
             if found is not None:
-                ids, refs = found
+                elements, ids, refs = found
                 self.deferred_refs += refs
-                for ident in ids:
+                for ident in elements:
                     self.deferred[ident] = owner
-                self._pend(child, owner)
+                self._pend(child, owner, ids)
                 return
         self._read_now(owner)
         owner._operations.append(self._operation(child, owner))
 
-    def _operation_ids(self, el: etree._Element) -> tuple[list[str], list[str]] | None:
-        """The ids of an operation and its parameters and the ids they refer to, if it can be
-        read later; else None."""
+    def _operation_ids(self, el: etree._Element) -> tuple[list[str], list[str], list[str]] | None:
+        """If an operation can be read later: the ids of it and its parameters (elements), every
+        xmi:id in it, and the ids they refer to; else None."""
         ident = el.get(self.XID)
         if ident is None:
             return None
+        elements = [ident]
         ids = [ident]
         refs: list[str] = []
         for child in el:
             tag = child.tag
             if tag == "ownedParameter":
                 param = child.get(self.XID)
-                param_refs = _typed_refs(child, self.XIDREF, None) if param else None
-                if param_refs is None:
+                if not param:
                     return None
+                elements.append(param)
                 ids.append(param)
-                refs += param_refs
+                refs += _typed_refs(child, self.XID, self.XIDREF, None, ids)
             elif isinstance(tag, str):
                 return None
-        return ids, refs
+        return elements, ids, refs
 
-    def _pend(self, child: etree._Element, owner: Classifier) -> None:
+    def _pend(self, child: etree._Element, owner: Classifier, ids: list[str]) -> None:
         if owner._pending is None:
             owner._pending = []
             owner._load = self._load
+            self.pending_ids[id(owner)] = ids
+        else:
+            self.pending_ids[id(owner)] += ids
         owner._pending.append(child)
 
     def _read_now(self, owner: Classifier) -> None:
@@ -133,6 +144,7 @@ class DeferringReader:
         its lists keep file order."""
         self.now.add(id(owner))
         if owner._pending is not None:
+            self.pending_ids.pop(id(owner), None)  # its elements are seen as they are read
             self._load(owner)
 
     def _load(self, owner: Classifier) -> None:

@@ -26,9 +26,10 @@ def local_name(tag: str) -> str:
 class StereotypeApplications:
     """Collects the applications of one model into ``model.applications``."""
 
-    def __init__(self, model: UmlModel, xmi_id: str) -> None:
+    def __init__(self, model: UmlModel, xmi_id: str, seen: list[str] | None = None) -> None:
         self.model = model
         self.XID = xmi_id
+        self.seen = seen if seen is not None else []  # the ids of the applications read
 
     def application(
         self, profile: str | None, name: str, base: str, line: int
@@ -121,6 +122,8 @@ class StereotypeApplications:
             profile, etree.QName(el).localname, el.get(base_attr), el.sourceline or 0
         )
         app.id = el.get(self.XID)
+        if app.id is not None:
+            self.seen.append(app.id)
         app.line = el.sourceline or app.line
         for key, value in el.items():
             if key.startswith(("base_", "{")):

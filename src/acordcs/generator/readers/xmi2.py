@@ -96,7 +96,11 @@ class _Reader(DeferringReader):
         self.EXTENSION = f"{{{self.xmi_ns}}}Extension"
         dialect = "eclipse-uml2" if "eclipse.org" in uml else "bouml-xmi2"
         self.model = UmlModel(file=xml.path, dialect=dialect)
-        self.stereotypes = StereotypeApplications(self.model, self.XID)
+        # The xmi:ids of the elements the walk reads (and of those it defers, by class): when
+        # they are as many as the file has, they are all of them, and no XPath has to find them.
+        self.seen: list[str] = []
+        self.pending_ids: dict[int, list[str]] = {}
+        self.stereotypes = StereotypeApplications(self.model, self.XID, self.seen)
         self._handlers = {
             "ownedAttribute": self._on_attribute,
             "ownedEnd": self._on_end,
@@ -154,7 +158,7 @@ class _Reader(DeferringReader):
                     if local == "Model" and not model.name:
                         model.name = child.get("name", "")
                 elif child.tag == self.EXTENSION or child.tag == "profileApplication":
-                    continue
+                    self._saw(child)
                 elif child.tag in _MEMBER_TAGS:  # BOUML's "no model" option: packages at the top
                     self._packageable(child, None)
                 else:
@@ -163,7 +167,7 @@ class _Reader(DeferringReader):
             self._packageable(top, None)
             model.name = top.get("name", "")
         self.walked = True
-        ids = self.xml.ids(self.xmi_ns)
+        ids = self._all_ids()
         known = set(ids)
         if self.lazy and self.deferred:
             if len(known) != len(ids) or not known.issuperset(self.deferred_refs):
@@ -181,10 +185,34 @@ class _Reader(DeferringReader):
             return local_name(el.tag)
         return default
 
+    def _all_ids(self) -> list[str]:
+        """Every xmi:id of the file, duplicates included: those the walk saw if that is all of
+        them (the parse thread counted them), else found again with XPath."""
+        seen = self.seen
+        for ids in self.pending_ids.values():
+            seen += ids
+        if len(seen) == self.xml.id_count(self.xmi_ns):
+            return seen  # each element is seen once, so the same ids as the file's
+        return self.xml.ids(self.xmi_ns)
+
+    def _saw(self, el: etree._Element) -> None:
+        if not self.walked:
+            ident = el.get(self.XID)
+            if ident is not None:
+                self.seen.append(ident)
+
+    def _saw_inside(self, el: etree._Element) -> None:
+        if len(el):
+            for inner in el.iterdescendants():
+                self._saw(inner)
+
     def _base(self, el: etree._Element, kind: str, owner: Element | None, cls=Element):
         ident = el.get(self.XID)
         line = el.sourceline or 0
-        if ident is None:
+        if ident is not None:
+            if not self.walked:
+                self.seen.append(ident)
+        else:
             ident = f"<line {line}>"
             self.model.diagnostics.append(
                 diagnostic(
@@ -228,6 +256,7 @@ class _Reader(DeferringReader):
             self._extensions_only(el, dep)
         elif kind in UML_METACLASSES:
             self._base(el, kind, owner)  # kept for its id: behaviours, instances, extensions, ...
+            self._saw_inside(el)
         else:
             model.diagnostics.append(
                 diagnostic(
@@ -246,6 +275,9 @@ class _Reader(DeferringReader):
             handler = handlers.get(child.tag) or _by_local_name(handlers, child.tag)
             if handler is not None:
                 handler(child, owner)
+            else:  # not read (imports, profile applications, ...); its ids exist all the same
+                self._saw(child)
+                self._saw_inside(child)
         member_ends = el.get("memberEnd")
         if member_ends and isinstance(owner, Association | Classifier):
             owner.member_ends.extend(member_ends.split())
@@ -333,10 +365,13 @@ class _Reader(DeferringReader):
                     self._type_child(child, prop)
                 elif code == _DEFAULT:
                     prop.default = _literal(child)
+                    self._saw(child)
                 elif code == _LOWER:
                     prop.lower = _literal(child)
+                    self._saw(child)
                 elif code == _UPPER:
                     prop.upper = _literal(child)
+                    self._saw(child)
                 elif code == _EXT:
                     self.stereotypes.extension(child, prop)
                 else:
@@ -378,6 +413,7 @@ class _Reader(DeferringReader):
         self.model.generalizations.append(gen)
 
     def _comment(self, el: etree._Element, owner: Element) -> None:
+        self._saw(el)
         body = el.get("body")
         if body is None:
             body = "".join(b.text or "" for b in el.iterchildren("body"))
