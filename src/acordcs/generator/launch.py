@@ -36,9 +36,12 @@ def _warm_rules(files: list[str]) -> None:
     from acordcs.generator.xmlsafe import bytes_being_parsed
 
     for path in files:
-        data = bytes_being_parsed(path)
-        if data is not None:
-            warm(data)
+        found = bytes_being_parsed(path)
+        if found is not None:
+            data, parsed = found
+            warm(
+                data, stop=parsed.is_set
+            )  # the walk needs the tree more than the checks their rules
 
 
 def run() -> NoReturn:

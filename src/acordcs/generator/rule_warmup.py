@@ -11,6 +11,7 @@ a wasted parse, and the check parses what the reader read.
 from __future__ import annotations
 
 import re
+from collections.abc import Callable
 
 from acordcs.metamodel.rules import parse_rule, split_rules
 
@@ -33,11 +34,13 @@ def _character(match: re.Match) -> str:
         return match.group(0)
 
 
-def warm(data: bytes) -> int:
+def warm(data: bytes, stop: Callable[[], bool] = lambda: False) -> int:
     """Parse the rules of the rule tags found in ``data`` (fuzzy, else crisp: the engine of their
-    policy set is not known here); return how many parsed."""
+    policy set is not known here) until ``stop()``; return how many parsed."""
     parsed = 0
     for raw in dict.fromkeys(_RULE_VALUE.findall(data)):
+        if stop():
+            break
         value = _REFERENCE.sub(
             _character, raw.decode("utf-8", "replace").translate(_LITERAL_BLANKS)
         )

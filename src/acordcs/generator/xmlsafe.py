@@ -181,13 +181,14 @@ class _Prefetch:
 _prefetched: dict[str, _Prefetch] = {}
 
 
-def bytes_being_parsed(path: str) -> bytes | None:
-    """The bytes of ``path`` while the prefetch thread parses them (None when it is not, or it is
-    done): what can be learnt from the raw file meanwhile (see launch.py) costs no time."""
+def bytes_being_parsed(path: str) -> tuple[bytes, threading.Event] | None:
+    """The bytes of ``path`` while the prefetch thread parses them, and the event set when it is
+    done (None when it is not parsing them): what can be learnt from the raw file meanwhile (see
+    launch.py) costs no time."""
     slot = _prefetched.get(path)
-    if slot is None or slot.done.is_set() or not slot.parsing.is_set():
+    if slot is None or slot.done.is_set() or not slot.parsing.is_set() or slot.data is None:
         return None
-    return slot.data
+    return slot.data, slot.done
 
 
 def _identity(st: os.stat_result) -> tuple[int, ...]:
