@@ -312,5 +312,5 @@ def test_a_duplicate_id_where_the_walk_does_not_look_is_still_found(tmp_path: Pa
     value.set(XID, cls.get(XID))  # a default value inside some attribute, with a class's id
     path = tmp_path / "duplicate.xmi"
     tree.write(str(path), xml_declaration=True, encoding="UTF-8")
-    eager, lazy = assert_same_reading(path)
+    _, lazy = assert_same_reading(path)
     assert [d.code for d in lazy.diagnostics].count("R203") == 1
