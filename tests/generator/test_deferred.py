@@ -96,10 +96,23 @@ def dump(uml: UmlModel) -> dict:
     }
 
 
+def roles_and_relations(reading: ModelReading) -> tuple:
+    arch = reading.architecture
+    if arch is None:
+        return ()
+    roles = [(r.id, r.kind, sorted(r.tags.items())) for r in arch.roles.values()]
+    relations = {
+        name: {source: [r.id for r in targets] for source, targets in by_source.items()}
+        for name, by_source in arch.relations.items()
+    }
+    return roles, relations
+
+
 def assert_same_reading(path: Path) -> tuple[ModelReading, ModelReading]:
     eager = read_eagerly(path)
     lazy = read_deferring(path)
     assert [repr(d) for d in lazy.diagnostics] == [repr(d) for d in eager.diagnostics]
+    assert roles_and_relations(lazy) == roles_and_relations(eager)  # before the dump reads all
     assert dump(lazy.uml) == dump(eager.uml)
     return eager, lazy
 

@@ -13,7 +13,14 @@ from collections import defaultdict
 from dataclasses import dataclass, field
 
 from acordcs.generator.diagnostics import diagnostic
-from acordcs.generator.uml import Classifier, Element, Property, StereotypeApplication, UmlModel
+from acordcs.generator.uml import (
+    Association,
+    Classifier,
+    Element,
+    Property,
+    StereotypeApplication,
+    UmlModel,
+)
 from acordcs.profile import PROFILE_NAME, Stereotype, profile, stereotype
 
 CONTAINER, COMPONENT, PORT, CONNECTION = (
@@ -233,14 +240,28 @@ def _role(uml: UmlModel, app: StereotypeApplication) -> Role | None:
     return Role(declared, element, app, tags)
 
 
+def _ruled_out(assoc: Association | Classifier, elements: dict, roles: dict) -> bool:
+    """Whether an end already read (the association's own, in BOUML) has a type that plays no
+    role: then the association links no roles, and the ends the reader deferred
+    (readers/deferred.py) need not be read to know it. ``dict.get`` looks without reading."""
+    peek = dict.get
+    for ident in assoc.member_ends:
+        end = peek(elements, ident)
+        if isinstance(end, Property) and end.type_ref not in roles:
+            return True
+    return False
+
+
 def _link_relations(arch: Architecture) -> None:
     uml = arch.uml
     roles = arch.roles
     for assoc in uml.associations:
+        own = roles.get(assoc.id)
+        if own is None and _ruled_out(assoc, uml.elements, roles):
+            continue
         ends = [
             e for e in (uml.elements.get(i) for i in assoc.member_ends) if isinstance(e, Property)
         ]
-        own = roles.get(assoc.id)
         if own is not None:  # an AssociationClass playing a role joins its ends' roles
             for end in ends:
                 if end.type_ref in roles:

@@ -76,7 +76,6 @@ class Operation(Element):
 
 @dataclass(slots=True, eq=False)
 class Classifier(Element):
-    ends: list[Property] = field(default_factory=list)  # owned association ends
     literals: list[str] = field(default_factory=list)
     generals: list[str] = field(default_factory=list)  # ids of general classifiers
     nested: list[Classifier] = field(default_factory=list)
@@ -84,6 +83,7 @@ class Classifier(Element):
     # A reader may leave attributes and operations to be read on first use (readers/xmi2.py):
     # ``_pending`` holds what is left and ``_load(self)`` reads it.
     _attributes: list[Property] = field(default_factory=list, repr=False)
+    _ends: list[Property] = field(default_factory=list, repr=False)
     _operations: list[Operation] = field(default_factory=list, repr=False)
     _pending: list | None = field(default=None, repr=False)
     _load: Callable[[Classifier], None] | None = field(default=None, repr=False)
@@ -94,6 +94,13 @@ class Classifier(Element):
         if self._pending is not None:
             self._load(self)
         return self._attributes
+
+    @property
+    def ends(self) -> list[Property]:
+        """Owned association ends, in file order."""
+        if self._pending is not None:
+            self._load(self)
+        return self._ends
 
     @property
     def operations(self) -> list[Operation]:

@@ -77,21 +77,22 @@ class DeferringReader:
     def _lazy_attribute(self, child: etree._Element, owner: Element) -> None:
         if not isinstance(owner, Classifier):
             return
-        if child.get("association"):  # ends link roles (architecture.py): read now
-            owner.ends.append(self._property(child, owner))
-            return
         if id(owner) not in self.now and child.tag == "ownedAttribute":
             ident = child.get(self.XID)
             if ident is not None:
                 ids = [ident]
                 refs = _typed_refs(child, self.XID, self.XIDREF, _ATTRIBUTE_CHILDREN, ids)
                 if refs is not None:
+                    association = child.get("association")
+                    if association:  # an end: its association must exist too
+                        refs.append(association)
                     self.deferred_refs += refs
                     self.deferred[ident] = owner
                     self._pend(child, owner, ids)
                     return
         self._read_now(owner)
-        owner._attributes.append(self._property(child, owner))
+        prop = self._property(child, owner)
+        (owner._ends if prop.association else owner._attributes).append(prop)
 
     def _lazy_operation(self, child: etree._Element, owner: Element) -> None:
         if not isinstance(owner, Classifier):
@@ -152,7 +153,8 @@ class DeferringReader:
         first = len(self.type_refs)
         for child in pending:
             if child.tag == "ownedAttribute":
-                owner._attributes.append(self._property(child, owner))
+                prop = self._property(child, owner)
+                (owner._ends if prop.association else owner._attributes).append(prop)
             else:
                 owner._operations.append(self._operation(child, owner))
         if self.walked:  # resolved now; none dangles (see the module's docstring)
