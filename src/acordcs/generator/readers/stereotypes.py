@@ -30,6 +30,7 @@ class StereotypeApplications:
         self.model = model
         self.XID = xmi_id
         self.seen = seen if seen is not None else []  # the ids of the applications read
+        self._profiles: dict[str, str | None] = {}  # profile named by a namespace URI, if any
 
     def application(
         self, profile: str | None, name: str, base: str, line: int
@@ -77,58 +78,66 @@ class StereotypeApplications:
         # BOUML marks its profile definitions with their own metaclass keyword (a Stereotype is
         # <<stereotype>>, a Profile <<profile>>): keywords, not stereotype applications.
         keyword = owner.kind.lower()
-        stereotypes = [s.get("name", "") for s in el.iterchildren("stereotype")]
-        for name in stereotypes:
+        line = el.sourceline or owner.line
+        for s in el.iterchildren("stereotype"):
+            name = s.get("name", "")
             if name == keyword:
                 continue
             profile, _, stereo = name.rpartition(":")
-            app = self.application(profile or None, stereo, owner.id, el.sourceline or owner.line)
-            app.places.add("extension")
+            self.application(profile or None, stereo, owner.id, line).places.add("extension")
+        found: dict[str, StereotypeApplication] = {}  # a block's tags come by stereotype
         for tv in el.iterchildren("taggedValue"):
             tag = tv.get("tag", "")
-            value = tv.get("value", "")
             if tag.startswith("gxmi "):
                 continue  # BOUML's own export options
+            value = tv.get("value", "")
             parts = tag.split(":")
             if len(parts) == 3:
-                app = self.application(parts[0], parts[1], owner.id, tv.sourceline or owner.line)
-                self.set_tag(app, parts[2], value, tv.sourceline or 0, "extension")
+                tv_line = tv.sourceline or 0
+                key = tag[: -len(parts[2]) - 1]
+                app = found.get(key)
+                if app is None:
+                    app = found[key] = self.application(
+                        parts[0], parts[1], owner.id, tv_line or owner.line
+                    )
+                self.set_tag(app, parts[2], value, tv_line, "extension")
             else:
                 owner.tagged_values[tag] = value
 
     def root_application(self, el: etree._Element) -> None:
         """A stereotype application written at the document root (``Profile:Stereotype base_X=..``)."""
-        base_attr = next((k for k in el.attrib if k.startswith("base_")), None)
-        if base_attr is None:
+        items = el.items()
+        base = next((value for key, value in items if key.startswith("base_")), None)
+        if base is None:
             return
-        if (
-            el.tag[0] != "{" and ":" in el.tag
-        ):  # a recovered element whose prefix was never declared
+        tag = el.tag
+        line = el.sourceline or 0
+        if tag[0] != "{" and ":" in tag:  # a recovered element whose prefix was never declared
             self.model.diagnostics.append(
                 diagnostic(
                     "R201",
-                    f"element {el.tag} uses an undeclared namespace prefix; the stereotype application "
+                    f"element {tag} uses an undeclared namespace prefix; the stereotype application "
                     "is skipped: declare the prefix on the root element",
                     file=self.model.file,
                     line=el.sourceline,
                 )
             )
             return
-        ns = etree.QName(el).namespace or ""
-        match = _PROFILE_NS.match(ns)
+        ns, _, name = tag[1:].rpartition("}") if tag[0] == "{" else ("", "", tag)
+        if ns not in self._profiles:
+            match = _PROFILE_NS.match(ns)
+            self._profiles[ns] = match.group(1) if match else None
         # The namespace names the profile; a prefix is the writer's choice (xmlns:acs= works too).
-        profile = match.group(1) if match else el.prefix
-        app = self.application(
-            profile, etree.QName(el).localname, el.get(base_attr), el.sourceline or 0
-        )
+        profile = self._profiles[ns] or el.prefix
+        app = self.application(profile, name, base, line)
         app.id = el.get(self.XID)
         if app.id is not None:
             self.seen.append(app.id)
-        app.line = el.sourceline or app.line
-        for key, value in el.items():
+        app.line = line or app.line
+        for key, value in items:
             if key.startswith(("base_", "{")):
                 continue
-            self.set_tag(app, key, value, el.sourceline or 0, "root")
+            self.set_tag(app, key, value, line, "root")
         for child in el:  # Eclipse writes multi-valued and reference tags as child elements
             if isinstance(child.tag, str):
                 tag = local_name(child.tag)
