@@ -46,6 +46,9 @@ def _warm_rules(files: list[str]) -> None:
 
 def run() -> NoReturn:
     gc.disable()
+    # The parse thread needs the GIL between its C calls; a busy main thread would hand it over
+    # only every 5 ms.
+    sys.setswitchinterval(0.0005)
     args = sys.argv[1:]
     files = [a for a in args[1:] if not a.startswith("-") and os.path.isfile(a)]
     if args and args[0] in _READS_MODELS:
