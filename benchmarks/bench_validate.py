@@ -95,7 +95,7 @@ def main() -> int:
     )
     print(f"B  lxml parse + serialize            {b * 1e3:8.1f} ms")
     print(
-        f"   acordcs-gen validate, whole process {whole * 1e3:8.1f} ms = {whole / b:4.1f} B (target <= 3 B)"
+        f"   acordcs-gen validate, whole process {whole * 1e3:8.1f} ms = {whole / b:5.2f} B (target <= 3 B)"
     )
     print(f"   acordcs-gen start-up, empty model   {startup * 1e3:8.1f} ms = {startup / b:4.1f} B")
     print(
