@@ -30,7 +30,16 @@ _SCAN_BYTES = 64 * 1024
 class XmlInput:
     """A parsed file: its root (None when unreadable) and what reading it found."""
 
-    __slots__ = ("_id_counts", "_ids", "diagnostics", "encoding", "path", "recovered", "root")
+    __slots__ = (
+        "_counting",
+        "_id_counts",
+        "_ids",
+        "diagnostics",
+        "encoding",
+        "path",
+        "recovered",
+        "root",
+    )
 
     def __init__(
         self,
@@ -47,6 +56,7 @@ class XmlInput:
         self.encoding = encoding
         self._ids: dict[str, list[str]] = {}
         self._id_counts: dict[str, int] = {}
+        self._counting: threading.Event | None = None  # set when the prefetch thread has counted
 
     def ids(self, namespace: str) -> list[str]:
         """Every value of an ``id`` attribute in ``namespace`` (XMI's ``xmi:id``), in document
@@ -60,6 +70,8 @@ class XmlInput:
 
     def id_count(self, namespace: str) -> int:
         """How many ``id`` attributes in ``namespace`` the document has."""
+        if self._counting is not None:
+            self._counting.wait()
         found = self._id_counts.get(namespace)
         if found is None:
             found = self._id_counts[namespace] = int(
@@ -68,12 +80,18 @@ class XmlInput:
         return found
 
     def _count_xmi_ids(self) -> None:
-        # On the prefetch thread, before the tree is handed over: libxml2 counts without the GIL
-        # (and XPath on a tree that the main thread walks would slow the walk). A reader that saw
-        # that many ids in its walk has seen them all (see readers/xmi2.py).
-        for uri in set((self.root.nsmap or {}).values()):
-            if uri and "XMI" in uri:
-                self.id_count(uri)
+        # On the prefetch thread, once the tree is handed over: libxml2 counts without the GIL
+        # while the main thread starts its walk (5 ms of XPath slows the walk less than waiting
+        # for it would). A reader that saw that many ids has seen them all (readers/xmi2.py).
+        try:
+            for uri in set((self.root.nsmap or {}).values()):
+                if uri and "XMI" in uri:
+                    count = self.root.xpath("count(//@x:id)", namespaces={"x": uri})
+                    self._id_counts[uri] = int(count)
+        except Exception:  # id_count() counts what is missing on the main thread
+            pass
+        finally:
+            self._counting.set()
 
 
 def diagnostic(code: str, message: str, **where) -> Diagnostic:
@@ -201,12 +219,14 @@ def _prefetch_all(slots: dict[str, _Prefetch]) -> None:
             slot.identity = _identity(os.stat(path))
             slot.result = _read_xml(path, slot)
             if slot.result.root is not None:
-                slot.result._count_xmi_ids()
+                slot.result._counting = threading.Event()
         except Exception:  # the main thread reads the file again and reports what it finds
             slot.result = None
         finally:
             slot.parsing.set()
             slot.done.set()
+        if slot.result is not None and slot.result._counting is not None:
+            slot.result._count_xmi_ids()
 
 
 def _take_prefetched(path: str) -> XmlInput | None:
