@@ -11,6 +11,7 @@ from __future__ import annotations
 
 from collections import defaultdict
 from dataclasses import dataclass, field
+from functools import cache
 
 from acordcs.generator.diagnostics import diagnostic
 from acordcs.generator.uml import (
@@ -229,8 +230,7 @@ def _role(uml: UmlModel, app: StereotypeApplication) -> Role | None:
         report("R206", f"free stereotype {app.name!r} read as ACORDCS:{app.name}")
     else:
         return None
-    covered = set().union(*(_METACLASS_COVERS.get(m, {m}) for m in declared.metaclasses))
-    if element.kind not in covered:
+    if element.kind not in _covered(declared.metaclasses):
         report(
             "T301",
             f"<<{declared.name}>> applies to {' or '.join(declared.metaclasses)}, not to a "
@@ -238,6 +238,12 @@ def _role(uml: UmlModel, app: StereotypeApplication) -> Role | None:
         )
         return None
     return Role(declared, element, app, tags)
+
+
+@cache
+def _covered(metaclasses: tuple[str, ...]) -> frozenset[str]:
+    """The UML metaclasses a stereotype declared on ``metaclasses`` may be applied to."""
+    return frozenset().union(*(_METACLASS_COVERS.get(m, {m}) for m in metaclasses))
 
 
 def _ruled_out(assoc: Association | Classifier, elements: dict, roles: dict) -> bool:
