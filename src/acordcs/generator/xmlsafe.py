@@ -180,9 +180,6 @@ def prefetch(paths: list[str]) -> None:
         return
     _prefetched.update(slots)
     threading.Thread(target=_prefetch_all, args=(slots,), daemon=True).start()
-    # Until the thread is inside libxml2 it needs the GIL, and a busy main thread hands it over
-    # only every switch interval (5 ms), several times: wait for it instead (a few ms, bounded).
-    next(iter(slots.values())).parsing.wait(0.25)
 
 
 class _Prefetch:
