@@ -208,7 +208,27 @@ def _mutations():
         target = next(a for a in root.iter("ownedAttribute") if a is not other)
         _retype(target, other.get(XID))
 
+    def type_attribute_beside_href(root, cls):
+        # The reader ignores a type child's idref beside an href and keeps the type attribute's.
+        attr = _attribute(cls)
+        for typ in attr.findall("type"):
+            attr.remove(typ)
+        attr.set("type", "NO_SUCH_ID")
+        typ = etree.SubElement(
+            attr, "type", href="http://schema.omg.org/spec/UML/2.1/uml.xml#String"
+        )
+        typ.set(XIDREF, cls.get(XID))
+
+    def conflicting_root_applications_on_attribute(root, cls):
+        for n in ("0", "1"):  # R205 names the attribute: read when the conflict is found
+            app = etree.SubElement(root, "{http:///schemas/ACORDCS/1}CtxVariable")
+            app.set(XID, f"NEW_APPLICATION_{n}")
+            app.set("base_Property", _attribute(cls).get(XID))
+            app.set("min", n)
+
     return [
+        type_attribute_beside_href,
+        conflicting_root_applications_on_attribute,
         dangling_type,
         attribute_without_id,
         parameter_without_id,
@@ -229,8 +249,18 @@ def test_broken_models_read_the_same_with_deferred_members(tmp_path: Path, mutat
     path = tmp_path / "mutated.xmi"
     tree.write(str(path), xml_declaration=True, encoding="UTF-8")
     eager, _ = assert_same_reading(path)
-    if mutate.__name__ in ("dangling_type", "attribute_without_id", "duplicate_id"):
-        assert any(d.code in ("R202", "R203", "R207") for d in eager.diagnostics)
+    expected = {
+        "dangling_type": "R202",
+        "type_attribute_beside_href": "R202",
+        "attribute_without_id": "R207",
+        "duplicate_id": "R203",
+        "conflicting_root_applications_on_attribute": "R205",
+    }.get(mutate.__name__)
+    if expected:
+        found = [d for d in eager.diagnostics if d.code == expected]
+        assert found
+        if expected in ("R202", "R205"):  # they name the element (R203, R207 name none)
+            assert all(d.element for d in found)
 
 
 def test_files_with_dangling_or_duplicate_ids_are_read_without_deferring(tmp_path: Path) -> None:

@@ -33,11 +33,13 @@ _ATTRIBUTE_CHILDREN = frozenset(("type", "defaultValue", "lowerValue", "upperVal
 def _typed_refs(
     el: etree._Element, xmi_id: str, xmi_idref: str, allowed: frozenset[str] | None, ids: list[str]
 ) -> list[str] | None:
-    """The ids ``el`` may name as its type (at least the one the reader uses): the ``xmi:idref`` of
-    its plain ``type`` children (BOUML), else its ``type`` attribute (Eclipse). None if a child's
-    tag is not in ``allowed`` (None: any child; the reader ignores all but the type). Adds the
-    xmi:ids of its other children (default values, multiplicities) to ``ids``."""
-    refs = []
+    """Every id ``el`` may name as its type, a superset of the one the reader keeps: its ``type``
+    attribute (Eclipse) and the ``xmi:idref`` of its plain ``type`` children (BOUML; the reader
+    ignores it beside an ``href``, and then keeps the attribute's). None if a child's tag is not in
+    ``allowed`` (None: any child; the reader ignores all but the type). Adds the xmi:ids of its
+    other children (default values, multiplicities) to ``ids``."""
+    types = el.get("type")
+    refs = types.split() if types else []
     for child in el:
         tag = child.tag
         if tag == "type":
@@ -50,10 +52,6 @@ def _typed_refs(
             ident = child.get(xmi_id)
             if ident is not None:
                 ids.append(ident)
-    if not refs:  # a type child's idref replaces the attribute's (xmi2._Reader._type_child)
-        types = el.get("type")
-        if types:
-            refs = types.split()
     return refs
 
 

@@ -100,7 +100,7 @@ class _Reader(DeferringReader):
         # they are as many as the file has, they are all of them, and no XPath has to find them.
         self.seen: list[str] = []
         self.pending_ids: dict[int, list[str]] = {}
-        self.stereotypes = StereotypeApplications(self.model, self.XID, self.seen)
+        self.stereotypes = StereotypeApplications(self.model, self.XID, self.seen, self._element)
         self._handlers = {
             "ownedAttribute": self._on_attribute,
             "ownedEnd": self._on_end,
@@ -194,6 +194,16 @@ class _Reader(DeferringReader):
         if len(seen) == self.xml.id_count(self.xmi_ns):
             return seen  # each element is seen once, so the same ids as the file's
         return self.xml.ids(self.xmi_ns)
+
+    def _element(self, ident: str) -> Element | None:
+        """The element with id ``ident``; a deferred member is read (with its class) first."""
+        found = self.elements.get(ident)
+        if found is None and self.lazy:
+            owner = self.deferred.get(ident)
+            if owner is not None and owner._pending is not None:
+                self._read_now(owner)
+                found = self.elements.get(ident)
+        return found
 
     def _saw(self, el: etree._Element) -> None:
         if not self.walked:
