@@ -39,9 +39,8 @@ def _warm_rules(files: list[str]) -> None:
         found = bytes_being_parsed(path)
         if found is not None:
             data, parsed = found
-            warm(
-                data, stop=parsed.is_set
-            )  # the walk needs the tree more than the checks their rules
+            # Until the tree is there: the walk needs it more than the checks need their rules.
+            warm(data, stop=parsed.is_set)
 
 
 def run() -> NoReturn:

@@ -80,7 +80,7 @@ class Classifier(Element):
     generals: list[str] = field(default_factory=list)  # ids of general classifiers
     nested: list[Classifier] = field(default_factory=list)
     member_ends: list[str] = field(default_factory=list)  # for AssociationClass
-    # A reader may leave attributes and operations to be read on first use (readers/xmi2.py):
+    # A reader may leave members to be read on first use (readers/deferred.py):
     # ``_pending`` holds what is left and ``_load(self)`` reads it.
     _attributes: list[Property] = field(default_factory=list, repr=False)
     _ends: list[Property] = field(default_factory=list, repr=False)

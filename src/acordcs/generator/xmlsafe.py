@@ -74,9 +74,13 @@ class XmlInput:
             self._counting.wait()
         found = self._id_counts.get(namespace)
         if found is None:
-            found = self._id_counts[namespace] = int(
-                self.root.xpath("count(//@x:id)", namespaces={"x": namespace})
-            )
+            found = self._count_ids(namespace)
+        return found
+
+    def _count_ids(self, namespace: str) -> int:
+        found = self._id_counts[namespace] = int(
+            self.root.xpath("count(//@x:id)", namespaces={"x": namespace})
+        )
         return found
 
     def _count_xmi_ids(self) -> None:
@@ -86,8 +90,7 @@ class XmlInput:
         try:
             for uri in set((self.root.nsmap or {}).values()):
                 if uri and "XMI" in uri:
-                    count = self.root.xpath("count(//@x:id)", namespaces={"x": uri})
-                    self._id_counts[uri] = int(count)
+                    self._count_ids(uri)
         except Exception:  # id_count() counts what is missing on the main thread
             pass
         finally:
@@ -183,10 +186,9 @@ def prefetch(paths: list[str]) -> None:
 
 
 class _Prefetch:
-    __slots__ = ("data", "done", "identity", "parsing", "result")
+    __slots__ = ("data", "done", "identity", "result")
 
     def __init__(self) -> None:
-        self.parsing = threading.Event()  # set when libxml2 is about to parse (or never will)
         self.data: bytes | None = None  # the file's bytes, once read
         self.done = threading.Event()
         self.result: XmlInput | None = None
@@ -201,7 +203,7 @@ def bytes_being_parsed(path: str) -> tuple[bytes, threading.Event] | None:
     done (None when it is not parsing them): what can be learnt from the raw file meanwhile (see
     launch.py) costs no time."""
     slot = _prefetched.get(path)
-    if slot is None or slot.done.is_set() or not slot.parsing.is_set() or slot.data is None:
+    if slot is None or slot.done.is_set() or slot.data is None:
         return None
     return slot.data, slot.done
 
@@ -220,7 +222,6 @@ def _prefetch_all(slots: dict[str, _Prefetch]) -> None:
         except Exception:  # the main thread reads the file again and reports what it finds
             slot.result = None
         finally:
-            slot.parsing.set()
             slot.done.set()
         if slot.result is not None and slot.result._counting is not None:
             slot.result._count_xmi_ids()
@@ -257,17 +258,13 @@ def _read_xml(path: str, slot: _Prefetch | None = None) -> XmlInput:
     except OSError as err:
         reason = err.strerror or str(err)
         return XmlInput(path, None, [diagnostic("X101", f"cannot read file: {reason}", file=path)])
-    if slot is None:
-        return parse_bytes(data, path)
-    slot.data = data
-    return parse_bytes(data, path, slot.parsing)
+    if slot is not None:
+        slot.data = data
+    return parse_bytes(data, path)
 
 
-def parse_bytes(
-    data: bytes, path: str = "<input>", parsing: threading.Event | None = None
-) -> XmlInput:
-    """Parse XML bytes with the hardened parser; never raises for bad input. ``parsing`` is set
-    just before libxml2 starts (see :func:`prefetch`)."""
+def parse_bytes(data: bytes, path: str = "<input>") -> XmlInput:
+    """Parse XML bytes with the hardened parser; never raises for bad input."""
     if len(data) > MAX_BYTES:
         msg = f"file is larger than {MAX_BYTES // 2**20} MiB; split the model"
         return XmlInput(path, None, [diagnostic("X103", msg, file=path)])
@@ -287,8 +284,6 @@ def parse_bytes(
         msg = "document type declaration refused: UML exports have none, and it can read local files (XXE) or expand entities without bound"
         return XmlInput(path, None, [diagnostic("X102", msg, file=path, line=line, column=col)])
     parser = hardened_parser()
-    if parsing is not None:
-        parsing.set()
     try:
         root = etree.fromstring(data, parser)
     except etree.XMLSyntaxError as err:

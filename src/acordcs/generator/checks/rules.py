@@ -239,25 +239,18 @@ class _RuleChecker:
                 atoms.append(node)
             elif kind is BoolOp:  # the common nodes first; hasattr costs an exception
                 stack += (node.right, node.left)
-            elif kind is Not:
-                stack.append(node.operand)
-            elif isinstance(node, Is):
-                atoms.append(node)
-            elif hasattr(node, "operand"):
+            elif kind is Not or hasattr(node, "operand"):
                 stack.append(node.operand)
             elif hasattr(node, "left"):
                 stack += [node.right, node.left]
         inputs = len(atoms)
         atoms += rule.actions
-        answers = self.scope.answers
         for index, atom in enumerate(atoms):
             var = atom.var
-            found = answers.get((var.text, "attribute"))
-            if found is None or isinstance(found, str):
-                found = self.variable(prule, var)
-                if not isinstance(found, tuple):
-                    yield found
-                    continue
+            found = self.variable(prule, var)
+            if not isinstance(found, tuple):
+                yield found
+                continue
             attr = found[1]
             info = self.terms.get(attr.id)
             if info is None:

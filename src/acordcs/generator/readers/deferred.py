@@ -146,11 +146,13 @@ class DeferringReader:
         its lists keep file order."""
         self.now.add(id(owner))
         if owner._pending is not None:
-            self.pending_ids.pop(id(owner), None)  # its elements are seen as they are read
             self._load(owner)
 
     def _load(self, owner: Classifier) -> None:
         pending, owner._pending = owner._pending, None
+        if not self.walked:  # asked for during the walk: the rest of the class as it comes
+            self.now.add(id(owner))
+            self.pending_ids.pop(id(owner), None)  # its elements are seen as they are read
         first = len(self.type_refs)
         for child in pending:
             if child.tag == "ownedAttribute":
@@ -176,8 +178,8 @@ class LazyElements(dict):
 
     __slots__ = ("_owners",)
 
-    def __init__(self, elements: dict[str, Element], owners: dict[str, Classifier]) -> None:
-        super().__init__(elements)
+    def __init__(self, owners: dict[str, Classifier]) -> None:
+        super().__init__()
         self._owners = owners  # id of a deferred member or parameter -> its class
 
     def __missing__(self, key: str) -> Element:

@@ -10,7 +10,6 @@ that differs between the two places is R205 (see ``shared/reference/bouml-xmi.md
 from __future__ import annotations
 
 import re
-from collections.abc import Callable
 
 from lxml import etree
 
@@ -27,17 +26,9 @@ def local_name(tag: str) -> str:
 class StereotypeApplications:
     """Collects the applications of one model into ``model.applications``."""
 
-    def __init__(
-        self,
-        model: UmlModel,
-        xmi_id: str,
-        seen: list[str] | None = None,
-        find: Callable[[str], Element | None] | None = None,
-    ) -> None:
+    def __init__(self, model: UmlModel, xmi_id: str, seen: list[str] | None = None) -> None:
         self.model = model
         self.XID = xmi_id
-        # The element of an id, read now if the reader deferred it (readers/deferred.py).
-        self.find = find or model.elements.get
         self.seen = seen if seen is not None else []  # the ids of the applications read
         self._profiles: dict[str, str | None] = {}  # profile named by a namespace URI, if any
 
@@ -65,7 +56,7 @@ class StereotypeApplications:
                     f"is stated twice, {old!r} then {value!r}; using {old!r}: apply the stereotype "
                     "once"
                 )
-            base = self.find(app.base)
+            base = self.model.elements.get(app.base)
             self.model.diagnostics.append(
                 diagnostic(
                     "R205",

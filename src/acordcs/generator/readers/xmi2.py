@@ -100,7 +100,12 @@ class _Reader(DeferringReader):
         # they are as many as the file has, they are all of them, and no XPath has to find them.
         self.seen: list[str] = []
         self.pending_ids: dict[int, list[str]] = {}
-        self.stereotypes = StereotypeApplications(self.model, self.XID, self.seen, self._element)
+        if lazy:
+            self.deferred = {}
+            self.deferred_refs = []
+            self.now = set()
+            self.model.elements = LazyElements(self.deferred)
+        self.stereotypes = StereotypeApplications(self.model, self.XID, self.seen)
         self._handlers = {
             "ownedAttribute": self._on_attribute,
             "ownedEnd": self._on_end,
@@ -134,9 +139,6 @@ class _Reader(DeferringReader):
         if lazy:
             self._handlers["ownedAttribute"] = self._lazy_attribute
             self._handlers["ownedOperation"] = self._lazy_operation
-            self.deferred = {}
-            self.deferred_refs = []
-            self.now = set()
 
     # ------------------------------------------------------------------ entry
     def read(self) -> UmlModel:
@@ -169,10 +171,12 @@ class _Reader(DeferringReader):
         self.walked = True
         ids = self._all_ids()
         known = set(ids)
-        if self.lazy and self.deferred:
-            if len(known) != len(ids) or not known.issuperset(self.deferred_refs):
-                return _Reader(self.xml, lazy=False).read()  # see deferred.py
-            model.elements = self.elements = LazyElements(self.elements, self.deferred)
+        if (
+            self.lazy
+            and self.deferred
+            and (len(known) != len(ids) or not known.issuperset(self.deferred_refs))
+        ):
+            return _Reader(self.xml, lazy=False).read()  # see deferred.py
         self._resolve(ids, known)
         return model
 
@@ -194,16 +198,6 @@ class _Reader(DeferringReader):
         if len(seen) == self.xml.id_count(self.xmi_ns):
             return seen  # each element is seen once, so the same ids as the file's
         return self.xml.ids(self.xmi_ns)
-
-    def _element(self, ident: str) -> Element | None:
-        """The element with id ``ident``; a deferred member is read (with its class) first."""
-        found = self.elements.get(ident)
-        if found is None and self.lazy:
-            owner = self.deferred.get(ident)
-            if owner is not None and owner._pending is not None:
-                self._read_now(owner)
-                found = self.elements.get(ident)
-        return found
 
     def _saw(self, el: etree._Element) -> None:
         if not self.walked:
