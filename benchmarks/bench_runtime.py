@@ -70,7 +70,7 @@ class MiniCrisp:
     """A fallback crisp engine (first-match thresholds) used only if no project engine exists."""
 
     def __init__(self, setup: EngineSetup) -> None:
-        from acordcs.metamodel.rules import parse_rule
+        from acordcs.rules import parse_rule
 
         self.parse = parse_rule
         self.values: dict[str, Any] = {}

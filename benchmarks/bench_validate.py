@@ -27,8 +27,7 @@ from pathlib import Path
 
 from lxml import etree
 
-sys.path.insert(0, str(Path(__file__).parent))
-from gen_synthetic_bouml import generate
+from acordcs.xmi.writer.synthetic import generate
 
 ROUNDS = 7
 PAIRS = 15
@@ -68,7 +67,7 @@ def run_cli(path: Path) -> None:
 
 
 def main() -> int:
-    from acordcs.generator.pipeline import read_model
+    from acordcs.model.reading import read_model
 
     with tempfile.TemporaryDirectory() as tmp:
         big = Path(tmp, "synthetic-2000.xmi")
@@ -113,10 +112,10 @@ def main() -> int:
 
 def _rule_parsers(reading) -> tuple[float, float, int]:
     """Median time to parse every rule of the model: our driver vs lark's, same builders."""
-    from acordcs.generator.architecture import POLICY_SET
-    from acordcs.generator.checks.rules import policy_rules
-    from acordcs.metamodel import lalr, rules
-    from acordcs.metamodel.rules import parse_rule
+    from acordcs.model.architecture import POLICY_SET
+    from acordcs.model.checks.rules import policy_rules
+    from acordcs.rules import lalr, parse_rule
+    from acordcs.rules import parser as rules
 
     arch = reading.architecture
     texts = []
@@ -141,7 +140,7 @@ def _rule_parsers(reading) -> tuple[float, float, int]:
 
 def _analysis_cost() -> float:
     code = (
-        "import time; t = time.perf_counter(); from acordcs.metamodel import lalr, rules; "
+        "import time; t = time.perf_counter(); from acordcs.rules import lalr, parser as rules; "
         "g = open(rules.__file__.replace('rules.py', 'rules.lark')).read(); "
         "lalr.Tables(lalr.analyse(g, ['start_fuzzy', 'start_crisp', 'start_terms'])); "
         "print(time.perf_counter() - t)"

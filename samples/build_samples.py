@@ -2,26 +2,20 @@
 
 The samples are what BOUML's xmi2 exporter writes for the models described in each sample's README.
 They are written by the same writer as the synthetic benchmark model
-(``benchmarks/gen_synthetic_bouml.py``), so that both places BOUML puts a stereotype (root-level
+(:mod:`acordcs.xmi.writer`), so that both places BOUML puts a stereotype (root-level
 application, ``xmi:Extension``) always agree. Run ``.venv/bin/python samples/build_samples.py``;
 the output is deterministic.
 """
 
 from __future__ import annotations
 
-import importlib.util
 import sys
 from pathlib import Path
 
-HERE = Path(__file__).resolve().parent
-_spec = importlib.util.spec_from_file_location(
-    "gen_synthetic_bouml", HERE.parent / "benchmarks" / "gen_synthetic_bouml.py"
-)
-bouml = importlib.util.module_from_spec(_spec)
-sys.modules["gen_synthetic_bouml"] = bouml
-_spec.loader.exec_module(bouml)
+from acordcs.xmi.writer.bouml import BoumlWriter, ctx, ctx_var
+from acordcs.xmi.writer.elements import Pkg
 
-Pkg, BoumlWriter, ctx, ctx_var = bouml.Pkg, bouml.BoumlWriter, bouml.ctx, bouml.ctx_var
+HERE = Path(__file__).resolve().parent
 
 # ------------------------------------------------------------------------------------------ WebLab
 # Linguistic terms (our choices; the paper gives names of some terms, never their shapes).

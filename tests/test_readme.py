@@ -9,8 +9,8 @@ from pathlib import Path
 
 from click.testing import CliRunner
 
-from acordcs.generator.cli import cli
-from acordcs.generator.diagnostics import CODES
+from acordcs.cli import cli
+from acordcs.diagnostics import CODES
 
 ROOT = Path(__file__).resolve().parents[1]
 README = (ROOT / "README.md").read_text(encoding="utf-8")

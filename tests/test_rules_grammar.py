@@ -1,4 +1,4 @@
-"""The ACORD-CS rule language (acordcs.metamodel.rules + rules.lark): fuzzy and crisp rules, term lists,
+"""The ACORD-CS rule language (acordcs.rules.parser + rules.lark): fuzzy and crisp rules, term lists,
 error columns, and a round trip through a printer written here."""
 
 from __future__ import annotations
@@ -9,7 +9,7 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from acordcs.metamodel.rules import (
+from acordcs.rules import (
     KEYWORDS,
     Arith,
     Assign,

@@ -1,4 +1,4 @@
-"""The lean LALR driver (acordcs.metamodel.lalr) against lark's own parser on the same grammar.
+"""The lean LALR driver (acordcs.rules.lalr) against lark's own parser on the same grammar.
 
 lark is the oracle: for every input, both must build the same tree (through the same builders) or
 stop at the same place with the same expectation. Inputs are generated: token soup from the
@@ -16,8 +16,9 @@ from hypothesis import strategies as st
 from lark import Lark
 from lark.exceptions import UnexpectedCharacters, UnexpectedToken
 
-from acordcs.metamodel import lalr, rules
-from acordcs.metamodel.lalr import Node, Tables, Tok, Unexpected
+from acordcs.rules import lalr
+from acordcs.rules import parser as rules
+from acordcs.rules.lalr import Node, Tables, Tok, Unexpected
 
 GRAMMAR_PATH = os.path.join(os.path.dirname(rules.__file__), "rules.lark")
 with open(GRAMMAR_PATH, encoding="utf-8") as _handle:
@@ -266,7 +267,7 @@ def test_validate_never_imports_lark():
     assert private_dir() is not None, "no private cache directory: lark would run every time"
     rules._tables()  # analysed and stored, if this is the first parse on this machine
     code = (
-        "import sys; from acordcs.generator.pipeline import read_model; "
+        "import sys; from acordcs.model.reading import read_model; "
         "read_model('samples/weblab/weblab.xmi'); "
         "print(sorted(m for m in sys.modules if m == 'lark' or m.startswith('lark.')))"
     )
@@ -284,7 +285,7 @@ def test_long_runs_of_blanks_cost_linear_time():
     import sys
 
     code = (
-        "from acordcs.metamodel.rules import parse_rule, RuleSyntaxError\n"
+        "from acordcs.rules import parse_rule, RuleSyntaxError\n"
         "for text in ('if' + ' ' * 100000 + '?', 'if' + ' \\t' * 50000 + 'a is b then c is d'):\n"
         "    try:\n"
         "        parse_rule(text)\n"

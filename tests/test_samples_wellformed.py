@@ -14,7 +14,6 @@ import importlib.util
 import itertools
 import keyword
 import re
-import sys
 from collections import defaultdict
 from dataclasses import dataclass, field
 from functools import cache
@@ -23,13 +22,12 @@ from pathlib import Path
 import pytest
 from lxml import etree
 
-from acordcs.metamodel.rules import Assign, Call, Consequent, parse_rule, parse_terms
 from acordcs.profile import profile
+from acordcs.rules import Assign, Call, Consequent, parse_rule, parse_terms
 
 ROOT = Path(__file__).resolve().parent.parent
 WEBLAB = ROOT / "samples" / "weblab" / "weblab.xmi"
 SMARTROOM = ROOT / "samples" / "smartroom" / "smartroom.xmi"
-GENERATOR = ROOT / "benchmarks" / "gen_synthetic_bouml.py"
 
 XMI = "http://schema.omg.org/spec/XMI/2.1"
 ACORDCS = "http:///schemas/ACORDCS/1"
@@ -114,11 +112,9 @@ def valid_identifier(name: str) -> bool:
 
 
 def load_generator():
-    spec = importlib.util.spec_from_file_location("gen_synthetic_bouml", GENERATOR)
-    mod = importlib.util.module_from_spec(spec)
-    sys.modules["gen_synthetic_bouml"] = mod
-    spec.loader.exec_module(mod)
-    return mod
+    from acordcs.xmi.writer import synthetic
+
+    return synthetic
 
 
 # ------------------------------------------------------------------------ the independent reading
@@ -528,7 +524,7 @@ def test_rules_parse_and_resolve_in_scope(model: Model):
 
 
 def _is_nodes(node):
-    from acordcs.metamodel.rules import BoolOp, Is, Not
+    from acordcs.rules import BoolOp, Is, Not
 
     if isinstance(node, Is):
         yield node

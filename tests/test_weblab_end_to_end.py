@@ -11,8 +11,8 @@ from typing import ClassVar
 
 import pytest
 
-from acordcs.generator.model_builder import build_application as model_of
-from acordcs.generator.pipeline import read_model
+from acordcs.model.ecore_builder import build_application as model_of
+from acordcs.model.reading import read_model
 from acordcs.runtime.application import build_application
 from acordcs.runtime.clock import VirtualClock
 from acordcs.runtime.component import CtxComponent

@@ -456,8 +456,8 @@ def test_unsettable_attribute_set_to_zero_survives(emf, tmp_path):
 
 def test_weblab_sample_loads_in_emf(emf, tmp_path):
     # The ACORD-CS model read from the WebLab sample, saved by our toolchain, must load in EMF too.
-    from acordcs.generator.model_builder import build_application
-    from acordcs.generator.pipeline import read_model
+    from acordcs.model.ecore_builder import build_application
+    from acordcs.model.reading import read_model
 
     reading = read_model(str(WEBLAB_SAMPLE))
     assert not reading.diagnostics, [d.format_text() for d in reading.diagnostics]

@@ -11,7 +11,9 @@ import math
 
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
-from test_clips_oracle import (
+
+from acordcs.runtime.clips import ClipsEngine
+from tests.runtime.test_clips_oracle import (
     STRINGS,
     Oracle,
     _string_literal,
@@ -21,8 +23,6 @@ from test_clips_oracle import (
     recorder,
     values,
 )
-
-from acordcs.runtime.clips import ClipsEngine
 
 
 def flag(engine: ClipsEngine) -> bool:

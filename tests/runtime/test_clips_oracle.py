@@ -14,7 +14,7 @@ import operator
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from acordcs.metamodel.rules import (
+from acordcs.rules import (
     Arith,
     Assign,
     BoolOp,

@@ -7,7 +7,6 @@ import threading
 from pathlib import Path
 
 import pytest
-from ctx_helpers import Broker, free_port, wait_for
 
 from acordcs.runtime.context import (
     ContextError,
@@ -17,6 +16,7 @@ from acordcs.runtime.context import (
     SubscriptionError,
     publisher_topic,
 )
+from tests.support.services import Broker, free_port, wait_for
 
 pytestmark = pytest.mark.service
 
@@ -188,7 +188,7 @@ def test_unreachable_broker_is_a_clear_error() -> None:
 
 
 def test_missing_mosquitto_skips_locally_but_fails_in_ci(monkeypatch: pytest.MonkeyPatch) -> None:
-    import ctx_helpers
+    from tests.support import services as ctx_helpers
 
     monkeypatch.setattr(ctx_helpers, "MOSQUITTO_CANDIDATES", ("/nonexistent/mosquitto",))
     monkeypatch.setenv("CI", "true")

@@ -7,7 +7,6 @@ import threading
 from pathlib import Path
 
 import pytest
-from ctx_helpers import wait_for
 from lxml import etree
 
 from acordcs.runtime.context import (
@@ -18,6 +17,7 @@ from acordcs.runtime.context import (
     PublishError,
     SubscriptionError,
 )
+from tests.support.services import wait_for
 
 
 class Inbox:

@@ -7,11 +7,11 @@ import logging
 import numpy as np
 import pytest
 from hypothesis import HealthCheck, given, settings
-from test_fuzzy_bases import bandwidth_engine, speed_engine
-from test_fuzzy_oracle import OPERATORS, rule_base
 
 from acordcs.runtime.engine import RuleError
 from acordcs.runtime.fuzzy import FuzzyEngine
+from tests.runtime.test_fuzzy_bases import bandwidth_engine, speed_engine
+from tests.runtime.test_fuzzy_oracle import OPERATORS, rule_base
 
 
 def _row_by_row(engine: FuzzyEngine, ruleset: str, cols: dict, out: str) -> np.ndarray:

@@ -6,10 +6,10 @@ import logging
 import math
 
 import pytest
-from test_fuzzy_bases import speed_engine
 
 from acordcs.runtime.engine import RuleEngine, RuleError
 from acordcs.runtime.fuzzy import FuzzyEngine, Semantics
+from tests.runtime.test_fuzzy_bases import speed_engine
 
 
 def tiny(semantics="mamdani", **out_kwargs) -> FuzzyEngine:

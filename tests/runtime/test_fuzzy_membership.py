@@ -122,7 +122,7 @@ def test_sorted_triangles_are_accepted_and_bounded(points, x):
 
 @pytest.mark.parametrize(("shape", "params"), SHAPES)
 def test_fcl_text_reads_back_as_the_same_function(shape, params):
-    from acordcs.metamodel.rules import parse_terms
+    from acordcs.rules import parse_terms
 
     mf = make_membership(shape, params)
     (term,) = parse_terms(f"t := {mf.fcl()}")

@@ -4,12 +4,12 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from test_fuzzy_bases import SPEED_RULES, SPEED_VARIABLES, speed_engine
 
 from acordcs.metamodel import create, load
-from acordcs.metamodel.rules import parse_terms
+from acordcs.rules import parse_terms
 from acordcs.runtime.engine import RuleError
 from acordcs.runtime.fuzzy import engine_for_policy_set
+from tests.runtime.test_fuzzy_bases import SPEED_RULES, SPEED_VARIABLES, speed_engine
 
 
 def _literal(enum: str, name: str):

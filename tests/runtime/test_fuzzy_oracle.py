@@ -15,7 +15,11 @@ import numpy as np
 import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
-from test_fuzzy_bases import (
+
+from acordcs.rules import Is, Not, parse_rule, parse_terms
+from acordcs.runtime.fuzzy import FuzzyEngine, Semantics, make_membership
+from acordcs.runtime.fuzzy.sampled import FALLBACK_SAMPLES
+from tests.runtime.test_fuzzy_bases import (
     BANDWIDTH_RULES,
     BANDWIDTH_VARIABLES,
     SPEED_RULES,
@@ -23,10 +27,6 @@ from test_fuzzy_bases import (
     bandwidth_engine,
     speed_engine,
 )
-
-from acordcs.metamodel.rules import Is, Not, parse_rule, parse_terms
-from acordcs.runtime.fuzzy import FuzzyEngine, Semantics, make_membership
-from acordcs.runtime.fuzzy.sampled import FALLBACK_SAMPLES
 
 DENSE = 200_001
 SETTINGS = settings(max_examples=40, deadline=None, suppress_health_check=[HealthCheck.too_slow])
@@ -238,7 +238,7 @@ def _skfuzzy(variables: dict, table: dict, inputs: tuple, out: str):
 @pytest.mark.parametrize("base", ["speed", "bandwidth"])
 @pytest.mark.filterwarnings("ignore::DeprecationWarning")  # inside scikit-fuzzy 0.5 with numpy 2
 def test_agrees_with_scikit_fuzzy(base):
-    from test_fuzzy_bases import ANGLES, BANDWIDTH_TABLE, SPEED_TABLE, USERS
+    from tests.runtime.test_fuzzy_bases import ANGLES, BANDWIDTH_TABLE, SPEED_TABLE, USERS
 
     if base == "speed":
         variables, second, cols, table, out = SPEED_VARIABLES, "angle", ANGLES, SPEED_TABLE, "speed"

@@ -8,7 +8,6 @@ import zipfile
 from pathlib import Path
 
 import pytest
-from ctx_helpers import free_port
 
 from acordcs.runtime.repository import (
     ComponentRepository,
@@ -18,6 +17,7 @@ from acordcs.runtime.repository import (
     RepositoryError,
     parse_description,
 )
+from tests.support.services import free_port
 
 PLAIN_PACKAGE = {
     "linefollower/__init__.py": "from .factory import make_factory\n",

@@ -5,7 +5,6 @@ from __future__ import annotations
 from typing import ClassVar
 
 import pytest
-from rt_helpers import CrispEngine
 
 from acordcs.metamodel import create, load
 from acordcs.runtime.application import build_application, terms_text
@@ -15,6 +14,7 @@ from acordcs.runtime.errors import BindingError, ConfigurationError
 from acordcs.runtime.monitor import Monitor
 from acordcs.runtime.ports import stream_port
 from acordcs.runtime.registry import register_engine, unregister_engine
+from tests.support.components import CrispEngine
 
 
 def lit(enum: str, name: str):

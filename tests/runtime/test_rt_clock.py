@@ -6,7 +6,6 @@ from __future__ import annotations
 import threading
 
 import pytest
-from rt_helpers import Camera, Client, Counter, Receiver, Screen, Sender
 
 from acordcs.runtime.clock import RealClock, VirtualClock
 from acordcs.runtime.component import ComponentFactory
@@ -14,6 +13,7 @@ from acordcs.runtime.connectors.shaping import ShapedConnector
 from acordcs.runtime.container import Container
 from acordcs.runtime.errors import ConnectorError
 from acordcs.runtime.monitor import Monitor
+from tests.support.components import Camera, Client, Counter, Receiver, Screen, Sender
 
 
 def test_virtual_clock_runs_events_in_time_then_fifo_order():

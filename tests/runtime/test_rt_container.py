@@ -5,7 +5,6 @@ from __future__ import annotations
 import logging
 
 import pytest
-from rt_helpers import BetterCounter, Client, Counter
 
 from acordcs.runtime import events as ev
 from acordcs.runtime.clock import VirtualClock
@@ -21,6 +20,7 @@ from acordcs.runtime.errors import (
     PortError,
 )
 from acordcs.runtime.interceptors import Interceptor, Invocation
+from tests.support.components import BetterCounter, Client, Counter
 
 
 @pytest.fixture

@@ -1,12 +1,11 @@
 """Policy sets driven through the RuleEngine protocol, monitors, and cascade bounds.
 
-The engine here is rt_helpers.CrispEngine, a small real evaluator of the crisp rule syntax.
+The engine here is tests.support.components.CrispEngine, a small real evaluator of the crisp rule syntax.
 """
 
 from __future__ import annotations
 
 import pytest
-from rt_helpers import Counter, CrispEngine
 
 from acordcs.runtime.clock import VirtualClock
 from acordcs.runtime.component import ComponentFactory
@@ -17,6 +16,7 @@ from acordcs.runtime.interceptors import Interceptor
 from acordcs.runtime.monitor import Monitor
 from acordcs.runtime.policy import PolicySet
 from acordcs.runtime.registry import lookup_engine, register_engine, unregister_engine
+from tests.support.components import Counter, CrispEngine
 
 
 @pytest.fixture(autouse=True)

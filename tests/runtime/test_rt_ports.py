@@ -3,13 +3,21 @@
 from __future__ import annotations
 
 import pytest
-from rt_helpers import BetterCounter, Camera, Client, Counter, Receiver, Screen, Sender
 
 from acordcs.runtime.clock import VirtualClock
 from acordcs.runtime.component import ComponentFactory, CtxComponent
 from acordcs.runtime.container import Container
 from acordcs.runtime.errors import PortError, QueueFullError
 from acordcs.runtime.ports import PortSpec, sync_port
+from tests.support.components import (
+    BetterCounter,
+    Camera,
+    Client,
+    Counter,
+    Receiver,
+    Screen,
+    Sender,
+)
 
 
 @pytest.fixture

@@ -23,7 +23,7 @@ from acordcs.runtime.errors import RemoteCallError, RemoteTimeoutError, RemoteUn
 from acordcs.runtime.monitor import Monitor
 from acordcs.runtime.ports import async_port, sync_port
 
-HELPER = Path(__file__).with_name("rt_helpers_remote.py")
+HELPER = Path(__file__).parents[1] / "support" / "remote_container.py"
 TIMEOUT = 1.0  # the connector's call timeout: keeps the failure tests quick
 
 

@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import pytest
-from rt_helpers import Camera, Counter, Screen
 
 from acordcs.runtime.clock import VirtualClock
 from acordcs.runtime.component import ComponentFactory
@@ -11,6 +10,7 @@ from acordcs.runtime.connectors.shaping import ShapedConnector
 from acordcs.runtime.container import Container
 from acordcs.runtime.errors import CallVetoed
 from acordcs.runtime.services import AccessService, QoSBroker, SessionGuard
+from tests.support.components import Camera, Counter, Screen
 
 
 @pytest.fixture

@@ -25,7 +25,7 @@ from __future__ import annotations
 from collections.abc import Iterable, Mapping, Sequence
 from typing import TYPE_CHECKING, Any
 
-from acordcs.metamodel.rules import Name, RuleSyntaxError, parse_rule, split_rules
+from acordcs.rules import Name, RuleSyntaxError, parse_rule, split_rules
 from acordcs.runtime import events as ev
 from acordcs.runtime.engine import RuleEngine, RuleError
 from acordcs.runtime.errors import BindingError, ComponentNotFoundError, ConfigurationError

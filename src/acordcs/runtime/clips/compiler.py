@@ -1,4 +1,4 @@
-"""Crisp rules, as parsed by :func:`acordcs.metamodel.rules.parse_rule`, compiled to CLIPS ``defrule`` text.
+"""Crisp rules, as parsed by :func:`acordcs.rules.parser.parse_rule`, compiled to CLIPS ``defrule`` text.
 
 A crisp rule ``retry: if Control.speed == 0 and Recovery.zeros <= 3 then Recovery.recover()``, the
 second of rule set ``recovery``, both variables declared as numbers, becomes (one line, wrapped)::
@@ -49,7 +49,7 @@ import math
 from collections.abc import Callable
 from dataclasses import dataclass
 
-from acordcs.metamodel.rules import (
+from acordcs.rules import (
     Arith,
     Assign,
     BoolOp,

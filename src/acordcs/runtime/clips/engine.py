@@ -33,7 +33,7 @@ from collections import deque
 from collections.abc import Callable
 from dataclasses import dataclass
 
-from acordcs.metamodel.rules import Name
+from acordcs.rules import Name
 from acordcs.runtime.clips.bridge import MULTIFIELD, Bridge, ClipsFailure
 from acordcs.runtime.clips.compiler import Target
 from acordcs.runtime.clips.operations import Faults, FireError, Operations

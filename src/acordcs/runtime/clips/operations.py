@@ -12,7 +12,7 @@ from collections import deque
 from collections.abc import Callable
 from dataclasses import dataclass
 
-from acordcs.metamodel.rules import Name
+from acordcs.rules import Name
 from acordcs.runtime.clips.values import Value
 
 log = logging.getLogger("acordcs.runtime.clips")

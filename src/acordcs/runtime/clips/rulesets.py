@@ -12,7 +12,7 @@ from dataclasses import dataclass, field
 
 from clips.values import Symbol
 
-from acordcs.metamodel.rules import RuleSyntaxError, parse_rule
+from acordcs.rules import RuleSyntaxError, parse_rule
 from acordcs.runtime.clips.bridge import Bridge, ClipsFailure
 from acordcs.runtime.clips.compiler import OperationResolver, VariableResolver, compile_rule
 from acordcs.runtime.clips.records import Sites

@@ -14,7 +14,7 @@ import math
 from collections.abc import Callable
 from dataclasses import dataclass, field
 
-from acordcs.metamodel.rules import BoolOp, Consequent, Is, Name, Not, Rule
+from acordcs.rules import BoolOp, Consequent, Is, Name, Not, Rule
 from acordcs.runtime.engine import RuleError
 from acordcs.runtime.fuzzy.defuzz import OutputShape, make_defuzzifier
 from acordcs.runtime.fuzzy.semantics import Semantics, collapses

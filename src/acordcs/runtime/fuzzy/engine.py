@@ -20,7 +20,7 @@ from collections.abc import Mapping
 
 import numpy as np
 
-from acordcs.metamodel.rules import Rule, RuleSyntaxError, parse_rule
+from acordcs.rules import Rule, RuleSyntaxError, parse_rule
 from acordcs.runtime.engine import RuleError
 from acordcs.runtime.fuzzy.compiler import (
     CompiledRuleSet,
@@ -73,7 +73,7 @@ class FuzzyEngine:
         """Declare (or redeclare) a linguistic variable.
 
         ``terms``: FCL-style text (``"slow := trape 0 0 40 80; fast := trian 60 200 200"``), a list of
-        :class:`~acordcs.metamodel.rules.TermDef`, or a mapping of names to Memberships. Redeclaring
+        :class:`~acordcs.rules.parser.TermDef`, or a mapping of names to Memberships. Redeclaring
         a variable re-checks every rule that uses it; nothing changes if one no longer fits.
         """
         var = build_variable(

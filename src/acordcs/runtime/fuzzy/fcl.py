@@ -2,7 +2,7 @@
 
 :func:`read_fcl` gives one :class:`FuzzyEngine` per FUNCTION_BLOCK (keyed by block name); each
 RULEBLOCK becomes a rule set of that engine with its own operators. Conditions are parsed into the
-same tree classes as the paper's syntax (``acordcs.metamodel.rules``), so both run through one
+same tree classes as the paper's syntax (``acordcs.rules.parser``), so both run through one
 inference code path. :func:`write_fcl` writes an engine back; reading that text gives an engine with
 the same variables, terms, operators, rules and results.
 
@@ -22,7 +22,7 @@ from lark import Lark, Token, Tree
 from lark.exceptions import UnexpectedCharacters, UnexpectedInput, UnexpectedToken
 
 from acordcs.cachedir import lark_cache
-from acordcs.metamodel.rules import BoolOp, Consequent, Is, Name, Not, Rule
+from acordcs.rules import BoolOp, Consequent, Is, Name, Not, Rule
 from acordcs.runtime.engine import RuleError
 from acordcs.runtime.fuzzy.engine import FuzzyEngine
 from acordcs.runtime.fuzzy.fcl_writer import format_condition, format_rule, write_fcl

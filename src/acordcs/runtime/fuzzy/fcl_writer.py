@@ -6,7 +6,7 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING
 
-from acordcs.metamodel.rules import BoolOp, Is, Not
+from acordcs.rules import BoolOp, Is, Not
 from acordcs.runtime.fuzzy.membership import fmt_number
 from acordcs.runtime.fuzzy.semantics import AND_OPS
 

@@ -1,6 +1,6 @@
 """Membership functions of linguistic terms: validation, evaluation (scalar, numpy, generated code).
 
-Shapes and parameters follow FCL order (``acordcs.metamodel.rules.TermDef``): ``triangle a b c``,
+Shapes and parameters follow FCL order (``acordcs.rules.parser.TermDef``): ``triangle a b c``,
 ``trapezoid a b c d``, ``gaussian mean sigma``, ``bell a b mean``, ``sigmoid gain center``,
 ``points x1 y1 x2 y2 ...`` and ``singleton x``.
 

@@ -9,7 +9,7 @@ after the policy; the set's ``semantics`` tag chooses the inference semantics.
 
 from __future__ import annotations
 
-from acordcs.metamodel.rules import Name, RuleSyntaxError, TermDef, parse_rule
+from acordcs.rules import Name, RuleSyntaxError, TermDef, parse_rule
 from acordcs.runtime.engine import RuleError
 from acordcs.runtime.fuzzy.engine import FuzzyEngine
 

@@ -7,7 +7,7 @@ import math
 from collections.abc import Iterable, Mapping
 from dataclasses import dataclass, field
 
-from acordcs.metamodel.rules import RuleSyntaxError, TermDef, parse_terms
+from acordcs.rules import RuleSyntaxError, TermDef, parse_terms
 from acordcs.runtime.engine import RuleError
 from acordcs.runtime.fuzzy.membership import Membership, fmt_number, make_membership
 from acordcs.runtime.fuzzy.semantics import METHODS

@@ -1,0 +1,287 @@
+"""The ACORD-CS reading of a UML model: which elements play which role, and what the relations mean.
+
+A stereotyped element is a :class:`Role`. Relations between roles (associations of any aggregation,
+dependencies, nesting, Papyrus ports) are classified by the pair of stereotypes they join, as
+the README's section on modelling states: deployment, port ownership, connection ends, policy membership, adapts,
+feeds and sources. This is an index over the UML view, not a second metamodel: the pyecore model is
+built from it by :mod:`acordcs.model.ecore_builder` when one is needed.
+"""
+
+from __future__ import annotations
+
+from collections import defaultdict
+from dataclasses import dataclass, field
+from functools import cache
+
+from acordcs.diagnostics import diagnostic
+from acordcs.profile import PROFILE_NAME, Stereotype, profile, stereotype
+from acordcs.xmi.uml import (
+    Classifier,
+    Element,
+    Property,
+    StereotypeApplication,
+    UmlModel,
+)
+
+CONTAINER, COMPONENT, PORT, CONNECTION = (
+    "CtxContainer",
+    "CtxComponent",
+    "CtxPort",
+    "CtxPortConnection",
+)
+POLICY_SET, POLICY, MONITOR, VARIABLE = "CtxPolicySet", "CtxPolicy", "CtxMonitor", "CtxVariable"
+
+# UML metaclass named by the profile -> element kinds it covers (a stereotype on Class also applies
+# to Class's specialisations that a modeller uses for these roles).
+_METACLASS_COVERS = {
+    "Class": {"Class", "AssociationClass", "Component"},
+    "Component": {"Component"},
+    "AssociationClass": {"AssociationClass"},
+    "Port": {"Port"},
+    "Property": {"Property"},
+}
+
+# (stereotype a, stereotype b) -> relation name, read as "a <relation> b"
+_RELATIONS = {
+    (CONTAINER, COMPONENT): "hosts",
+    (CONTAINER, MONITOR): "hosts",
+    (CONTAINER, POLICY_SET): "hosts",
+    (COMPONENT, PORT): "owns_port",
+    (CONNECTION, PORT): "joins",
+    (POLICY_SET, POLICY): "contains",
+    (POLICY_SET, CONTAINER): "adapts",
+    (POLICY_SET, COMPONENT): "adapts",
+    (POLICY_SET, PORT): "adapts",
+    (POLICY_SET, CONNECTION): "adapts",
+    (POLICY_SET, POLICY_SET): "adapts",  # not allowed: reported as A504
+    (MONITOR, POLICY_SET): "feeds",
+    (MONITOR, COMPONENT): "sources",
+    (MONITOR, CONTAINER): "sources",
+    (MONITOR, PORT): "sources",
+}
+
+
+@dataclass(slots=True, eq=False)
+class Role:
+    """An element of the UML model that plays an ACORD-CS role."""
+
+    stereotype: Stereotype
+    element: Element
+    application: StereotypeApplication
+    tags: dict[str, str]
+
+    @property
+    def kind(self) -> str:
+        return self.stereotype.name
+
+    @property
+    def name(self) -> str:
+        return self.element.name
+
+    @property
+    def id(self) -> str:
+        return self.element.id
+
+    def tag(self, name: str) -> str | None:
+        """The tag's value as written, else the profile's default.
+
+        An empty value means unset: BOUML writes every declared tag, empty when the modeller left it.
+        """
+        value = self.tags.get(name)
+        if value is not None and value.strip():
+            return value.strip()
+        declared = self.stereotype.tag(name)
+        return declared.default if declared else None
+
+    def tag_line(self, name: str) -> int:
+        return self.application.tag_lines.get(name) or self.application.line or self.element.line
+
+
+@dataclass(eq=False)
+class Architecture:
+    uml: UmlModel
+    roles: dict[str, Role] = field(default_factory=dict)  # by element id
+    relations: dict[str, dict[str, list[Role]]] = field(
+        default_factory=lambda: defaultdict(lambda: defaultdict(list))
+    )
+    inverse: dict[str, dict[str, list[Role]]] = field(
+        default_factory=lambda: defaultdict(lambda: defaultdict(list))
+    )
+
+    def of_kind(self, kind: str) -> list[Role]:
+        return [r for r in self.roles.values() if r.kind == kind]
+
+    def related(self, role: Role, relation: str) -> list[Role]:
+        """Roles that ``role`` <relation> (e.g. the components a container hosts)."""
+        return self.relations[relation].get(role.id, [])
+
+    def related_to(self, role: Role, relation: str) -> list[Role]:
+        """Roles that <relation> ``role`` (e.g. the containers hosting a component)."""
+        return self.inverse[relation].get(role.id, [])
+
+    def attributes(self, role: Role) -> list[Property]:
+        element = role.element
+        return element.attributes if isinstance(element, Classifier) else []
+
+    def variable(self, prop: Property) -> Role | None:
+        role = self.roles.get(prop.id)
+        return role if role is not None and role.kind == VARIABLE else None
+
+    def scope(self, policy_set: Role) -> list[Role]:
+        """Elements whose attributes the rules of ``policy_set`` may use, in a stable order."""
+        seen: dict[str, Role] = {}
+        for monitor in self.related_to(policy_set, "feeds"):
+            seen.setdefault(monitor.id, monitor)
+        for target in self.related(policy_set, "adapts"):
+            seen.setdefault(target.id, target)
+            if target.kind == COMPONENT:
+                for port in self.related(target, "owns_port"):
+                    seen.setdefault(port.id, port)
+        return list(seen.values())
+
+    def policies(self, policy_set: Role) -> list[Role]:
+        return self.related(policy_set, "contains")
+
+    def _link(self, a: Role, b: Role, *, directed: bool) -> None:
+        """Record the relation between ``a`` and ``b``; ``directed`` when it goes from ``a`` to ``b``.
+
+        Two pairs read both ways (a container and a policy set: hosts or adapts; a container and a
+        monitor: hosts or sources). A relation that starts at the policy set or monitor is adapts or
+        sources; any other (from the container, or undirected) is deployment.
+        """
+        forward = _RELATIONS.get((a.kind, b.kind))
+        backward = _RELATIONS.get((b.kind, a.kind))
+        if forward is None and backward is None:
+            return
+        if forward is not None and backward is not None and not directed:
+            if backward == "hosts":
+                a, b = b, a
+                forward = backward
+        elif forward is None:
+            a, b, forward = b, a, backward
+        relation = forward
+        targets = self.relations[relation][a.id]
+        if b not in targets:
+            targets.append(b)
+            self.inverse[relation][b.id].append(a)
+
+
+def interpret(uml: UmlModel) -> Architecture:
+    """Find the roles and classify the relations between them; diagnostics go to ``uml.diagnostics``."""
+    arch = Architecture(uml)
+    for app in uml.applications.values():
+        role = _role(uml, app)
+        if role is None:
+            continue
+        if role.id in arch.roles:
+            other = arch.roles[role.id]
+            uml.diagnostics.append(
+                diagnostic(
+                    "T301",
+                    f"element has two ACORD-CS stereotypes ({other.kind} and {role.kind}); keep one",
+                    file=uml.file,
+                    line=role.element.line,
+                    element=role.element.qualified_name(),
+                    xmi_id=role.id,
+                )
+            )
+            continue
+        arch.roles[role.id] = role
+    _link_relations(arch)
+    return arch
+
+
+def _role(uml: UmlModel, app: StereotypeApplication) -> Role | None:
+    element = uml.elements[app.base]
+
+    def report(code: str, message: str) -> None:
+        uml.diagnostics.append(
+            diagnostic(
+                code,
+                message,
+                file=uml.file,
+                line=app.line or element.line,
+                element=element.qualified_name(),
+                xmi_id=element.id,
+            )
+        )
+
+    if app.profile == PROFILE_NAME:
+        declared = stereotype(app.name)
+        # BOUML drops stereotype properties the profile does not declare, so extra rule tags
+        # (RuleSlowDown, ...) are plain key/values of the element: they belong to the stereotype.
+        tags = dict(app.tags)
+        if declared is not None:
+            # Tags of no profile ('Rule2', or a misspelt 'frequncy') join the role, so that the tag
+            # checks report the unknown ones (T303) instead of losing them; 'P:t' belongs to P.
+            for key, value in element.tagged_values.items():
+                if key not in tags and ":" not in key:
+                    tags[key] = value
+        if declared is None:
+            known = ", ".join(s.name for s in profile())
+            report("T302", f"ACORDCS has no stereotype {app.name!r}; use one of {known}")
+            return None
+    elif app.profile is None and stereotype(app.name) is not None:
+        # A free stereotype named like ours (older BOUML models, XMI 1.2): its element's tagged
+        # values are the tags.
+        declared = stereotype(app.name)
+        tags = dict(element.tagged_values)
+        report("R206", f"free stereotype {app.name!r} read as ACORDCS:{app.name}")
+    else:
+        return None
+    if element.kind not in _covered(declared.metaclasses):
+        report(
+            "T301",
+            f"<<{declared.name}>> applies to {' or '.join(declared.metaclasses)}, not to a "
+            f"{element.kind}; move the stereotype to the right element",
+        )
+        return None
+    return Role(declared, element, app, tags)
+
+
+@cache
+def _covered(metaclasses: tuple[str, ...]) -> frozenset[str]:
+    """The UML metaclasses a stereotype declared on ``metaclasses`` may be applied to."""
+    return frozenset().union(*(_METACLASS_COVERS.get(m, {m}) for m in metaclasses))
+
+
+def _link_relations(arch: Architecture) -> None:
+    uml = arch.uml
+    roles = arch.roles
+    for assoc in uml.associations:
+        own = roles.get(assoc.id)
+        ends = [
+            e for e in (uml.elements.get(i) for i in assoc.member_ends) if isinstance(e, Property)
+        ]
+        if own is not None:  # an AssociationClass playing a role joins its ends' roles
+            for end in ends:
+                if end.type_ref in roles:
+                    arch._link(own, roles[end.type_ref], directed=True)
+            continue
+        if len(ends) != 2:
+            continue
+        a, b = roles.get(ends[0].type_ref), roles.get(ends[1].type_ref)
+        if a is None or b is None:
+            continue
+        # An end owned by a class is navigable from that class to the end's type.
+        navigations = [
+            (e.owner.id, e.type_ref)
+            for e in ends
+            if isinstance(e.owner, Classifier) and e.owner is not assoc
+        ]
+        if len(navigations) == 1 and navigations[0][0] in roles:
+            source, target = navigations[0]
+            arch._link(roles[source], roles[target], directed=True)
+        else:
+            arch._link(a, b, directed=False)
+    for dep in uml.dependencies:
+        for client in dep.clients:
+            for supplier in dep.suppliers:
+                a, b = roles.get(client), roles.get(supplier)
+                if a is not None and b is not None:
+                    arch._link(a, b, directed=True)
+    for role in list(roles.values()):
+        owner = role.element.owner
+        owner_role = roles.get(owner.id) if owner is not None else None
+        if owner_role is not None and role.kind != VARIABLE:  # nesting, Papyrus ports
+            arch._link(owner_role, role, directed=True)

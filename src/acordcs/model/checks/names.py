@@ -1,0 +1,115 @@
+"""Names that become identifiers in generated Python, Java and shell: valid, not reserved, unique."""
+
+from __future__ import annotations
+
+import keyword
+import re
+from collections import defaultdict
+from collections.abc import Iterator
+
+from acordcs.diagnostics import Diagnostic
+from acordcs.model.architecture import VARIABLE, Role
+from acordcs.model.checks import Context, check
+from acordcs.xmi.uml import Classifier, Element
+
+# ASCII only: the same name must be a Python and a Java identifier and a shell word without quoting.
+IDENTIFIER = re.compile(r"[A-Za-z_][A-Za-z0-9_]*\Z")
+# Java's reserved keywords and literals (JLS 3.9). Contextual keywords (module, open, to, ...) are
+# legal member names; the restricted identifiers cannot name a type (JAVA_RESTRICTED_TYPE_NAMES).
+JAVA_RESERVED = frozenset(
+    """abstract assert boolean break byte case catch char class const continue default do double else
+    enum extends final finally float for goto if implements import instanceof int interface long native
+    new package private protected public return short static strictfp super switch synchronized this
+    throw throws transient try void volatile while true false null _""".split()
+)
+JAVA_RESTRICTED_TYPE_NAMES = frozenset("var yield record sealed permits".split())
+# Soft keywords (match, case, type) stay usable as Python identifiers, so they are not refused.
+PYTHON_RESERVED = frozenset(keyword.kwlist)
+RESERVED = JAVA_RESERVED | PYTHON_RESERVED
+# Also refused: names of the rule language's keywords would make rules unreadable.
+RULE_KEYWORDS = frozenset(["if", "then", "and", "or", "not", "is", "with", "very", "somewhat"])
+
+
+def name_problem(name: str, *, type_name: bool = False) -> tuple[str, str] | None:
+    """(code, reason) when ``name`` cannot become an identifier (a class name with ``type_name``)."""
+    if (  # the common case first: a model has thousands of names
+        IDENTIFIER.match(name)
+        and name not in RESERVED
+        and name.lower() not in RULE_KEYWORDS
+        and not (type_name and name in JAVA_RESTRICTED_TYPE_NAMES)
+    ):
+        return None
+    if not IDENTIFIER.match(name):
+        return (
+            "N601",
+            f"{name!r} is not an identifier (letters, digits and _, not starting with a digit)",
+        )
+    langs = [
+        lang
+        for lang, reserved in (
+            ("Python", name in PYTHON_RESERVED),
+            ("Java", name in JAVA_RESERVED or (type_name and name in JAVA_RESTRICTED_TYPE_NAMES)),
+            ("the rule language", name.lower() in RULE_KEYWORDS),
+        )
+        if reserved
+    ]
+    if langs:
+        return "N602", f"{name!r} is a reserved word in {' and '.join(langs)}"
+    return None
+
+
+def _named(role: Role) -> Iterator[tuple[Element, str]]:
+    yield role.element, "element"
+    element = role.element
+    if isinstance(element, Classifier) and role.kind != VARIABLE:
+        for attr in element.attributes:
+            yield attr, "attribute"
+        for op in element.operations:
+            yield op, "operation"
+            for param in op.inputs:
+                yield param, "parameter"
+
+
+@check
+def identifiers(ctx: Context) -> Iterator[Diagnostic]:
+    for role in ctx.arch.roles.values():
+        if role.kind == VARIABLE:
+            continue  # checked as an attribute of its owner
+        for element, what in _named(role):
+            problem = name_problem(element.name, type_name=what == "element")
+            if problem:
+                code, reason = problem
+                yield ctx.diag(code, f"{what} name {reason}; rename it", element)
+
+
+@check
+def unique_names(ctx: Context) -> Iterator[Diagnostic]:
+    by_name: dict[str, list[Role]] = defaultdict(list)
+    for role in ctx.arch.roles.values():
+        if role.kind != VARIABLE:
+            by_name[role.name].append(role)
+    for name, roles in by_name.items():
+        if len(roles) > 1 and name:
+            others = ", ".join(f"{r.kind} {r.element.qualified_name()}" for r in roles)
+            for role in roles[1:]:
+                yield ctx.diag(
+                    "N603",
+                    f"{name!r} names {len(roles)} ACORD-CS elements ({others}); generated modules and "
+                    "rule variables need each name once",
+                    role,
+                )
+    for role in ctx.arch.roles.values():
+        element = role.element
+        if not isinstance(element, Classifier) or role.kind == VARIABLE:
+            continue
+        for members, what in ((element.attributes, "attribute"), (element.operations, "operation")):
+            seen: dict[str, Element] = {}
+            for member in members:
+                if member.name in seen:
+                    yield ctx.diag(
+                        "N603",
+                        f"{role.name} has two {what}s named {member.name!r} (generated Python has no "
+                        "overloading); rename one",
+                        member,
+                    )
+                seen.setdefault(member.name, member)

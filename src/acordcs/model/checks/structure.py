@@ -1,0 +1,144 @@
+"""Architecture: connections, what policy sets adapt, monitors feeding sets, deployment, membership."""
+
+from __future__ import annotations
+
+from collections.abc import Iterator
+
+from acordcs.diagnostics import Diagnostic
+from acordcs.model.architecture import (
+    COMPONENT,
+    CONNECTION,
+    CONTAINER,
+    MONITOR,
+    POLICY,
+    POLICY_SET,
+    PORT,
+)
+from acordcs.model.checks import Context, check
+
+_ADAPTABLE = {CONTAINER, COMPONENT, PORT, CONNECTION}
+
+
+@check
+def connections(ctx: Context) -> Iterator[Diagnostic]:
+    arch = ctx.arch
+    for conn in arch.of_kind(CONNECTION):
+        ports = arch.related(conn, "joins")
+        if len(ports) != 2:
+            names = ", ".join(p.name for p in ports) or "none"
+            yield ctx.diag(
+                "A503",
+                f"port connection {conn.name!r} joins {len(ports)} port(s) ({names}); relate it to "
+                "exactly two <<CtxPort>> classes",
+                conn,
+            )
+            continue
+        a, b = ports
+        roles = {a.tag("role"), b.tag("role")}
+        if roles != {"provided", "required"}:
+            yield ctx.diag(
+                "A501",
+                f"port connection {conn.name!r} joins {a.name!r} ({a.tag('role')}) and {b.name!r} "
+                f"({b.tag('role')}); it must join a provided and a required port",
+                conn,
+            )
+        if a.tag("kind") != b.tag("kind"):
+            yield ctx.diag(
+                "A502",
+                f"port connection {conn.name!r} joins a {a.tag('kind')} port ({a.name!r}) and a "
+                f"{b.tag('kind')} port ({b.name!r}); both must be of the same kind",
+                conn,
+            )
+
+
+@check
+def policy_sets(ctx: Context) -> Iterator[Diagnostic]:
+    arch = ctx.arch
+    for ps in arch.of_kind(POLICY_SET):
+        for target in arch.related(ps, "adapts"):
+            if target.kind not in _ADAPTABLE:
+                yield ctx.diag(
+                    "A504",
+                    f"policy set {ps.name!r} is related to {target.kind} {target.name!r}; a policy set "
+                    "adapts containers, components, ports and port connections",
+                    ps,
+                )
+        if not arch.policies(ps):
+            yield ctx.diag(
+                "A509",
+                f"policy set {ps.name!r} has no policies: relate <<CtxPolicy>> classes to it",
+                ps,
+            )
+        if not arch.related(ps, "adapts") and not arch.related_to(ps, "feeds"):
+            yield ctx.diag(
+                "A513",
+                f"policy set {ps.name!r} adapts nothing and no monitor feeds it: its rules can refer "
+                "to no variable",
+                ps,
+            )
+        if ps.tag("trigger") == "periodic" and not ps.tags.get("frequency", "").strip():
+            yield ctx.diag(
+                "A510",
+                f"policy set {ps.name!r} is periodic but has no frequency: set the tag frequency (Hz)",
+                ps,
+            )
+    for policy in arch.of_kind(POLICY):
+        owners = arch.related_to(policy, "contains")
+        if len(owners) != 1:
+            names = ", ".join(o.name for o in owners)
+            msg = (
+                f"policy {policy.name!r} belongs to no policy set: relate it to one <<CtxPolicySet>>"
+                if not owners
+                else f"policy {policy.name!r} belongs to {len(owners)} policy sets ({names}); keep one"
+            )
+            yield ctx.diag("A508", msg, policy)
+
+
+@check
+def monitors(ctx: Context) -> Iterator[Diagnostic]:
+    for monitor in ctx.arch.of_kind(MONITOR):
+        if not ctx.arch.related(monitor, "feeds"):
+            yield ctx.diag(
+                "A505",
+                f"monitor {monitor.name!r} feeds no policy set: relate it to the <<CtxPolicySet>> that "
+                "uses its attributes",
+                monitor,
+            )
+
+
+@check
+def deployment(ctx: Context) -> Iterator[Diagnostic]:
+    arch = ctx.arch
+    for kind in (COMPONENT, MONITOR, POLICY_SET):
+        for role in arch.of_kind(kind):
+            hosts = arch.related_to(role, "hosts")
+            if not hosts:
+                yield ctx.diag(
+                    "A506",
+                    f"{kind} {role.name!r} is not deployed: relate it to the <<CtxContainer>> that hosts it",
+                    role,
+                )
+            elif len(hosts) > 1:
+                names = ", ".join(h.name for h in hosts)
+                yield ctx.diag(
+                    "A507",
+                    f"{kind} {role.name!r} is deployed in {len(hosts)} containers ({names}); keep one",
+                    role,
+                )
+
+
+@check
+def ports(ctx: Context) -> Iterator[Diagnostic]:
+    for port in ctx.arch.of_kind(PORT):
+        owners = ctx.arch.related_to(port, "owns_port")
+        if not owners:
+            yield ctx.diag(
+                "A511", f"port {port.name!r} belongs to no component: relate it to one", port
+            )
+        elif len(owners) > 1:
+            names = ", ".join(o.name for o in owners)
+            yield ctx.diag(
+                "A512",
+                f"port {port.name!r} belongs to {len(owners)} components ({names}); keep one",
+                port,
+            )

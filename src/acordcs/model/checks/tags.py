@@ -1,0 +1,280 @@
+"""Tagged values: known tags, types, permitted values, positive frequencies, linguistic variables."""
+
+from __future__ import annotations
+
+import math
+import re
+from collections.abc import Iterator
+from itertools import pairwise
+
+from acordcs.diagnostics import Diagnostic
+from acordcs.model.architecture import MONITOR, POLICY_SET, VARIABLE, Role
+from acordcs.model.checks import Context, check
+from acordcs.rules import RuleSyntaxError, TermDef, parse_terms
+
+# xsd:double and xsd:int lexical forms (ASCII digits only), as EMF and Java read tag values.
+_REAL = re.compile(r"[+-]?([0-9]+(\.[0-9]*)?|\.[0-9]+)([eE][+-]?[0-9]+)?")
+_INTEGER = re.compile(r"[+-]?[0-9]+")
+
+
+def parse_real(text: str) -> float | None:
+    text = text.strip()
+    if not _REAL.fullmatch(text):
+        return None
+    value = float(text)
+    return value if math.isfinite(value) else None
+
+
+def parse_integer(text: str) -> int | None:
+    text = text.strip()
+    return int(text) if _INTEGER.fullmatch(text) and len(text) < 20 else None
+
+
+_PARSERS = {
+    "Real": parse_real,
+    "Integer": parse_integer,
+    "Boolean": lambda t: {"true": True, "false": False}.get(t.strip().lower()),
+}
+
+
+@check
+def tag_values(ctx: Context) -> Iterator[Diagnostic]:
+    for role in ctx.arch.roles.values():
+        for name, value in role.tags.items():
+            declared = role.stereotype.tag(name)
+            line = role.tag_line(name)
+            if declared is None:
+                known = ", ".join(t.name for t in role.stereotype.tags) or "none"
+                yield ctx.diag(
+                    "T303",
+                    f"<<{role.kind}>> has no tag {name!r} (its tags: {known}); it is ignored",
+                    role,
+                    line=line,
+                )
+                continue
+            if not value.strip():
+                continue  # empty means unset (BOUML writes every declared tag)
+            parser = _PARSERS.get(declared.type)
+            if parser is not None and parser(value) is None:
+                yield ctx.diag(
+                    "T304",
+                    f"tag {name!r} must be a {declared.type}, not {value!r}",
+                    role,
+                    line=line,
+                )
+            elif declared.values and value.strip() not in declared.values:
+                yield ctx.diag(
+                    "T305",
+                    f"tag {name!r} is {value!r}; permitted: {', '.join(declared.values)}",
+                    role,
+                    line=line,
+                )
+        if role.kind in (MONITOR, POLICY_SET):
+            frequency = role.tags.get("frequency", "").strip()
+            value = parse_real(frequency) if frequency else None
+            if value is not None and value <= 0:
+                yield ctx.diag(
+                    "T306",
+                    f"frequency is {frequency} Hz; it must be positive (leave it unset for an "
+                    "event-driven element)",
+                    role,
+                    line=role.tag_line("frequency"),
+                )
+
+
+_TERMS_CACHE: dict[str, list[TermDef] | RuleSyntaxError] = {}
+
+
+def parsed_terms(text: str) -> list[TermDef] | RuleSyntaxError:
+    """``parse_terms`` memoised by text: a model has far fewer distinct term lists than variables,
+    and every rule atom asks for its variable's terms."""
+    if text not in _TERMS_CACHE:
+        if len(_TERMS_CACHE) > 4096:
+            _TERMS_CACHE.clear()
+        try:
+            _TERMS_CACHE[text] = parse_terms(text)
+        except RuleSyntaxError as err:
+            _TERMS_CACHE[text] = err
+    return _TERMS_CACHE[text]
+
+
+def variable_terms(role: Role) -> list[TermDef]:
+    """The terms of a CtxVariable role; [] when missing or unparseable (reported by the check)."""
+    terms = parsed_terms(role.tags.get("terms", ""))
+    return [] if isinstance(terms, RuleSyntaxError) else terms
+
+
+def variable_range(role: Role) -> tuple[float, float] | None:
+    lo = parse_real(role.tags.get("min", ""))
+    hi = parse_real(role.tags.get("max", ""))
+    return (lo, hi) if lo is not None and hi is not None and lo < hi else None
+
+
+@check
+def linguistic_variables(ctx: Context) -> Iterator[Diagnostic]:
+    # What the terms say against the range depends on the three tags only, and models repeat a
+    # few term lists over many variables: each distinct (terms, min, max) is examined once.
+    findings: dict[tuple[str, str, str], list[tuple[str, str | tuple[float, float]]]] = {}
+    for role in ctx.arch.of_kind(VARIABLE):
+        line = role.tag_line("terms")
+        bounds = variable_range(role)
+        if bounds is None:
+            yield ctx.diag(
+                "T310",
+                f"variable {role.name!r} needs tags min and max with min < max (has min="
+                f"{role.tags.get('min')!r}, max={role.tags.get('max')!r})",
+                role,
+                line=role.tag_line("min"),
+            )
+        text = role.tags.get("terms", "")
+        if not text.strip():
+            yield ctx.diag(
+                "T307",
+                f"variable {role.name!r} has no terms; add a tag terms such as "
+                "'low := trape 0 0 20 40; high := trape 20 40 100 100'",
+                role,
+                line=line,
+            )
+            continue
+        terms = parsed_terms(text)
+        if isinstance(terms, RuleSyntaxError):
+            err = terms
+            yield ctx.diag(
+                "T307",
+                f"terms of {role.name!r}, column {err.column}: {err.message}",
+                role,
+                line=line,
+            )
+            continue
+        # The tags' text, not the numbers: -0 and 0 are equal but printed differently.
+        key = (text, role.tags.get("min", ""), role.tags.get("max", ""))
+        found = findings.get(key)
+        if found is None:
+            found = findings[key] = _term_findings(terms, bounds)
+        for code, what in found:
+            if isinstance(what, tuple) and bounds is not None:  # T309 names the variable
+                what = (
+                    f"no term of {role.name!r} covers [{what[0]:g}, {what[1]:g}] of its range "
+                    f"[{bounds[0]:g}, {bounds[1]:g}]: an input there fires no rule"
+                )
+            yield ctx.diag(code, what, role, line=line)
+
+
+def _term_findings(
+    terms: list[TermDef], bounds: tuple[float, float] | None
+) -> list[tuple[str, str | tuple[float, float]]]:
+    """(code, message) for what is wrong with ``terms``; for T309, (code, the gap)."""
+    out: list[tuple[str, str | tuple[float, float]]] = []
+    seen: set[str] = set()
+    problems = [shape_problem(term) for term in terms]
+    for term, problem in zip(terms, problems, strict=True):
+        if term.name.text in seen:
+            out.append(("T312", f"term {term.name.text!r} is defined twice"))
+        seen.add(term.name.text)
+        if problem:
+            out.append(("T311", f"term {term.name.text!r}: {problem}"))
+        elif bounds is not None:
+            lo, hi = bounds
+            outside = [x for x in support_points(term) if x < lo or x > hi]
+            if outside:
+                out.append(
+                    (
+                        "T308",
+                        f"term {term.name.text!r} has point {outside[0]:g} outside the range "
+                        f"[{lo:g}, {hi:g}]",
+                    )
+                )
+    if bounds is not None and terms and not any(problems):
+        gap = uncovered(terms, *bounds)
+        if gap is not None:
+            out.append(("T309", gap))
+    return out
+
+
+def shape_problem(term: TermDef) -> str | None:
+    """Why the fuzzy engine would refuse this term, or None.
+
+    The same rules as ``acordcs.runtime.fuzzy.membership.make_membership`` (a property test keeps the
+    two in step): the validator must not pass a model the engine then refuses at start-up.
+    """
+    p = term.parameters
+    if not all(math.isfinite(v) for v in p):
+        return "parameters must be finite numbers"
+    if term.shape in ("trapezoid", "triangle"):
+        if any(b < a for a, b in pairwise(p)):
+            return f"points {' '.join(f'{x:g}' for x in p)} must not decrease"
+        if p[0] == p[-1]:
+            return "has zero width"
+    elif term.shape == "points":
+        xs, ys = p[0::2], p[1::2]
+        if len(xs) < 2:
+            return "a point list needs at least two (x, y) points"
+        if any(b < a for a, b in pairwise(xs)):
+            return "point x values must not decrease"
+        if any(a == c for a, c in zip(xs, xs[2:], strict=False)):
+            return "three points share one x; a vertical edge has two"
+        if xs[0] == xs[-1]:
+            return "the point list has zero width; use a singleton for a single point"
+        if any(not 0.0 <= y <= 1.0 for y in ys):
+            return "membership degrees must lie in [0, 1]"
+    elif term.shape == "gaussian" and p[1] <= 0:
+        return "the standard deviation must be positive"
+    elif term.shape == "bell" and (p[0] <= 0 or p[1] <= 0):
+        return "width a and slope b must be positive"
+    elif term.shape == "sigmoid" and p[0] == 0:
+        return "the sigmoid gain must not be 0"
+    return None
+
+
+def support_points(term: TermDef) -> list[float]:
+    """The x positions that define the term (centres for smooth shapes)."""
+    p = term.parameters
+    if term.shape == "points":
+        return list(p[0::2])
+    if term.shape in ("gaussian",):
+        return [p[0]]
+    if term.shape == "bell":
+        return [p[2]]
+    if term.shape == "sigmoid":
+        return [p[1]]
+    return list(p)
+
+
+def _positive_spans(term: TermDef) -> list[tuple[float, float]]:
+    """Open intervals where the term's membership is positive (piecewise-linear shapes)."""
+    p = term.parameters
+    if term.shape == "points":
+        xs, ys = list(p[0::2]), list(p[1::2])
+        spans = [
+            (x1, x2)
+            for x1, x2, y1, y2 in zip(xs, xs[1:], ys, ys[1:], strict=False)
+            if y1 > 0 or y2 > 0
+        ]
+        if ys[0] > 0:  # FCL point lists extend flat beyond their ends
+            spans.append((-math.inf, xs[0]))
+        if ys[-1] > 0:
+            spans.append((xs[-1], math.inf))
+        return spans
+    if term.shape == "singleton":
+        return []
+    return [(p[0], p[-1])]
+
+
+def uncovered(terms: list[TermDef], lo: float, hi: float) -> tuple[float, float] | None:
+    """The first stretch of positive length in [lo, hi] where every term is zero, or None.
+
+    Smooth shapes (gaussian, bell, sigmoid) are positive everywhere; singletons cover single points
+    only (as output terms should), so they do not count as coverage.
+    """
+    if any(t.shape in ("gaussian", "bell", "sigmoid") for t in terms):
+        return None
+    if all(t.shape == "singleton" for t in terms):
+        return None  # an output variable with singleton terms (Sugeno style)
+    reach = lo
+    for left, right in sorted(span for t in terms for span in _positive_spans(t)):
+        if left > reach:
+            return (reach, min(left, hi))
+        reach = max(reach, right)
+        if reach >= hi:
+            return None
+    return (reach, hi) if reach < hi else None

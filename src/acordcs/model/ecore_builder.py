@@ -1,0 +1,174 @@
+"""The ACORD-CS model as pyecore instances of the metamodel, built from a checked architecture.
+
+Only for consumers that need the model itself (generation, EMF interchange, the runtime): validation
+works on the architecture index, because pyecore costs about 40 us per object.
+"""
+
+from __future__ import annotations
+
+import re
+
+from acordcs import metamodel
+from acordcs.model.architecture import (
+    COMPONENT,
+    CONNECTION,
+    CONTAINER,
+    MONITOR,
+    POLICY_SET,
+    Architecture,
+    Role,
+)
+from acordcs.model.checks.rules import policy_rules
+from acordcs.model.checks.tags import parse_real, variable_terms
+from acordcs.xmi.uml import Classifier
+
+# "label: if ..." (a label is an identifier before the first ':'; rules have no other ':' before 'if')
+_LABELLED = re.compile(r"^\s*([A-Za-z_][A-Za-z0-9_]*)\s*:\s*((?i:if)\b.*)$")
+
+_ROOT_LISTS = {
+    CONTAINER: "containers",
+    COMPONENT: "components",
+    MONITOR: "monitors",
+    POLICY_SET: "policySets",
+    CONNECTION: "connections",
+}
+
+
+def build_application(arch: Architecture):
+    """An ``Application`` holding every role of ``arch`` with its attributes, tags and relations.
+
+    Meant for a model that validates without errors; elements an error left without a place (a port
+    of no component, a policy of no set) are left out.
+    """
+    app = metamodel.create("Application", name=arch.uml.name or "application")
+    built: dict[str, object] = {}
+    for kind, feature in _ROOT_LISTS.items():
+        for role in arch.of_kind(kind):
+            obj = _element(role, arch)
+            built[role.id] = obj
+            getattr(app, feature).append(obj)
+            if kind == COMPONENT:
+                for port in arch.related(role, "owns_port"):
+                    port_obj = _element(port, arch)
+                    built[port.id] = port_obj
+                    obj.ports.append(port_obj)
+    for ps in arch.of_kind(POLICY_SET):
+        ps_obj = built[ps.id]
+        engine = ps.tag("engine")
+        for policy in arch.policies(ps):
+            pol = metamodel.create(
+                "CtxPolicy", name=policy.name, xmiId=policy.id, sourceLine=policy.element.line
+            )
+            for n, rule in enumerate(policy_rules(policy), start=1):
+                found = _LABELLED.match(rule.text)
+                label, text = (found.group(1), found.group(2)) if found else (None, rule.text)
+                pol.rules.append(
+                    metamodel.create(
+                        "Rule",
+                        name=label or f"{policy.name}_{n}",
+                        label=label,
+                        text=text,  # the rule without its label: the label is its own feature
+                        engine=_enum("EngineKind", engine),
+                        tag=rule.tag,
+                    )
+                )
+            ps_obj.policies.append(pol)
+        ps_obj.adapts.extend(built[t.id] for t in arch.related(ps, "adapts") if t.id in built)
+    for container in arch.of_kind(CONTAINER):
+        obj = built[container.id]
+        for hosted in arch.related(container, "hosts"):
+            target = built.get(hosted.id)
+            feature = {COMPONENT: "components", MONITOR: "monitors", POLICY_SET: "policySets"}[
+                hosted.kind
+            ]
+            if target is not None:
+                getattr(obj, feature).append(target)
+    for monitor in arch.of_kind(MONITOR):
+        obj = built[monitor.id]
+        obj.feeds.extend(built[s.id] for s in arch.related(monitor, "feeds") if s.id in built)
+        obj.sources.extend(built[s.id] for s in arch.related(monitor, "sources") if s.id in built)
+    for conn in arch.of_kind(CONNECTION):
+        obj = built[conn.id]
+        for port in arch.related(conn, "joins"):
+            if port.id in built:
+                setattr(
+                    obj,
+                    "provided" if port.tag("role") == "provided" else "required",
+                    built[port.id],
+                )
+    return app
+
+
+def _enum(name: str, literal: str | None):
+    enum = metamodel.load().getEClassifier(name)
+    return enum.getEEnumLiteral(literal) if literal else enum.default_value
+
+
+def _element(role: Role, arch: Architecture):
+    obj = metamodel.create(role.kind, name=role.name, xmiId=role.id, sourceLine=role.element.line)
+    eclass = obj.eClass
+    for tag in role.stereotype.tags:
+        if tag.syntax:
+            continue
+        value = role.tag(tag.name)
+        if value is None:
+            continue
+        feature = eclass.findEStructuralFeature(tag.feature)
+        if tag.values:
+            setattr(obj, tag.feature, _enum(tag.type, value))
+        elif feature.eType.name == "EDouble":
+            number = parse_real(value)
+            if number is not None:
+                setattr(obj, tag.feature, number)
+        else:
+            setattr(obj, tag.feature, value)
+    element = role.element
+    if isinstance(element, Classifier):
+        for prop in element.attributes:
+            attr = metamodel.create(
+                "Attribute",
+                name=prop.name,
+                xmiId=prop.id,
+                sourceLine=prop.line,
+                type=prop.type_name,
+                defaultValue=prop.default,
+            )
+            attr_role = arch.variable(prop)
+            if attr_role is not None:  # a linguistic variable carries its range and terms
+                attr.variable = _variable(attr_role)
+            obj.attributes.append(attr)
+        for op in element.operations:
+            operation = metamodel.create(
+                "Operation",
+                name=op.name,
+                xmiId=op.id,
+                sourceLine=op.line,
+                returnType=op.return_type,
+            )
+            for param in op.inputs:
+                operation.parameters.append(
+                    metamodel.create(
+                        "Parameter",
+                        name=param.name,
+                        type=param.type_name,
+                        direction=_enum("ParameterDirection", param.direction),
+                    )
+                )
+            obj.operations.append(operation)
+    return obj
+
+
+def _variable(role: Role):
+    lo = parse_real(role.tags.get("min", "")) or 0.0
+    hi = parse_real(role.tags.get("max", "")) or 0.0
+    var = metamodel.create("CtxVariable", rangeMin=lo, rangeMax=hi)
+    for term in variable_terms(role):
+        var.terms.append(
+            metamodel.create(
+                "LinguisticTerm",
+                name=term.name.text,
+                shape=_enum("MembershipShape", term.shape),
+                parameters=[float(p) for p in term.parameters],
+            )
+        )
+    return var

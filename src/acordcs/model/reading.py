@@ -1,0 +1,39 @@
+"""Read, interpret and check one model file: what ``validate``, ``inspect`` and ``build`` share."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+from acordcs.diagnostics import Diagnostic, Severity
+from acordcs.model.architecture import Architecture, interpret
+from acordcs.model.checks import Context, run_checks
+from acordcs.xmi.readers import read_uml
+from acordcs.xmi.uml import UmlModel
+
+
+@dataclass
+class ModelReading:
+    file: str
+    uml: UmlModel
+    architecture: Architecture | None
+    diagnostics: list[Diagnostic] = field(default_factory=list)
+
+    @property
+    def unreadable(self) -> bool:
+        return any(d.unreadable for d in self.diagnostics)
+
+    def worst(self) -> Severity | None:
+        return max((d.severity for d in self.diagnostics), default=None)
+
+
+def read_model(path: str, *, check: bool = True) -> ModelReading:
+    """Read ``path`` (any supported XMI), interpret it and, with ``check``, run every model check."""
+    uml = read_uml(path)
+    if uml.dialect == "unreadable":
+        return ModelReading(path, uml, None, list(uml.diagnostics))
+    arch = interpret(uml)
+    found = list(uml.diagnostics)
+    if check:
+        found += run_checks(Context(uml, arch))
+    found.sort(key=lambda d: (d.line, d.column, d.code))
+    return ModelReading(path, uml, arch, found)

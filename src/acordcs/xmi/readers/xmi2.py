@@ -1,0 +1,445 @@
+"""Reader for XMI 2.x as BOUML (exporters 1.10 to 5.x, UML 2.0 to 2.3) and Eclipse UML2 / Papyrus write it.
+
+Both follow the UML 2 XMI mapping, so one walker serves both; they differ in how they write references
+(BOUML: ``<type xmi:idref=..>`` children; Eclipse: ``type=".."`` attributes holding ids), comments
+(BOUML: a ``body`` attribute owned implicitly; Eclipse: a ``<body>`` child and ``annotatedElement``) and
+stereotype tags (BOUML also repeats them in ``xmi:Extension`` blocks). See ``shared/reference/bouml-xmi.md``.
+"""
+
+from __future__ import annotations
+
+import re
+
+from lxml import etree
+
+from acordcs.diagnostics import diagnostic
+from acordcs.xmi.readers.common import (
+    UML_METACLASSES,
+    check_ids,
+    dangling,
+    primitive_from_href,
+    unknown_type_message,
+)
+from acordcs.xmi.readers.stereotypes import StereotypeApplications, local_name
+from acordcs.xmi.source import XmlInput
+from acordcs.xmi.uml import (
+    CLASSIFIER_KINDS,
+    Association,
+    Classifier,
+    Dependency,
+    Element,
+    Generalization,
+    Operation,
+    Package,
+    Parameter,
+    Property,
+    UmlModel,
+)
+
+# Eclipse profile schemas (http://www.eclipse.org/uml2/schemas/Ecore/5) share the prefix: match only
+# the UML metamodel's own URI.
+_UML_NS = re.compile(
+    r"^https?://(schema\.omg\.org|www\.omg\.org)/spec/UML/"
+    r"|^http://www\.eclipse\.org/uml2/\d+(\.\d+)*/UML$"
+)
+_XMI_NS = re.compile(r"^https?://(schema\.omg\.org|www\.omg\.org)/(spec/)?XMI")
+_MEMBER_TAGS = frozenset(
+    [
+        "packagedElement",
+        "ownedMember",
+        "ownedElement",
+        "ownedStereotype",
+        "nestedClassifier",
+        "ownedType",
+    ]
+)
+_PACKAGE_KINDS = frozenset(("Package", "Model", "Profile"))
+# What the children of a property or an operation are, by local tag name.
+_TYPE, _DEFAULT, _LOWER, _UPPER, _EXT, _COMMENT, _PARAM = range(7)
+_DEPENDENCY_KINDS = frozenset(
+    ("Dependency", "Realization", "Usage", "Abstraction", "Substitution", "InterfaceRealization")
+)
+
+
+def _namespaces(root: etree._Element) -> tuple[str | None, str | None]:
+    uml = xmi = None
+    for uri in (root.nsmap or {}).values():
+        if uri and _UML_NS.match(uri):
+            uml = uri
+        elif uri and (_XMI_NS.match(uri) or uri == "http://www.omg.org/XMI"):
+            xmi = uri
+    return uml, xmi
+
+
+def accepts(root: etree._Element) -> bool:
+    uml, _ = _namespaces(root)
+    return uml is not None
+
+
+def read(xml: XmlInput) -> UmlModel:
+    """The UML view of ``xml``."""
+    return _Reader(xml).read()
+
+
+class _Reader:
+    def __init__(self, xml: XmlInput) -> None:
+        self.xml = xml
+        root = xml.root
+        uml, xmi = _namespaces(root)
+        self.uml_ns = uml
+        self.xmi_ns = xmi or "http://schema.omg.org/spec/XMI/2.1"
+        self.XID = f"{{{self.xmi_ns}}}id"
+        self.XTYPE = f"{{{self.xmi_ns}}}type"
+        self.XIDREF = f"{{{self.xmi_ns}}}idref"
+        self.EXTENSION = f"{{{self.xmi_ns}}}Extension"
+        dialect = "eclipse-uml2" if "eclipse.org" in uml else "bouml-xmi2"
+        self.model = UmlModel(file=xml.path, dialect=dialect)
+        self.stereotypes = StereotypeApplications(self.model, self.XID)
+        self._handlers = {
+            "ownedAttribute": self._on_attribute,
+            "ownedEnd": self._on_end,
+            "memberEnd": self._on_member_end,
+            "ownedOperation": self._on_operation,
+            "ownedLiteral": self._on_literal,
+            "generalization": self._generalization,
+            "ownedComment": self._comment,
+            self.EXTENSION: self.stereotypes.extension,
+            **dict.fromkeys(_MEMBER_TAGS, self._packageable),
+        }
+        self._property_children = {
+            "type": _TYPE,
+            "defaultValue": _DEFAULT,
+            "lowerValue": _LOWER,
+            "upperValue": _UPPER,
+            "ownedComment": _COMMENT,
+            self.EXTENSION: _EXT,
+        }
+        self._operation_children = {
+            "ownedParameter": _PARAM,
+            "ownedComment": _COMMENT,
+            self.EXTENSION: _EXT,
+        }
+        self.elements = self.model.elements
+        self._href_names: dict[str, str] = {}  # a few distinct hrefs, written thousands of times
+        self.annotated: list[tuple[str, str]] = []  # (element id, comment body), Eclipse comments
+        self.refs: list[tuple[str, str, int, Element]] = []  # (id, what, line, from element)
+        self.type_refs: list[Element] = []
+
+    # ------------------------------------------------------------------ entry
+    def read(self) -> UmlModel:
+        root = self.xml.root
+        model = self.model
+        top = root
+        if local_name(root.tag) == "XMI":
+            for child in root:
+                if not isinstance(child.tag, str):
+                    continue
+                local = local_name(child.tag)
+                if child.tag == f"{{{self.xmi_ns}}}Documentation":
+                    model.exporter = (
+                        f"{child.get('exporter', '')} {child.get('exporterVersion', '')}".strip()
+                        or None
+                    )
+                elif child.tag.startswith(f"{{{self.uml_ns}}}"):
+                    self._packageable(child, None)
+                    if local == "Model" and not model.name:
+                        model.name = child.get("name", "")
+                elif child.tag == self.EXTENSION or child.tag == "profileApplication":
+                    continue
+                elif child.tag in _MEMBER_TAGS:  # BOUML's "no model" option: packages at the top
+                    self._packageable(child, None)
+                else:
+                    self.stereotypes.root_application(child)
+        else:  # Eclipse: a single uml:Model (or Package/Profile) as the document root
+            self._packageable(top, None)
+            model.name = top.get("name", "")
+        ids = self.xml.ids(self.xmi_ns)
+        self._resolve(ids, set(ids))
+        return model
+
+    # ------------------------------------------------------------------ structure
+    def _kind(self, el: etree._Element, default: str) -> str:
+        xtype = el.get(self.XTYPE)
+        if xtype:
+            return xtype.rpartition(":")[2]
+        if el.tag.startswith(f"{{{self.uml_ns}}}"):
+            return local_name(el.tag)
+        return default
+
+    def _base(self, el: etree._Element, kind: str, owner: Element | None, cls=Element):
+        ident = el.get(self.XID)
+        line = el.sourceline or 0
+        if ident is None:
+            ident = f"<line {line}>"
+            self.model.diagnostics.append(
+                diagnostic(
+                    "R207",
+                    f"{kind} {el.get('name', '')!r} has no xmi:id; references to it cannot work",
+                    file=self.model.file,
+                    line=line,
+                )
+            )
+        obj = cls(ident, kind, el.get("name", ""), line, owner)
+        self.elements.setdefault(ident, obj)
+        return obj
+
+    def _packageable(self, el: etree._Element, owner: Element | None) -> None:
+        kind = self._kind(el, "Package")
+        model = self.model
+        if kind in _PACKAGE_KINDS:
+            pkg = self._base(el, kind, owner, Package)
+            if kind != "Model":
+                model.packages.append(pkg)
+            self._members(el, pkg)
+        elif kind in CLASSIFIER_KINDS:
+            cls = self._base(el, kind, owner, Classifier)
+            model.classifiers.append(cls)
+            if isinstance(owner, Classifier):
+                owner.nested.append(cls)
+            if kind == "AssociationClass":
+                model.associations.append(cls)
+            self._members(el, cls)
+        elif kind == "Association":
+            assoc = self._base(el, kind, owner, Association)
+            model.associations.append(assoc)
+            self._members(el, assoc)
+        elif kind in _DEPENDENCY_KINDS:
+            dep = self._base(el, kind, owner, Dependency)
+            dep.clients = self._refs(el, "client")
+            dep.suppliers = self._refs(el, "supplier")
+            model.dependencies.append(dep)
+            for ident in dep.clients + dep.suppliers:
+                self.refs.append((ident, f"{kind} {dep.name!r}".strip(), dep.line, dep))
+            self._extensions_only(el, dep)
+        elif kind in UML_METACLASSES:
+            self._base(el, kind, owner)  # kept for its id: behaviours, instances, extensions, ...
+        else:
+            model.diagnostics.append(
+                diagnostic(
+                    "R201",
+                    unknown_type_message(kind),
+                    file=model.file,
+                    line=el.sourceline,
+                    xmi_id=el.get(self.XID),
+                )
+            )
+
+    def _members(self, el: etree._Element, owner: Element) -> None:
+        # One dict lookup per child: a 4 MB export has some 40,000 of them.
+        handlers = self._handlers
+        for child in el:
+            handler = handlers.get(child.tag) or _by_local_name(handlers, child.tag)
+            if handler is not None:  # others (imports, profile applications, ...) are not read
+                handler(child, owner)
+        member_ends = el.get("memberEnd")
+        if member_ends and isinstance(owner, Association | Classifier):
+            owner.member_ends.extend(member_ends.split())
+
+    def _on_attribute(self, child: etree._Element, owner: Element) -> None:
+        if isinstance(owner, Classifier):
+            prop = self._property(child, owner)
+            (owner.ends if prop.association else owner.attributes).append(prop)
+
+    def _on_end(self, child: etree._Element, owner: Element) -> None:
+        if isinstance(owner, Association | Classifier):
+            prop = self._property(child, owner)
+            prop.navigable = child.get("isNavigable") != "false"
+            if isinstance(owner, Association):
+                owner.owned_ends.append(prop)
+
+    def _on_member_end(self, child: etree._Element, owner: Element) -> None:
+        if isinstance(owner, Association | Classifier):
+            owner.member_ends.extend(self._refs_of(child))
+
+    def _on_operation(self, child: etree._Element, owner: Element) -> None:
+        if isinstance(owner, Classifier):
+            owner.operations.append(self._operation(child, owner))
+
+    def _on_literal(self, child: etree._Element, owner: Element) -> None:
+        if isinstance(owner, Classifier):
+            owner.literals.append(child.get("name", ""))
+            self._base(child, "EnumerationLiteral", owner)
+
+    def _extensions_only(self, el: etree._Element, owner: Element) -> None:
+        for child in el:
+            if child.tag == self.EXTENSION:
+                self.stereotypes.extension(child, owner)
+            elif isinstance(child.tag, str) and local_name(child.tag) == "ownedComment":
+                self._comment(child, owner)
+
+    def _refs_of(self, el: etree._Element) -> list[str]:
+        ref = el.get(self.XIDREF)
+        return [ref] if ref else []
+
+    def _refs(self, el: etree._Element, name: str) -> list[str]:
+        """Ids named by attribute ``name`` (space-separated) or by ``<name xmi:idref=..>`` children."""
+        found = (el.get(name) or "").split()
+        for child in el.iterchildren(name, f"{{{self.uml_ns}}}{name}"):
+            found += self._refs_of(child)
+        return found
+
+    def _type_child(self, child: etree._Element, obj) -> None:
+        href = child.get("href")
+        if href:
+            name = self._href_names.get(href)
+            if name is None:
+                name = self._href_names[href] = primitive_from_href(href)
+            obj.type_name = name
+        else:
+            obj.type_ref = child.get(self.XIDREF) or obj.type_ref
+
+    def _typed(self, el: etree._Element, obj) -> None:
+        type_ids = el.get("type")
+        if type_ids and (type_ids := type_ids.split()):
+            obj.type_ref = type_ids[0]
+        if len(el):
+            for child in el.iterchildren("type"):
+                self._type_child(child, obj)
+        if obj.type_ref:
+            self.type_refs.append(obj)
+
+    def _property(self, el: etree._Element, owner: Element) -> Property:
+        # The hottest code of a read (a large model has tens of thousands of properties and
+        # parameters): one pass over the children, dispatched on the tag as written.
+        xtype = el.get(self.XTYPE)
+        prop = self._base(el, xtype.rpartition(":")[2] if xtype else "Property", owner, Property)
+        prop.association = association = el.get("association")
+        prop.aggregation = el.get("aggregation", "none")
+        type_ids = el.get("type")
+        if type_ids and (type_ids := type_ids.split()):
+            prop.type_ref = type_ids[0]
+        if len(el):
+            children = self._property_children
+            for child in el:
+                code = children.get(child.tag)
+                if code is None and (code := _by_local_name(children, child.tag)) is None:
+                    continue
+                if code == _TYPE:
+                    self._type_child(child, prop)
+                elif code == _DEFAULT:
+                    prop.default = _literal(child)
+                elif code == _LOWER:
+                    prop.lower = _literal(child)
+                elif code == _UPPER:
+                    prop.upper = _literal(child)
+                elif code == _EXT:
+                    self.stereotypes.extension(child, prop)
+                else:
+                    self._comment(child, prop)
+        if prop.type_ref:
+            self.type_refs.append(prop)
+        if association:
+            self.refs.append((association, f"end {prop.name!r}", prop.line, prop))
+        return prop
+
+    def _operation(self, el: etree._Element, owner: Classifier) -> Operation:
+        op = self._base(el, "Operation", owner, Operation)
+        children = self._operation_children
+        for child in el:
+            code = children.get(child.tag)
+            if code is None and (code := _by_local_name(children, child.tag)) is None:
+                continue
+            if code == _PARAM:
+                param = self._base(child, "Parameter", op, Parameter)
+                direction = child.get("direction")
+                if direction is not None:
+                    param.direction = direction.removeprefix("pk_")
+                self._typed(child, param)
+                op.parameters.append(param)
+            elif code == _EXT:
+                self.stereotypes.extension(child, op)
+            elif code == _COMMENT:
+                self._comment(child, op)
+        return op
+
+    def _generalization(self, el: etree._Element, owner: Element) -> None:
+        gen = self._base(el, "Generalization", owner, Generalization)
+        gen.specific = owner.id
+        general = self._refs(el, "general")
+        gen.general = general[0] if general else ""
+        if isinstance(owner, Classifier) and gen.general:
+            owner.generals.append(gen.general)
+            self.refs.append((gen.general, f"generalization of {owner.name!r}", gen.line, owner))
+        self.model.generalizations.append(gen)
+
+    def _comment(self, el: etree._Element, owner: Element) -> None:
+        body = el.get("body")
+        if body is None:
+            body = "".join(b.text or "" for b in el.iterchildren("body"))
+        annotated = (el.get("annotatedElement") or "").split()
+        if annotated:
+            self.annotated += [(ident, body) for ident in annotated]
+        else:
+            owner.comments.append(body)
+
+    # ------------------------------------------------------------------ references
+    def _known_ids(self, ids: list[str], known: set[str]) -> set[str]:
+        """R203 for ids defined twice (their lines: a slow walk, rare)."""
+        if len(known) == len(ids):
+            return known
+        return check_ids(
+            self.model,
+            [
+                (el.get(self.XID), el.sourceline or 0)
+                for el in self.xml.root.iter(etree.Element)
+                if el.get(self.XID) is not None
+            ],
+        )
+
+    def _resolve(self, ids: list[str], known: set[str]) -> None:
+        model = self.model
+        known = self._known_ids(ids, known)
+        for obj in self.type_refs:
+            target = model.elements.get(obj.type_ref)
+            if target is not None:
+                obj.type_name = target.name
+            elif obj.type_ref not in known:
+                dangling(
+                    model, obj.type_ref, f"type of {obj.name!r}", obj.line, obj.qualified_name()
+                )
+        for ident, what, line, source in self.refs:
+            if ident not in known:
+                dangling(model, ident, what, line, source.qualified_name())
+        for assoc in model.associations:
+            for ident in assoc.member_ends:
+                if ident not in known:
+                    dangling(
+                        model,
+                        ident,
+                        f"member end of {assoc.name!r}",
+                        assoc.line,
+                        assoc.qualified_name(),
+                    )
+        for ident, body in self.annotated:
+            target = model.elements.get(ident)
+            if target is not None:
+                target.comments.append(body)
+        for app in list(model.applications.values()):
+            if app.base == app.id or app.base not in model.elements:
+                del model.applications[(app.base, app.key)]
+                model.diagnostics.append(
+                    diagnostic(
+                        "R204",
+                        f"stereotype {app.key} is applied to id {app.base!r}, which no element has; "
+                        "the application is ignored",
+                        file=model.file,
+                        line=app.line,
+                        xmi_id=app.base,
+                    )
+                )
+
+
+def _by_local_name(table: dict, tag: object):
+    """``table``'s entry for a namespace-qualified tag (rare) by its local name; None for XML
+    comments and processing instructions, and for plain tags (already looked up as written)."""
+    if not isinstance(tag, str) or tag[0] != "{":
+        return None
+    return table.get(local_name(tag))
+
+
+def _literal(el: etree._Element) -> str | None:
+    value = el.get("value")
+    if value is not None:
+        return value
+    kind = next((v for k, v in el.items() if k.endswith("}type")), "").rpartition(":")[2]
+    return {"LiteralInteger": "0", "LiteralBoolean": "false", "LiteralReal": "0"}.get(kind)

@@ -1,0 +1,317 @@
+"""Reading user XML safely: no DTDs, no entities, no network, bounded size and depth.
+
+UML exports never contain a document type declaration, so one is refused outright (that closes XXE and
+entity bombs before libxml2 sees them). A strict parse comes first; only a file that fails it for a
+reason recovery can repair (BOUML's unescaped ``<`` in names) is read again in recover mode, with a
+warning saying so. Truncated files, wrong encodings and undeclared prefixes are errors: recovery would
+silently drop or garble model elements.
+"""
+
+from __future__ import annotations
+
+import os
+import re
+import threading
+
+from lxml import etree
+
+TYPE_CHECKING = False  # typing itself costs start-up time: see launch.py
+if TYPE_CHECKING:
+    from acordcs.diagnostics import Diagnostic
+
+MAX_BYTES = 256 * 1024 * 1024
+_DOCTYPE = re.compile(rb"<!DOCTYPE|<!ENTITY", re.IGNORECASE)
+_WIDE_DECLARATION = re.compile(
+    rb"""^\s*<\?xml[^>]*encoding\s*=\s*["'](utf-?16|utf-?32|ucs)""", re.IGNORECASE
+)
+_SCAN_BYTES = 64 * 1024
+
+
+class XmlInput:
+    """A parsed file: its root (None when unreadable) and what reading it found."""
+
+    __slots__ = ("_ids", "diagnostics", "encoding", "path", "recovered", "root")
+
+    def __init__(
+        self,
+        path: str,
+        root: etree._Element | None,
+        diagnostics: list[Diagnostic] | None = None,
+        recovered: bool = False,
+        encoding: str | None = None,
+    ) -> None:
+        self.path = path
+        self.root = root
+        self.diagnostics = diagnostics if diagnostics is not None else []
+        self.recovered = recovered
+        self.encoding = encoding
+        self._ids: dict[str, list[str]] = {}
+
+    def ids(self, namespace: str) -> list[str]:
+        """Every value of an ``id`` attribute in ``namespace`` (XMI's ``xmi:id``), in document
+        order, duplicates included."""
+        found = self._ids.get(namespace)
+        if found is None:
+            found = self._ids[namespace] = self.root.xpath(
+                "//@x:id", namespaces={"x": namespace}, smart_strings=False
+            )
+        return found
+
+
+def diagnostic(code: str, message: str, **where) -> Diagnostic:
+    # Imported on first use: `acordcs-gen` starts parsing the model on a second thread as soon as
+    # this module is loaded (launch.py), and diagnostics (with dataclasses) would delay that by
+    # some 10 ms. A clean file never needs it here.
+    from acordcs.diagnostics import diagnostic as make
+
+    return make(code, message, **where)
+
+
+def hardened_parser(*, recover: bool = False) -> etree.XMLParser:
+    """The parser for every piece of user XML in acordcs."""
+    return etree.XMLParser(
+        resolve_entities=False,
+        no_network=True,
+        load_dtd=False,
+        dtd_validation=False,
+        huge_tree=False,
+        recover=recover,
+        remove_blank_text=True,  # 60,000 fewer nodes in a 4 MB export: a faster parse and walk
+    )
+
+
+# libxml2 error type -> (our code, what to do)
+_FATAL = {
+    "ERR_RESOURCE_LIMIT": (
+        "X103",
+        "the file exceeds a safety limit (nesting deeper than 256 levels, a text or attribute "
+        "value over 10 MB, or entity amplification); UML exports stay well inside these limits",
+    ),
+    "ERR_TAG_NOT_FINISHED": ("X104", "the file ends in the middle of an element: export it again"),
+    "ERR_DOCUMENT_END": ("X104", "the file ends in the middle of an element: export it again"),
+    # Blank input never gets this far (see parse_bytes): here it means content that is not XML.
+    "ERR_DOCUMENT_EMPTY": ("X108", "the content is not XML (it does not start with '<')"),
+    "ERR_INVALID_ENCODING": (
+        "X105",
+        "the bytes do not match the declared encoding: fix the encoding declaration or re-export",
+    ),
+    "ERR_INVALID_CHAR": (
+        "X108",
+        "a character XML does not allow (a control character or NUL): remove it from the model",
+    ),
+    "ERR_UNSUPPORTED_ENCODING": (
+        "X105",
+        "the declared encoding is not supported: re-export as UTF-8",
+    ),
+    "NS_ERR_UNDEFINED_NAMESPACE": (
+        "X106",
+        "declare the prefix with xmlns:PREFIX on the root element",
+    ),
+    "ERR_ENTITY_IS_EXTERNAL": ("X102", "UML exports contain no entities: remove them"),
+    "ERR_UNDECLARED_ENTITY": ("X102", "UML exports contain no entities: remove them"),
+}
+
+
+# What BOUML's unescaped names break (`<`, `&`, `"` in a name), which recovery repairs locally.
+# Any other error (a missing end tag, ...) would make recovery rebuild the tree wrongly: refused.
+_RECOVERABLE = frozenset(
+    (
+        "ERR_LT_IN_ATTRIBUTE",
+        "ERR_ENTITYREF_SEMICOL_MISSING",
+        "ERR_NAME_REQUIRED",
+        "ERR_ATTRIBUTE_WITHOUT_VALUE",
+        "ERR_SPACE_REQUIRED",
+        "ERR_GT_REQUIRED",
+        "ERR_ATTRIBUTE_REDEFINED",
+    )
+)
+
+
+def _line_col(data: bytes, offset: int) -> tuple[int, int]:
+    line = data.count(b"\n", 0, offset) + 1
+    return line, offset - (data.rfind(b"\n", 0, offset) + 1) + 1
+
+
+def prefetch(paths: list[str]) -> None:
+    """Start parsing ``paths`` in a background thread; :func:`read_xml` picks the results up.
+
+    libxml2 parses with the GIL released, so a model is parsed on the second core while the
+    interpreter imports the rest of the toolchain (``acordcs-gen`` does this for its file
+    arguments). A result is used only if the file is still the one that was parsed.
+    """
+    slots = {path: _Prefetch() for path in dict.fromkeys(paths) if path not in _prefetched}
+    if not slots:
+        return
+    _prefetched.update(slots)
+    threading.Thread(target=_prefetch_all, args=(slots,), daemon=True).start()
+
+
+class _Prefetch:
+    __slots__ = ("done", "identity", "result")
+
+    def __init__(self) -> None:
+        self.done = threading.Event()
+        self.result: XmlInput | None = None
+        self.identity: tuple[int, ...] | None = None
+
+
+_prefetched: dict[str, _Prefetch] = {}
+
+
+def _identity(st: os.stat_result) -> tuple[int, ...]:
+    return (st.st_dev, st.st_ino, st.st_size, st.st_mtime_ns)
+
+
+def _prefetch_all(slots: dict[str, _Prefetch]) -> None:
+    for path, slot in slots.items():
+        try:
+            slot.identity = _identity(os.stat(path))
+            slot.result = _read_xml(path)
+        except Exception:  # the main thread reads the file again and reports what it finds
+            slot.result = None
+        finally:
+            slot.done.set()
+
+
+def _take_prefetched(path: str) -> XmlInput | None:
+    slot = _prefetched.pop(path, None)
+    if slot is None:
+        return None
+    slot.done.wait()
+    try:
+        unchanged = slot.identity == _identity(os.stat(path))
+    except OSError:
+        unchanged = False
+    return slot.result if unchanged else None
+
+
+def read_xml(path: str) -> XmlInput:
+    """Parse ``path`` with the hardened parser; never raises for bad input."""
+    return _take_prefetched(path) or _read_xml(path)
+
+
+def _read_xml(path: str) -> XmlInput:
+    try:
+        with open(path, "rb") as handle:
+            size = os.fstat(handle.fileno()).st_size
+            if size > MAX_BYTES:
+                msg = f"file is {size // 2**20} MiB, over the {MAX_BYTES // 2**20} MiB limit; split the model"
+                return XmlInput(path, None, [diagnostic("X103", msg, file=path)])
+            # Sized by the file: read(MAX_BYTES + 1) would allocate 256 MiB and copy (3 ms).
+            data = handle.read(size + 1)
+            if len(data) > size:  # it grew meanwhile
+                data += handle.read(MAX_BYTES + 1 - len(data))
+    except OSError as err:
+        reason = err.strerror or str(err)
+        return XmlInput(path, None, [diagnostic("X101", f"cannot read file: {reason}", file=path)])
+    return parse_bytes(data, path)
+
+
+def parse_bytes(data: bytes, path: str = "<input>") -> XmlInput:
+    """Parse XML bytes with the hardened parser; never raises for bad input."""
+    if len(data) > MAX_BYTES:
+        msg = f"file is larger than {MAX_BYTES // 2**20} MiB; split the model"
+        return XmlInput(path, None, [diagnostic("X103", msg, file=path)])
+    if not data or data.isspace():  # not strip(): that would copy the whole file
+        return XmlInput(
+            path, None, [diagnostic("X104", "file is empty: export it again", file=path)]
+        )
+    if _WIDE_DECLARATION.match(data) and b"\x00" not in data[:_SCAN_BYTES]:
+        msg = (
+            "the file declares a 16- or 32-bit encoding but its bytes are single-byte text: fix the "
+            "encoding declaration or re-export"
+        )
+        return XmlInput(path, None, [diagnostic("X105", msg, file=path, line=1)])
+    match = _DOCTYPE.search(data, 0, _SCAN_BYTES)
+    if match:
+        line, col = _line_col(data, match.start())
+        msg = "document type declaration refused: UML exports have none, and it can read local files (XXE) or expand entities without bound"
+        return XmlInput(path, None, [diagnostic("X102", msg, file=path, line=line, column=col)])
+    parser = hardened_parser()
+    try:
+        root = etree.fromstring(data, parser)
+    except etree.XMLSyntaxError as err:
+        return _after_strict_failure(data, path, err, parser)
+    except (ValueError, LookupError) as err:  # e.g. an unknown encoding name in the declaration
+        return XmlInput(path, None, [diagnostic("X105", f"cannot decode: {err}", file=path)])
+    result = XmlInput(path, root, encoding=root.getroottree().docinfo.encoding)
+    if root.getroottree().docinfo.doctype:  # a DOCTYPE past the scanned prefix
+        msg = "document type declaration refused: UML exports have none"
+        return XmlInput(path, None, [diagnostic("X102", msg, file=path)])
+    result.diagnostics += _utf8_declared_single_byte(data, result.encoding, path)
+    return result
+
+
+_NON_ASCII = re.compile(r"[^\x00-\x7f]")
+# Encodings in which every byte is a character: UTF-8 bytes decode without error, as mojibake.
+_SINGLE_BYTE = re.compile(r"^(iso-?8859-\d+|latin-?\d|(windows|cp)-?125\d|us-ascii|ascii)$", re.I)
+
+
+def _utf8_declared_single_byte(data: bytes, encoding: str | None, path: str) -> list[Diagnostic]:
+    """X110 when a file declared ISO-8859-1 (or similar) is really UTF-8: its accented names
+    would read as 'ConfiguraÃ§Ã£o'. BOUML writes the declaration from an export option, not from
+    the bytes, so the two can disagree."""
+    if not encoding or not _SINGLE_BYTE.match(encoding) or data.isascii():
+        return []
+    try:
+        text = data.decode("utf-8")
+    except UnicodeDecodeError:
+        return []  # really single-byte text
+    first = _NON_ASCII.search(text).start()
+    line = text.count("\n", 0, first) + 1
+    sample = text[first : first + 1]
+    msg = (
+        f"the file declares encoding {encoding} but its bytes are UTF-8 (first at line {line}: "
+        f"{sample!r} would read as {sample.encode('utf-8').decode('latin-1')!r}): names are read "
+        "garbled; change the declaration to UTF-8, or export again with the encoding option UTF-8"
+    )
+    return [diagnostic("X110", msg, file=path, line=1)]
+
+
+def _at_end(data: bytes, line: int, col: int) -> bool:
+    """Whether a parse error sits at the very end of the data (the mark of a truncated file)."""
+    end_line, end_col = _line_col(data, len(data.rstrip()))
+    return line > end_line or (line == end_line and col >= end_col - 1)
+
+
+def _after_strict_failure(
+    data: bytes, path: str, err: etree.XMLSyntaxError, parser: etree.XMLParser
+) -> XmlInput:
+    first = parser.error_log[0] if len(parser.error_log) else None
+    kind = first.type_name if first is not None else ""
+    line = first.line if first is not None else (err.lineno or 0)
+    col = first.column if first is not None else 0
+    message = (first.message if first is not None else str(err)).strip()
+    if "Excessive depth" in message:
+        kind, message = "ERR_RESOURCE_LIMIT", "elements nested deeper than 256 levels"
+    elif "amplification" in message:
+        kind, message = "ERR_RESOURCE_LIMIT", "entity expansion beyond the safety limit"
+    if kind not in _FATAL and _at_end(data, line, col):
+        kind = "ERR_DOCUMENT_END"  # cut inside a tag or attribute: libxml2 names the symptom
+    if kind not in _RECOVERABLE and kind not in _FATAL:
+        msg = f"not well-formed XML: {message}; fix the file at this place or export it again"
+        return XmlInput(path, None, [diagnostic("X108", msg, file=path, line=line, column=col)])
+    if kind in _FATAL:
+        code, todo = _FATAL[kind]
+        return XmlInput(
+            path, None, [diagnostic(code, f"{message}: {todo}", file=path, line=line, column=col)]
+        )
+    try:
+        root = etree.fromstring(data, hardened_parser(recover=True))
+    except etree.XMLSyntaxError:
+        root = None
+    if root is None:
+        msg = f"not well-formed XML: {message}; fix the file at this place"
+        return XmlInput(path, None, [diagnostic("X108", msg, file=path, line=line, column=col)])
+    msg = (
+        f"not well-formed XML: {message}; the rest was read in recovery mode so that every other check "
+        "could run, but names near this place may be cut short (BOUML writes names unescaped: rename "
+        "the element, e.g. no '<' or '&', and export again)"
+    )
+    return XmlInput(
+        path,
+        root,
+        [diagnostic("X107", msg, file=path, line=line, column=col)],
+        recovered=True,
+        encoding=root.getroottree().docinfo.encoding,
+    )

@@ -1,0 +1,375 @@
+"""``acordcs-gen``: validate output formats and exit codes, inspect, usage errors, --version."""
+
+from __future__ import annotations
+
+import json
+import re
+import shutil
+from pathlib import Path
+
+import pytest
+
+from acordcs import __version__
+from acordcs.diagnostics import CODES
+from tests.support.toolchain import (
+    ROOT,
+    SMARTROOM,
+    WEBLAB,
+    no_crash,
+    replace,
+    run_main,
+    run_process,
+)
+
+WEBLAB_REL = WEBLAB.relative_to(ROOT).as_posix()
+TEXT_LINE = re.compile(
+    r"^(?P<file>[^:]+):(?P<line>[1-9]\d*)(?::(?P<column>[1-9]\d*))?: "
+    r"(?P<severity>error|warning|info) (?P<code>[XRTLANZ]\d{3}): (?P<message>.+?)"
+    r"(?: \[(?P<element>[^\]]*?)(?: ?\((?P<id>[^()]+)\))?\])?$"
+)
+SUMMARY = re.compile(r"^(?P<file>.+): (\d+) errors?, (\d+) warnings?, (\d+) infos?$")
+
+
+def _with_problems(tmp_path: Path) -> Path:
+    """A WebLab copy with an error (T306), a warning (T303) and an info (R206)."""
+    text = WEBLAB.read_text(encoding="utf-8")
+    text = replace(text, 'frequency="1" base_Element', 'frequency="0" priority="high" base_Element')
+    text = replace(
+        text,
+        'CtxMonitor:frequency" value="1"/>',
+        'CtxMonitor:frequency" value="0"/><taggedValue tag="ACORDCS:CtxMonitor:priority" value="high"/>',
+    )
+    # Image, a plain class, gets a free <<CtxComponent>>: R206 (info), and it is then not deployed (A506)
+    head = '<packagedElement xmi:type="uml:Class" name="Image" xmi:id="BOUML_0x1f402_4" visibility="package">'
+    text = replace(
+        text,
+        head,
+        head + '<xmi:Extension extender="Bouml"><stereotype name="CtxComponent"/></xmi:Extension>',
+    )
+    target = tmp_path / "problems.xmi"
+    target.write_text(text, encoding="utf-8")
+    return target
+
+
+def _only_warning(tmp_path: Path) -> Path:
+    text = WEBLAB.read_text(encoding="utf-8")
+    text = replace(text, 'frequency="1" base_Element', 'frequency="1" priority="high" base_Element')
+    target = tmp_path / "warning.xmi"
+    target.write_text(text, encoding="utf-8")
+    return target
+
+
+# -------------------------------------------------------------------------------------- validate
+def test_clean_sample_text_output() -> None:
+    result = run_main(["validate", WEBLAB_REL])
+    assert result.code == 0
+    assert result.out == f"{WEBLAB_REL}: 0 errors, 0 warnings, 0 infos\n"
+    assert result.err == ""
+
+
+def test_text_lines_have_the_documented_shape(tmp_path: Path) -> None:
+    path = _with_problems(tmp_path)
+    result = run_main(["validate", str(path)])
+    no_crash(result)
+    assert result.code == 1
+    *lines, summary = result.out.splitlines()
+    assert lines
+    parsed = []
+    for line in lines:
+        match = TEXT_LINE.match(line)
+        assert match, line
+        assert match["file"] == str(path)
+        assert match["code"] in CODES
+        assert CODES[match["code"]][0].name.lower() == match["severity"]
+        parsed.append(match)
+    codes = {m["code"] for m in parsed}
+    assert {"T306", "T303", "R206", "A506"} <= codes
+    t306 = next(m for m in parsed if m["code"] == "T306")
+    assert t306["element"] == "WebLab::ContextAwareNavigation::Adaptation::Usage"
+    assert t306["id"] == "BOUML_0x20102_4"
+    counts = SUMMARY.match(summary)
+    assert counts and counts["file"] == str(path)
+    by_severity = [sum(m["severity"] == s for m in parsed) for s in ("error", "warning", "info")]
+    assert [int(counts[i]) for i in (2, 3, 4)] == by_severity
+
+
+def test_json_structure(tmp_path: Path) -> None:
+    path = _with_problems(tmp_path)
+    text = run_main(["validate", str(path)])
+    result = run_main(["validate", "--format", "json", str(path)])
+    assert result.code == 1
+    data = json.loads(result.out)
+    assert set(data) == {"files", "summary"}
+    (entry,) = data["files"]
+    assert entry["file"] == str(path)
+    assert entry["dialect"] == "bouml-xmi2"
+    assert entry["readable"] is True
+    keys = {"code", "severity", "message", "file", "line", "column", "element", "xmi_id"}
+    for d in entry["diagnostics"]:
+        assert set(d) == keys
+        assert d["severity"] == CODES[d["code"]][0].name.lower()
+        assert isinstance(d["line"], int) and d["line"] >= 1
+    assert data["summary"] == {
+        s: sum(d["severity"] == s for d in entry["diagnostics"])
+        for s in ("error", "warning", "info")
+    }
+    # the same findings as the text format, in the same order
+    text_codes = [m["code"] for m in map(TEXT_LINE.match, text.out.splitlines()[:-1])]
+    assert text_codes == [d["code"] for d in entry["diagnostics"]]
+
+
+def test_json_for_an_unreadable_file(tmp_path: Path) -> None:
+    missing = tmp_path / "missing.xmi"
+    result = run_main(["validate", "--format", "json", str(missing)])
+    assert result.code == 2
+    (entry,) = json.loads(result.out)["files"]
+    assert entry["readable"] is False
+    assert [d["code"] for d in entry["diagnostics"]] == ["X101"]
+
+
+def _sarif(cwd: Path, *names: str) -> tuple[int, dict]:
+    result = run_process(["validate", "--format", "sarif", *names], cwd=cwd)
+    no_crash(result)
+    return result.code, json.loads(result.out)
+
+
+def test_sarif_is_github_code_scanning_shaped(tmp_path: Path) -> None:
+    _with_problems(tmp_path)
+    shutil.copyfile(WEBLAB, tmp_path / "weblab.xmi")
+    (tmp_path / "sub").mkdir()
+    shutil.copyfile(_only_warning(tmp_path), tmp_path / "sub" / "warning.xmi")
+    code, sarif = _sarif(tmp_path, "problems.xmi", "weblab.xmi", "sub/warning.xmi")
+    assert code == 1
+    assert sarif["version"] == "2.1.0"
+    assert "sarif" in sarif["$schema"] and sarif["$schema"].endswith(".json")
+    (run,) = sarif["runs"]
+    driver = run["tool"]["driver"]
+    assert driver["name"] == "acordcs-gen"
+    rules = driver["rules"]
+    ids = [r["id"] for r in rules]
+    assert len(ids) == len(set(ids))
+    for rule in rules:
+        assert rule["id"] in CODES
+        assert rule["shortDescription"]["text"] == CODES[rule["id"]][1]
+        assert rule["defaultConfiguration"]["level"] in ("error", "warning", "note")
+    results = run["results"]
+    assert results
+    for res in results:
+        assert rules[res["ruleIndex"]]["id"] == res["ruleId"]
+        assert res["level"] in ("error", "warning", "note")
+        assert res["message"]["text"]
+        (location,) = res["locations"]
+        physical = location["physicalLocation"]
+        assert physical["artifactLocation"]["uri"] in ("problems.xmi", "sub/warning.xmi")
+        if "region" in physical:
+            assert physical["region"]["startLine"] >= 1
+            assert physical["region"].get("startColumn", 1) >= 1
+    assert {r["ruleId"] for r in results} == set(ids)  # every rule listed is used
+    levels = {(r["ruleId"], r["level"]) for r in results}
+    assert (
+        ("T306", "error") in levels and ("T303", "warning") in levels and ("R206", "note") in levels
+    )
+    uris = {r["locations"][0]["physicalLocation"]["artifactLocation"]["uri"] for r in results}
+    assert uris == {"problems.xmi", "sub/warning.xmi"}
+
+
+def test_sarif_of_a_clean_file_has_no_results() -> None:
+    code, sarif = _sarif(ROOT, WEBLAB_REL)
+    assert code == 0
+    assert sarif["runs"][0]["results"] == []
+    assert sarif["runs"][0]["tool"]["driver"]["rules"] == []
+
+
+def test_fail_on_warning_vs_error(tmp_path: Path) -> None:
+    warning = _only_warning(tmp_path)
+    assert run_main(["validate", str(warning)]).code == 0
+    assert run_main(["validate", "--fail-on", "error", str(warning)]).code == 0
+    assert run_main(["validate", "--fail-on", "warning", str(warning)]).code == 1
+    problems = _with_problems(tmp_path)
+    assert run_main(["validate", str(problems)]).code == 1
+    assert run_main(["validate", "--fail-on", "warning", str(problems)]).code == 1
+    assert run_main(["validate", "--fail-on", "warning", str(WEBLAB)]).code == 0
+
+
+def test_several_files(tmp_path: Path) -> None:
+    both = run_main(["validate", str(WEBLAB), str(SMARTROOM)])
+    assert both.code == 0
+    assert [ln.split(":")[0] for ln in both.out.splitlines()] == [str(WEBLAB), str(SMARTROOM)]
+    warning = _only_warning(tmp_path)
+    mixed = run_main(["validate", "--fail-on", "warning", str(WEBLAB), str(warning)])
+    assert mixed.code == 1
+    assert " T303: " in mixed.out
+    missing = tmp_path / "missing.xmi"
+    unreadable = run_main(["validate", str(missing), str(WEBLAB)])
+    assert unreadable.code == 2  # unreadable input wins over everything
+    assert f"{WEBLAB}: 0 errors" in unreadable.out  # the other file is still checked
+    data = json.loads(run_main(["validate", "--format", "json", str(WEBLAB), str(missing)]).out)
+    assert [f["readable"] for f in data["files"]] == [True, False]
+
+
+@pytest.mark.parametrize(
+    "args",
+    [
+        [],
+        ["validate"],
+        ["inspect"],
+        ["validate", "--bogus", str(WEBLAB)],
+        ["frobnicate"],
+        ["validate", "--format", "xml", str(WEBLAB)],
+        ["validate", "--fail-on", "info", str(WEBLAB)],
+        ["inspect", "--format", "sarif", str(WEBLAB)],
+    ],
+    ids=[
+        "no-args",
+        "validate-no-file",
+        "inspect-no-file",
+        "bad-option",
+        "bad-command",
+        "bad-format",
+        "bad-fail-on",
+        "inspect-bad-format",
+    ],
+)
+def test_usage_errors_exit_2(args: list[str]) -> None:
+    result = run_main(args)
+    no_crash(result)
+    assert result.code == 2
+    assert "Usage:" in result.both
+    assert not re.search(r"\b[XRTLANZ]\d{3}\b", result.out)  # no model was read
+
+
+def test_usage_error_from_the_real_entry_point() -> None:
+    result = run_process(["validate"])
+    no_crash(result)
+    assert result.code == 2
+    assert "Missing argument" in result.err
+
+
+def test_version() -> None:
+    result = run_main(["--version"])
+    assert result.code == 0
+    assert result.out.strip() == f"acordcs-gen, version {__version__}"
+    assert run_process(["--version"]).out.strip() == f"acordcs-gen, version {__version__}"
+
+
+# --------------------------------------------------------------------------------------- inspect
+WEBLAB_ACORDCS = {
+    "CtxContainer": ["UserSide", "WebLabSide"],
+    "CtxComponent": ["Access", "Locomotion", "Navigator", "PanoramicCamera", "Recovery", "Vision"],
+    "CtxMonitor": ["Control", "Telemetry", "Usage"],
+    "CtxPolicySet": ["BandwidthLimiting", "Recovering", "SpeedLimiting"],
+    "CtxPolicy": ["FrameRateRules", "RecoveryRules", "StraightRules", "TurnRules"],
+    "CtxPortConnection": [
+        "AccessLink",
+        "LocomotionLink",
+        "PanoramaLink",
+        "RecoveryLink",
+        "TelemetryLink",
+        "VisionLink",
+    ],
+    "CtxVariable": ["angle", "cycleRate", "fps", "maxSpeed", "numUsers", "speed"],
+}
+
+
+def test_inspect_json_weblab_acordcs_section() -> None:
+    result = run_main(["inspect", "--format", "json", str(WEBLAB)])
+    assert result.code == 0
+    data = json.loads(result.out)
+    assert (data["dialect"], data["exporter"], data["model"]) == (
+        "bouml-xmi2",
+        "Bouml 4.22.2",
+        "WebLab",
+    )
+    acordcs = data["acordcs"]
+    for kind, names in WEBLAB_ACORDCS.items():
+        assert acordcs["elements"][kind] == names, kind
+    assert len(acordcs["elements"]["CtxPort"]) == 11
+    assert acordcs["deployment"]["UserSide"] == ["Navigator"]
+    web = acordcs["deployment"]["WebLabSide"]
+    assert "Navigator" not in web and len(web) == 11
+    assert set(web) == (
+        set(WEBLAB_ACORDCS["CtxComponent"]) - {"Navigator"}
+        | set(WEBLAB_ACORDCS["CtxMonitor"])
+        | set(WEBLAB_ACORDCS["CtxPolicySet"])
+    )
+    sets = acordcs["policy_sets"]
+    summary = {name: (s["engine"], s["rules"]) for name, s in sets.items()}
+    assert summary == {
+        "SpeedLimiting": ("fuzzy", 12),
+        "Recovering": ("clips", 4),
+        "BandwidthLimiting": ("fuzzy", 9),
+    }
+    assert sets["SpeedLimiting"]["policies"] == ["StraightRules", "TurnRules"]
+    assert sets["SpeedLimiting"]["adapts"] == ["Locomotion"]
+    assert sets["Recovering"]["adapts"] == ["Recovery"]
+    assert sets["BandwidthLimiting"]["adapts"] == ["PanoramicCamera"]
+    assert sets["BandwidthLimiting"]["fed_by"] == ["Control", "Usage"]
+    assert sets["BandwidthLimiting"]["trigger"] == "periodic"
+    assert data["diagnostics"] == 0
+
+
+def _rule_lines(path: Path) -> int:
+    """Rules in the file's root-level CtxPolicy applications, counted by hand."""
+    from lxml import etree
+
+    root = etree.parse(str(path)).getroot()
+    total = 0
+    for app in root.iterfind("{http:///schemas/ACORDCS/1}CtxPolicy"):
+        for key, value in app.items():
+            if key.startswith("Rule"):
+                total += sum(
+                    1
+                    for ln in value.splitlines()
+                    if ln.strip() and not ln.strip().startswith(("#", "//"))
+                )
+    return total
+
+
+@pytest.mark.parametrize("path", [WEBLAB, SMARTROOM], ids=["weblab", "smartroom"])
+def test_inspect_text_and_json_agree(path: Path) -> None:
+    text = run_main(["inspect", str(path)])
+    data = json.loads(run_main(["inspect", "--format", "json", str(path)]).out)
+    assert text.code == 0
+    lines = text.out.splitlines()
+    assert lines[0] == f"{path}: {data['dialect']} ({data['exporter']}), model {data['model']!r}"
+    for key in (
+        "attributes",
+        "operations",
+        "associations",
+        "generalizations",
+        "dependencies",
+        "packages",
+    ):
+        assert f"  {key}: {data[key]}" in lines
+    for kind, names in data["acordcs"]["elements"].items():
+        assert f"    {kind} ({len(names)}): {', '.join(names)}" in lines
+    for name, info in data["acordcs"]["policy_sets"].items():
+        assert any(
+            ln.startswith(f"    policy set {name}: engine {info['engine']}, {info['rules']} rules")
+            for ln in lines
+        )
+    assert sum(s["rules"] for s in data["acordcs"]["policy_sets"].values()) == _rule_lines(path)
+    deployed = {n for hosted in data["acordcs"]["deployment"].values() for n in hosted}
+    elements = data["acordcs"]["elements"]
+    assert deployed == {
+        n for k in ("CtxComponent", "CtxMonitor", "CtxPolicySet") for n in elements.get(k, [])
+    }
+
+
+def test_inspect_unreadable_file(tmp_path: Path) -> None:
+    result = run_main(["inspect", str(tmp_path / "missing.xmi")])
+    no_crash(result)
+    assert result.code == 2
+    assert " X101: " in result.err and result.out == ""
+
+
+def test_sarif_uri_is_a_valid_uri_reference(tmp_path: Path, monkeypatch) -> None:
+    folder = tmp_path / "my models"
+    folder.mkdir()
+    shutil.copyfile(_only_warning(tmp_path), folder / "web#1.xmi")
+    monkeypatch.chdir(tmp_path)
+    sarif = json.loads(run_main(["validate", "--format", "sarif", "my models/web#1.xmi"]).out)
+    (result,) = sarif["runs"][0]["results"]
+    assert result["locations"][0]["physicalLocation"]["artifactLocation"]["uri"] == (
+        "my%20models/web%231.xmi"
+    )
