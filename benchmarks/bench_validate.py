@@ -113,14 +113,14 @@ def main() -> int:
 def _rule_parsers(reading) -> tuple[float, float, int]:
     """Median time to parse every rule of the model: our driver vs lark's, same builders."""
     from acordcs.model.architecture import POLICY_SET
-    from acordcs.model.checks.rules import policy_rules
+    from acordcs.model.queries import policy_rules, rule_kind
     from acordcs.rules import lalr, parse_rule
     from acordcs.rules import parser as rules
 
     arch = reading.architecture
     texts = []
     for policy_set in arch.of_kind(POLICY_SET):
-        kind = "crisp" if policy_set.tag("engine") == "clips" else "fuzzy"
+        kind = rule_kind(policy_set)
         for policy in arch.policies(policy_set):
             texts += [(prule.text, kind) for prule in policy_rules(policy)]
 

@@ -11,7 +11,7 @@ from typing import ClassVar
 
 import pytest
 
-from acordcs.model.ecore_builder import build_application as model_of
+from acordcs.model.ecore_builder import to_ecore
 from acordcs.model.reading import read_model
 from acordcs.runtime.application import build_application
 from acordcs.runtime.clock import VirtualClock
@@ -49,7 +49,7 @@ def weblab():
         return monitors[name]
 
     run = build_application(
-        model_of(reading.architecture),
+        to_ecore(reading.architecture),
         clock=VirtualClock(seed=1),
         factories={"Recovery": Recovery},
         monitors={"Control": monitor},

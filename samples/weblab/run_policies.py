@@ -12,7 +12,7 @@ import sys
 from pathlib import Path
 from typing import ClassVar
 
-from acordcs.model.ecore_builder import build_application as model_of
+from acordcs.model.ecore_builder import to_ecore
 from acordcs.model.reading import read_model
 from acordcs.runtime.application import build_application
 from acordcs.runtime.clock import VirtualClock
@@ -52,7 +52,7 @@ def main(argv: list[str]) -> int:
         return control[-1]
 
     run = build_application(
-        model_of(reading.architecture),
+        to_ecore(reading.architecture),
         clock=VirtualClock(seed=1),
         factories={"Recovery": Recovery},
         monitors={"Control": make_control},

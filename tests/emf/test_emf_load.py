@@ -456,12 +456,12 @@ def test_unsettable_attribute_set_to_zero_survives(emf, tmp_path):
 
 def test_weblab_sample_loads_in_emf(emf, tmp_path):
     # The ACORD-CS model read from the WebLab sample, saved by our toolchain, must load in EMF too.
-    from acordcs.model.ecore_builder import build_application
+    from acordcs.model.ecore_builder import to_ecore
     from acordcs.model.reading import read_model
 
     reading = read_model(str(WEBLAB_SAMPLE))
     assert not reading.diagnostics, [d.format_text() for d in reading.diagnostics]
-    root = build_application(reading.architecture)
+    root = to_ecore(reading.architecture)
     assert root.eClass.name == "Application"
     assert len(root.components) == 6 and len(root.policySets) == 3
     path = _save(root, tmp_path / "weblab.xmi")

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from acordcs.diagnostics import printable
 from acordcs.model.architecture import CONTAINER, POLICY_SET, Architecture
-from acordcs.model.checks.rules import policy_rules
+from acordcs.model.queries import policy_rules
 from acordcs.model.reading import ModelReading
 from acordcs.profile import profile
 

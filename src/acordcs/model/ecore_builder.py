@@ -18,8 +18,7 @@ from acordcs.model.architecture import (
     Architecture,
     Role,
 )
-from acordcs.model.checks.rules import policy_rules
-from acordcs.model.checks.tags import parse_real, variable_terms
+from acordcs.model.queries import parse_real, policy_rules, variable_terms
 from acordcs.xmi.uml import Classifier
 
 # "label: if ..." (a label is an identifier before the first ':'; rules have no other ':' before 'if')
@@ -34,7 +33,7 @@ _ROOT_LISTS = {
 }
 
 
-def build_application(arch: Architecture):
+def to_ecore(arch: Architecture):
     """An ``Application`` holding every role of ``arch`` with its attributes, tags and relations.
 
     Meant for a model that validates without errors; elements an error left without a place (a port

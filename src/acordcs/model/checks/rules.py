@@ -4,12 +4,21 @@ policy set's scope; terms, outputs that are also inputs, operations and their ar
 from __future__ import annotations
 
 from collections.abc import Iterator
-from dataclasses import dataclass
 
 from acordcs.diagnostics import Diagnostic
 from acordcs.model.architecture import POLICY_SET, Role
 from acordcs.model.checks import Context, check
-from acordcs.model.checks.tags import variable_terms
+from acordcs.model.queries import (
+    Ambiguous,
+    PolicyRule,
+    PolicySetScope,
+    Resolved,
+    Unresolved,
+    policy_rules,
+    rule_kind,
+    suggestion,
+    variable_terms,
+)
 from acordcs.rules import (
     Assign,
     BoolOp,
@@ -22,112 +31,8 @@ from acordcs.rules import (
     RuleSyntaxError,
     names_in,
     parse_rule,
-    split_rules,
 )
-from acordcs.xmi.uml import Operation, Property
-
-
-@dataclass
-class PolicyRule:
-    """A rule as found in a policy's tag, with where it came from."""
-
-    policy: Role
-    tag: str
-    index: int  # 1-based position among the tag's rules
-    text: str
-    line: int  # file line of the tag
-
-
-def policy_rules(policy: Role) -> list[PolicyRule]:
-    """Every rule of a CtxPolicy: the Rule tag and any tag whose name starts with Rule."""
-    declared = policy.stereotype.tag("Rule")
-    out = []
-    for tag, value in policy.tags.items():
-        if declared is None or not declared.matches(tag):
-            continue
-        line = policy.tag_line(tag)
-        for n, rule_line in enumerate(split_rules(value), start=1):
-            out.append(PolicyRule(policy, tag, n, rule_line.text, line))
-    return out
-
-
-class _Scope:
-    """Name resolution for one policy set: elements by name, attributes and operations by name.
-
-    Indexed once per policy set: a model with hundreds of sets and thousands of rule atoms would
-    otherwise scan the scope for every name. Answers are kept by (text, kind): the same variables
-    recur in every rule of a set, and an answer depends on nothing else (not on the column).
-    """
-
-    def __init__(self, ctx: Context, policy_set: Role) -> None:
-        self.ctx = ctx
-        self.set = policy_set
-        self.roles = ctx.arch.scope(policy_set)
-        self.by_element: dict[str, list[Role]] = {}
-        self.members: dict[str, dict[str, list[tuple[Role, object]]]] = {
-            "attribute": {},
-            "operation": {},
-        }
-        self.answers: dict[tuple[str, str], tuple[Role, Property | Operation] | str] = {}
-        for role in self.roles:
-            self.by_element.setdefault(role.name, []).append(role)
-            element = role.element
-            for kind, items in (
-                ("attribute", getattr(element, "attributes", ())),
-                ("operation", getattr(element, "operations", ())),
-            ):
-                for member in items:
-                    self.members[kind].setdefault(member.name, []).append((role, member))
-
-    def describe(self) -> str:
-        return (
-            ", ".join(r.name for r in self.roles)
-            or "nothing: relate monitors and adapted elements to it"
-        )
-
-    def resolve(self, name: Name, kind: str) -> tuple[Role, Property | Operation] | str:
-        """The (element, member) a name denotes, or a message saying why it denotes none."""
-        key = (name.text, kind)
-        answer = self.answers.get(key)
-        if answer is None:
-            answer = self.answers[key] = self._resolve(name, kind)
-        return answer
-
-    def _resolve(self, name: Name, kind: str) -> tuple[Role, Property | Operation] | str:
-        found = self.members[kind].get(name.member, [])
-        if name.element is not None:
-            owners = self.by_element.get(name.element)
-            if not owners:
-                exists = any(r.name == name.element for r in self.ctx.arch.roles.values())
-                why = (
-                    f"{name.element!r} is not in the scope of policy set {self.set.name!r} (relate it: a "
-                    "monitor feeding the set, or an element the set adapts)"
-                    if exists
-                    else f"no element named {name.element!r}"
-                )
-                return f"{why}; scope: {self.describe()}"
-            found = [(r, m) for r, m in found if r.name == name.element]
-            if not found:
-                names = [m.name for r in owners for m in getattr(r.element, kind + "s", ())]
-                return f"{name.element} has no {kind} {name.member!r}{_suggest(name.member, names)}"
-            return found[0]
-        if not found:
-            names = list(self.members[kind])
-            return (
-                f"no element in the scope of policy set {self.set.name!r} has {kind} {name.member!r}"
-                f"{_suggest(name.member, names)}; scope: {self.describe()}"
-            )
-        if len(found) > 1:
-            return "ambiguous:" + ", ".join(f"{r.name}.{m.name}" for r, m in found)
-        return found[0]
-
-
-def _suggest(word: str, names: list[str]) -> str:
-    # difflib is quadratic-ish: a bounded candidate list keeps huge hostile models fast
-    import difflib  # only when a name is not found: it costs start-up time
-
-    close = difflib.get_close_matches(word, names[:500], n=1)
-    return f" (did you mean {close[0]!r}?)" if close else ""
+from acordcs.xmi.uml import Property
 
 
 def _where(prule: PolicyRule) -> str:
@@ -139,9 +44,8 @@ def _where(prule: PolicyRule) -> str:
 def rules(ctx: Context) -> Iterator[Diagnostic]:
     terms: dict[str, tuple[Role | None, list[str], set[str]]] = {}  # by attribute id, for all sets
     for policy_set in ctx.arch.of_kind(POLICY_SET):
-        engine = policy_set.tag("engine") or "fuzzy"
-        kind = "crisp" if engine == "clips" else "fuzzy"
-        checker = _RuleChecker(ctx, _Scope(ctx, policy_set), terms)
+        kind = rule_kind(policy_set)
+        checker = _RuleChecker(ctx, PolicySetScope(ctx.arch, policy_set), terms)
         labels: dict[str, PolicyRule] = {}
         for policy in ctx.arch.policies(policy_set):
             found = policy_rules(policy)
@@ -193,7 +97,7 @@ def rules(ctx: Context) -> Iterator[Diagnostic]:
 class _RuleChecker:
     """The checks of the rules of one policy set, and what they gather about its rule block."""
 
-    def __init__(self, ctx: Context, scope: _Scope, terms: dict) -> None:
+    def __init__(self, ctx: Context, scope: PolicySetScope, terms: dict) -> None:
         self.ctx = ctx
         self.scope = scope
         self.terms = terms
@@ -206,20 +110,15 @@ class _RuleChecker:
             code, f"{_where(prule)}, column {name.column}: {message}", prule.policy, line=prule.line
         )
 
-    def variable(
-        self, prule: PolicyRule, name: Name
-    ) -> tuple[Role, Property | Operation] | Diagnostic:
+    def variable(self, prule: PolicyRule, name: Name) -> Resolved | Diagnostic:
         found = self.scope.resolve(name, "attribute")
-        if isinstance(found, str):
-            if found.startswith("ambiguous:"):
-                options = found.removeprefix("ambiguous:")
-                return self.problem(
-                    prule,
-                    "L403",
-                    f"{name.text!r} is ambiguous: it may be {options}; qualify it",
-                    name,
-                )
-            return self.problem(prule, "L402", f"variable {name.text!r}: {found}", name)
+        if isinstance(found, Ambiguous):
+            options = ", ".join(found.candidates)
+            return self.problem(
+                prule, "L403", f"{name.text!r} is ambiguous: it may be {options}; qualify it", name
+            )
+        if isinstance(found, Unresolved):
+            return self.problem(prule, "L402", f"variable {name.text!r}: {found.reason}", name)
         return found
 
     def _terms_of(self, attr: Property) -> tuple[Role | None, list[str], set[str]]:
@@ -248,10 +147,10 @@ class _RuleChecker:
         for index, atom in enumerate(atoms):
             var = atom.var
             found = self.variable(prule, var)
-            if not isinstance(found, tuple):
+            if not isinstance(found, Resolved):
                 yield found
                 continue
-            attr = found[1]
+            attr = found.member
             info = self.terms.get(attr.id)
             if info is None:
                 info = self._terms_of(attr)
@@ -273,7 +172,7 @@ class _RuleChecker:
                     prule,
                     "L404",
                     f"{var.text!r} has no term {atom.term.text!r} (its terms: {shown})"
-                    f"{_suggest(atom.term.text, terms)}",
+                    f"{suggestion(atom.term.text, terms)}",
                     atom.term,
                 )
             if index < inputs:
@@ -284,37 +183,35 @@ class _RuleChecker:
     def crisp(self, rule: Rule, prule: PolicyRule) -> Iterator[Diagnostic]:
         for name in rule.variables_read():
             found = self.variable(prule, name)
-            if not isinstance(found, tuple):
+            if not isinstance(found, Resolved):
                 yield found
         for action in rule.actions:
             if isinstance(action, Assign):
                 found = self.variable(prule, action.var)
-                if not isinstance(found, tuple):
+                if not isinstance(found, Resolved):
                     yield found
                 for name in names_in(action.value):
                     found = self.variable(prule, name)
-                    if not isinstance(found, tuple):
+                    if not isinstance(found, Resolved):
                         yield found
             elif isinstance(action, Call):
                 yield from self.call(action, prule)
 
     def call(self, call: Call, prule: PolicyRule) -> Iterator[Diagnostic]:
         found = self.scope.resolve(call.target, "operation")
-        if isinstance(found, str):
-            if found.startswith("ambiguous:"):
-                options = found.removeprefix("ambiguous:")
-                yield self.problem(
-                    prule,
-                    "L403",
-                    f"{call.target.text!r}() is ambiguous: {options}; qualify it",
-                    call.target,
-                )
-            else:
-                yield self.problem(
-                    prule, "L406", f"operation {call.target.text!r}: {found}", call.target
-                )
+        if isinstance(found, Ambiguous):
+            yield self.problem(
+                prule,
+                "L403",
+                f"{call.target.text!r}() is ambiguous: {', '.join(found.candidates)}; qualify it",
+                call.target,
+            )
+        elif isinstance(found, Unresolved):
+            yield self.problem(
+                prule, "L406", f"operation {call.target.text!r}: {found.reason}", call.target
+            )
         else:
-            _, op = found
+            op = found.member
             expected = len(op.inputs)
             if expected != len(call.args):
                 params = ", ".join(p.name for p in op.inputs)
@@ -328,5 +225,5 @@ class _RuleChecker:
         for arg in call.args:
             for name in names_in(arg):
                 found_var = self.variable(prule, name)
-                if not isinstance(found_var, tuple):
+                if not isinstance(found_var, Resolved):
                     yield found_var

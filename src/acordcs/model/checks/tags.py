@@ -3,32 +3,19 @@
 from __future__ import annotations
 
 import math
-import re
 from collections.abc import Iterator
 from itertools import pairwise
 
 from acordcs.diagnostics import Diagnostic
-from acordcs.model.architecture import MONITOR, POLICY_SET, VARIABLE, Role
+from acordcs.model.architecture import MONITOR, POLICY_SET, VARIABLE
 from acordcs.model.checks import Context, check
-from acordcs.rules import RuleSyntaxError, TermDef, parse_terms
-
-# xsd:double and xsd:int lexical forms (ASCII digits only), as EMF and Java read tag values.
-_REAL = re.compile(r"[+-]?([0-9]+(\.[0-9]*)?|\.[0-9]+)([eE][+-]?[0-9]+)?")
-_INTEGER = re.compile(r"[+-]?[0-9]+")
-
-
-def parse_real(text: str) -> float | None:
-    text = text.strip()
-    if not _REAL.fullmatch(text):
-        return None
-    value = float(text)
-    return value if math.isfinite(value) else None
-
-
-def parse_integer(text: str) -> int | None:
-    text = text.strip()
-    return int(text) if _INTEGER.fullmatch(text) and len(text) < 20 else None
-
+from acordcs.model.queries import (
+    parse_integer,
+    parse_real,
+    parsed_terms,
+    variable_range,
+)
+from acordcs.rules import RuleSyntaxError, TermDef
 
 _PARSERS = {
     "Real": parse_real,
@@ -80,34 +67,6 @@ def tag_values(ctx: Context) -> Iterator[Diagnostic]:
                     role,
                     line=role.tag_line("frequency"),
                 )
-
-
-_TERMS_CACHE: dict[str, list[TermDef] | RuleSyntaxError] = {}
-
-
-def parsed_terms(text: str) -> list[TermDef] | RuleSyntaxError:
-    """``parse_terms`` memoised by text: a model has far fewer distinct term lists than variables,
-    and every rule atom asks for its variable's terms."""
-    if text not in _TERMS_CACHE:
-        if len(_TERMS_CACHE) > 4096:
-            _TERMS_CACHE.clear()
-        try:
-            _TERMS_CACHE[text] = parse_terms(text)
-        except RuleSyntaxError as err:
-            _TERMS_CACHE[text] = err
-    return _TERMS_CACHE[text]
-
-
-def variable_terms(role: Role) -> list[TermDef]:
-    """The terms of a CtxVariable role; [] when missing or unparseable (reported by the check)."""
-    terms = parsed_terms(role.tags.get("terms", ""))
-    return [] if isinstance(terms, RuleSyntaxError) else terms
-
-
-def variable_range(role: Role) -> tuple[float, float] | None:
-    lo = parse_real(role.tags.get("min", ""))
-    hi = parse_real(role.tags.get("max", ""))
-    return (lo, hi) if lo is not None and hi is not None and lo < hi else None
 
 
 @check
