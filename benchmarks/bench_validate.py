@@ -2,16 +2,18 @@
 
 Prints, measured in one run on the same file:
 - B: the time lxml takes to parse and re-serialize the file, and the whole-process time of
-  ``acordcs-gen validate`` on it, interpreter start included, as a multiple of B (the issue's
-  target: at most 3 B): medians of 15 runs each, the two alternated;
+  ``acordcs-gen validate`` on it, interpreter start included, as a multiple of B (target: at most
+  3 B), with each of the executable's two speed devices on and off: the parse on a second thread
+  while the toolchain imports (:func:`acordcs.xmi.source.prefetch`) and the exit without the
+  interpreter's teardown (:func:`acordcs.cli.run`). The five are alternated, 15 runs each, and
+  their medians compared: the host's speed drifts between minutes;
 - the same for a model with no classes (start-up alone), to show where the time goes;
 - in-process read + check time of an ISO-8859-1 BOUML export with over 1,000 stereotype
-  applications (the issue names a real 1.4 MB one; ours is denser in plain classes, so larger:
-  4.6 MB) (target: well under a second);
-- the model's 1,200 rules parsed by our parser (a fast reader for plain fuzzy rules, else our LALR
-  driver on lark's tables) and by lark's own parser on the same grammar with the same tree
-  builders (median of 7), and the cost of analysing the grammar when the cached
-  tables are missing (a fresh interpreter, lark import included).
+  applications (target: well under a second);
+- the model's 1,200 rules parsed by our parser (our LALR driver on lark's tables) and by lark's
+  own parser on the same grammar with the same tree builders (median of 7), and the cost of
+  analysing the grammar when the cached tables are missing (a fresh interpreter, lark import
+  included).
 
 Run: ``.venv/bin/python benchmarks/bench_validate.py``
 """
@@ -32,6 +34,28 @@ from acordcs.xmi.writer.synthetic import generate
 ROUNDS = 7
 PAIRS = 15
 CLI = [str(Path(sys.executable).with_name("acordcs-gen")), "validate"]
+# The executable with its speed devices switched off one at a time, by patching them out in the
+# benchmark's own process only: the collector left on, the interpreter's teardown at the end
+# (`main()` instead of `run()`), the model parsed on the main thread after the imports.
+_OFF = {
+    "garbage collector off": "import gc; gc.disable = lambda: None; ",
+    "os._exit": "",  # main() instead of run()
+    "parse thread": "from acordcs.xmi import source; source.prefetch = lambda paths: None; ",
+}
+
+
+def _without(*devices: str) -> list[str]:
+    entry = "main" if "os._exit" in devices else "run"
+    code = "".join(_OFF[d] for d in devices)
+    code += f"import sys; from acordcs.cli import {entry}; sys.exit({entry}())"
+    return [sys.executable, "-c", code, "validate"]
+
+
+VARIANTS = {
+    "every device on (acordcs-gen)": CLI,
+    **{f"without: {device}": _without(device) for device in _OFF},
+    "without any": _without(*_OFF),
+}
 
 
 def median_seconds(fn, rounds: int = ROUNDS) -> float:
@@ -43,25 +67,25 @@ def median_seconds(fn, rounds: int = ROUNDS) -> float:
     return statistics.median(times)
 
 
-def alternated(first, second, pairs: int | None = None) -> tuple[float, float]:
-    """Medians of ``first`` and ``second`` run one after the other ``pairs`` times: the host's
-    speed drifts (a noisy neighbour, frequency changes), and a ratio of two medians taken minutes
-    apart measures the drift as much as the code."""
-    a, b = [], []
-    for _ in range(pairs or PAIRS):
-        for fn, times in ((first, a), (second, b)):
+def alternated(*fns, rounds: int = PAIRS) -> list[float]:
+    """Medians of ``fns`` run one after the other ``rounds`` times: the host's speed drifts (a
+    noisy neighbour, frequency changes), and a ratio of two medians taken minutes apart measures
+    the drift as much as the code."""
+    times: list[list[float]] = [[] for _ in fns]
+    for _ in range(rounds):
+        for fn, runs in zip(fns, times, strict=True):
             start = time.perf_counter()
             fn()
-            times.append(time.perf_counter() - start)
-    return statistics.median(a), statistics.median(b)
+            runs.append(time.perf_counter() - start)
+    return [statistics.median(runs) for runs in times]
 
 
 def lxml_round_trip(path: Path) -> None:
     etree.tostring(etree.parse(str(path)))
 
 
-def run_cli(path: Path) -> None:
-    done = subprocess.run([*CLI, str(path)], capture_output=True, text=True)
+def run_cli(path: Path, command: list[str] = CLI) -> None:
+    done = subprocess.run([*command, str(path)], capture_output=True, text=True)
     if done.returncode != 0:
         raise SystemExit(f"validate failed on {path}:\n{done.stdout}{done.stderr}")
 
@@ -82,7 +106,11 @@ def main() -> int:
             text.replace('name="Plain', 'name="Configuração', 200).encode("iso-8859-1")
         )
 
-        b, whole = alternated(lambda: lxml_round_trip(big), lambda: run_cli(big))
+        b, *variants = alternated(
+            lambda: lxml_round_trip(big),
+            *(lambda command=command: run_cli(big, command) for command in VARIANTS.values()),
+        )
+        whole = variants[0]
         startup = median_seconds(lambda: run_cli(empty))
         reading = read_model(str(latin))
         read_latin = median_seconds(lambda: read_model(str(latin)))
@@ -96,6 +124,12 @@ def main() -> int:
     print(
         f"   acordcs-gen validate, whole process {whole * 1e3:8.1f} ms = {whole / b:5.2f} B (target <= 3 B)"
     )
+    by_name = dict(zip(VARIANTS, variants, strict=True))
+    for name, seconds in by_name.items():
+        print(f"     {name:38s} {seconds * 1e3:8.1f} ms = {seconds / b:5.2f} B")
+    for device in _OFF:
+        off = by_name[f"without: {device}"]
+        print(f"     {device} saves {(off - whole) / off:6.1%} of the time without it")
     print(f"   acordcs-gen start-up, empty model   {startup * 1e3:8.1f} ms = {startup / b:4.1f} B")
     print(
         f"   ISO-8859-1 export, {latin_mb:.1f} MB, {len(reading.uml.applications)} stereotype "
@@ -141,7 +175,7 @@ def _rule_parsers(reading) -> tuple[float, float, int]:
 def _analysis_cost() -> float:
     code = (
         "import time; t = time.perf_counter(); from acordcs.rules import lalr, parser as rules; "
-        "g = open(rules.__file__.replace('rules.py', 'rules.lark')).read(); "
+        "g = open(rules.__file__.replace('parser.py', 'rules.lark')).read(); "
         "lalr.Tables(lalr.analyse(g, ['start_fuzzy', 'start_crisp', 'start_terms'])); "
         "print(time.perf_counter() - t)"
     )

@@ -2,14 +2,13 @@
 
 The click group :data:`cli` is the executable. :func:`main` runs it and turns every outcome into an
 exit code (0 ok, 1 failure found, 2 usage or unreadable input), never a traceback; tests and
-library users call it. :func:`run`, the installed ``acordcs-gen``, is :func:`main` followed by
-the one start-up device the executable keeps at its end (see :func:`run`). The other one, parsing
-the model files on a second thread while the toolchain imports, is in the commands themselves
-(:func:`acordcs.xmi.source.prefetch`), so in-process runs take the same path.
+library users call it. :func:`run`, the installed ``acordcs-gen``, is :func:`main` in a process
+that lives for one command, with what only such a process may do (see :func:`run`).
 """
 
 from __future__ import annotations
 
+import gc
 import os
 import sys
 from typing import NoReturn
@@ -54,14 +53,18 @@ def main(argv: list[str] | None = None) -> int:
 
 
 def run() -> NoReturn:
-    """The installed ``acordcs-gen``: :func:`main`, then ``os._exit`` once the output is flushed.
+    """The installed ``acordcs-gen``: :func:`main` in a process that lives for one command.
 
-    Tearing the interpreter down would free the parsed tree and the tens of thousands of model
-    objects one by one: about a fifth of ``validate``'s time on a large model (README,
-    "Benchmarks", measured with this device on and off). Commands write files only through
-    ``with`` blocks, so nothing they write is still buffered here; standard output and error are
-    flushed below.
+    Two things only such a process can do, each measured on and off (README, "Benchmarks"):
+
+    - the cyclic garbage collector is off: a command builds one structure (the parsed tree, tens
+      of thousands of model objects and rule trees) that lives until the end, and the collector,
+      triggered every 700 allocations, would scan that growing heap again and again for nothing;
+    - the process ends with ``os._exit`` once its output is flushed: tearing the interpreter down
+      would free all of it one object at a time. Commands write files only in ``with`` blocks,
+      so nothing they write is still buffered here; standard output and error are flushed below.
     """
+    gc.disable()
     code = main()
     for stream in (sys.stdout, sys.stderr):
         try:

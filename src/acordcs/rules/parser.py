@@ -41,7 +41,7 @@ from acordcs.rules.tree import (
     names_in,
 )
 
-# The tree (ruletree.py) is part of this module's interface: one import for the parser's users.
+# The tree (tree.py) is part of this interface: the package re-exports it with the parser.
 __all__ = [
     "HEDGES",
     "KEYWORDS",
