@@ -1,10 +1,13 @@
-"""Reading user XML safely: no DTDs, no entities, no network, bounded size and depth.
+"""Model files: reading a UML/XMI export into an lxml tree, with what was wrong with it as diagnostics.
 
-UML exports never contain a document type declaration, so one is refused outright (that closes XXE and
-entity bombs before libxml2 sees them). A strict parse comes first; only a file that fails it for a
-reason recovery can repair (BOUML's unescaped ``<`` in names) is read again in recover mode, with a
-warning saying so. Truncated files, wrong encodings and undeclared prefixes are errors: recovery would
-silently drop or garble model elements.
+The parse itself is :mod:`acordcs.safexml`'s (no DTD, no entities, no network, libxml2's depth and size
+limits); this module adds the model-file policy: a 256 MiB size limit, the X101-X110 diagnostics, and
+the encoding checks. UML exports never contain a document type declaration, so one is refused outright
+(X102). A strict parse comes first; only a file that fails it for a reason recovery can repair (BOUML's
+unescaped ``<`` in names) is read again in recover mode, with a warning saying so (X107). Truncated
+files, wrong encodings and undeclared prefixes are errors: recovery would silently drop or garble model
+elements. :func:`prefetch` parses the files named on the command line on a second thread while the
+rest of the command starts.
 """
 
 from __future__ import annotations
@@ -15,12 +18,10 @@ import threading
 
 from lxml import etree
 
-TYPE_CHECKING = False  # typing itself costs start-up time: see launch.py
-if TYPE_CHECKING:
-    from acordcs.diagnostics import Diagnostic
+from acordcs import safexml
+from acordcs.diagnostics import Diagnostic, diagnostic
 
 MAX_BYTES = 256 * 1024 * 1024
-_DOCTYPE = re.compile(rb"<!DOCTYPE|<!ENTITY", re.IGNORECASE)
 _WIDE_DECLARATION = re.compile(
     rb"""^\s*<\?xml[^>]*encoding\s*=\s*["'](utf-?16|utf-?32|ucs)""", re.IGNORECASE
 )
@@ -58,33 +59,11 @@ class XmlInput:
         return found
 
 
-def diagnostic(code: str, message: str, **where) -> Diagnostic:
-    # Imported on first use: `acordcs-gen` starts parsing the model on a second thread as soon as
-    # this module is loaded (launch.py), and diagnostics (with dataclasses) would delay that by
-    # some 10 ms. A clean file never needs it here.
-    from acordcs.diagnostics import diagnostic as make
-
-    return make(code, message, **where)
-
-
-def hardened_parser(*, recover: bool = False) -> etree.XMLParser:
-    """The parser for every piece of user XML in acordcs."""
-    return etree.XMLParser(
-        resolve_entities=False,
-        no_network=True,
-        load_dtd=False,
-        dtd_validation=False,
-        huge_tree=False,
-        recover=recover,
-        remove_blank_text=True,  # 60,000 fewer nodes in a 4 MB export: a faster parse and walk
-    )
-
-
 # libxml2 error type -> (our code, what to do)
 _FATAL = {
     "ERR_RESOURCE_LIMIT": (
         "X103",
-        "the file exceeds a safety limit (nesting deeper than 256 levels, a text or attribute "
+        f"the file exceeds a safety limit (nesting deeper than {safexml.MAX_DEPTH} levels, a text or attribute "
         "value over 10 MB, or entity amplification); UML exports stay well inside these limits",
     ),
     "ERR_TAG_NOT_FINISHED": ("X104", "the file ends in the middle of an element: export it again"),
@@ -125,11 +104,6 @@ _RECOVERABLE = frozenset(
         "ERR_ATTRIBUTE_REDEFINED",
     )
 )
-
-
-def _line_col(data: bytes, offset: int) -> tuple[int, int]:
-    line = data.count(b"\n", 0, offset) + 1
-    return line, offset - (data.rfind(b"\n", 0, offset) + 1) + 1
 
 
 def prefetch(paths: list[str]) -> None:
@@ -186,7 +160,7 @@ def _take_prefetched(path: str) -> XmlInput | None:
 
 
 def read_xml(path: str) -> XmlInput:
-    """Parse ``path`` with the hardened parser; never raises for bad input."""
+    """Parse ``path`` (or take its prefetched parse); never raises for bad input."""
     return _take_prefetched(path) or _read_xml(path)
 
 
@@ -208,7 +182,7 @@ def _read_xml(path: str) -> XmlInput:
 
 
 def parse_bytes(data: bytes, path: str = "<input>") -> XmlInput:
-    """Parse XML bytes with the hardened parser; never raises for bad input."""
+    """Parse a model file's bytes; never raises for bad input."""
     if len(data) > MAX_BYTES:
         msg = f"file is larger than {MAX_BYTES // 2**20} MiB; split the model"
         return XmlInput(path, None, [diagnostic("X103", msg, file=path)])
@@ -222,24 +196,28 @@ def parse_bytes(data: bytes, path: str = "<input>") -> XmlInput:
             "encoding declaration or re-export"
         )
         return XmlInput(path, None, [diagnostic("X105", msg, file=path, line=1)])
-    match = _DOCTYPE.search(data, 0, _SCAN_BYTES)
-    if match:
-        line, col = _line_col(data, match.start())
-        msg = "document type declaration refused: UML exports have none, and it can read local files (XXE) or expand entities without bound"
-        return XmlInput(path, None, [diagnostic("X102", msg, file=path, line=line, column=col)])
-    parser = hardened_parser()
+    strict = safexml.parser(remove_blank_text=True)
     try:
-        root = etree.fromstring(data, parser)
+        # Only a prefix is scanned: a 4 MB export is not searched twice; the tree check sees the rest.
+        root = safexml.parse(data, strict, scan_end=_SCAN_BYTES)
+    except safexml.Refused as refused:
+        return _refused(path, refused)
     except etree.XMLSyntaxError as err:
-        return _after_strict_failure(data, path, err, parser)
+        return _after_strict_failure(data, path, err, strict)
     except (ValueError, LookupError) as err:  # e.g. an unknown encoding name in the declaration
         return XmlInput(path, None, [diagnostic("X105", f"cannot decode: {err}", file=path)])
     result = XmlInput(path, root, encoding=root.getroottree().docinfo.encoding)
-    if root.getroottree().docinfo.doctype:  # a DOCTYPE past the scanned prefix
-        msg = "document type declaration refused: UML exports have none"
-        return XmlInput(path, None, [diagnostic("X102", msg, file=path)])
     result.diagnostics += _utf8_declared_single_byte(data, result.encoding, path)
     return result
+
+
+def _refused(path: str, refused: safexml.Refused) -> XmlInput:
+    if refused.line is None:  # a DOCTYPE past the scanned prefix, or in UTF-16
+        msg = "document type declaration refused: UML exports have none"
+        return XmlInput(path, None, [diagnostic("X102", msg, file=path)])
+    msg = "document type declaration refused: UML exports have none, and it can read local files (XXE) or expand entities without bound"
+    where = {"line": refused.line, "column": refused.column}
+    return XmlInput(path, None, [diagnostic("X102", msg, file=path, **where)])
 
 
 _NON_ASCII = re.compile(r"[^\x00-\x7f]")
@@ -270,7 +248,7 @@ def _utf8_declared_single_byte(data: bytes, encoding: str | None, path: str) -> 
 
 def _at_end(data: bytes, line: int, col: int) -> bool:
     """Whether a parse error sits at the very end of the data (the mark of a truncated file)."""
-    end_line, end_col = _line_col(data, len(data.rstrip()))
+    end_line, end_col = safexml.line_column(data, len(data.rstrip()))
     return line > end_line or (line == end_line and col >= end_col - 1)
 
 
@@ -282,10 +260,9 @@ def _after_strict_failure(
     line = first.line if first is not None else (err.lineno or 0)
     col = first.column if first is not None else 0
     message = (first.message if first is not None else str(err)).strip()
-    if "Excessive depth" in message:
-        kind, message = "ERR_RESOURCE_LIMIT", "elements nested deeper than 256 levels"
-    elif "amplification" in message:
-        kind, message = "ERR_RESOURCE_LIMIT", "entity expansion beyond the safety limit"
+    limit = safexml.exceeded_limit(message)
+    if limit is not None:
+        kind, message = "ERR_RESOURCE_LIMIT", limit
     if kind not in _FATAL and _at_end(data, line, col):
         kind = "ERR_DOCUMENT_END"  # cut inside a tag or attribute: libxml2 names the symptom
     if kind not in _RECOVERABLE and kind not in _FATAL:
@@ -296,8 +273,11 @@ def _after_strict_failure(
         return XmlInput(
             path, None, [diagnostic(code, f"{message}: {todo}", file=path, line=line, column=col)]
         )
+    recovering = safexml.parser(recover=True, remove_blank_text=True)
     try:
-        root = etree.fromstring(data, hardened_parser(recover=True))
+        root = safexml.parse(data, recovering, scan_end=_SCAN_BYTES)
+    except safexml.Refused as refused:  # past the prefix: the strict parse failed before the check
+        return _refused(path, refused)
     except etree.XMLSyntaxError:
         root = None
     if root is None:

@@ -19,6 +19,7 @@ from urllib.parse import urlsplit
 
 from lxml import etree
 
+from acordcs import safexml
 from acordcs.runtime.repository.errors import RepositoryError
 
 _NAME = re.compile(r"[A-Za-z_][A-Za-z0-9_.\-]*")
@@ -31,13 +32,6 @@ _ENTRY = re.compile(
 _PORT_KINDS = {"synchronous", "asynchronous", "stream", "notification"}
 _PORT_ROLES = {"provided", "required"}
 _MAX_BYTES = 64 * 1024
-
-_PARSER_OPTIONS = {
-    "resolve_entities": False,
-    "no_network": True,
-    "load_dtd": False,
-    "huge_tree": False,
-}
 
 
 @dataclass(frozen=True)
@@ -114,10 +108,12 @@ def parse_description(document: str | bytes, source: str = "<description>") -> C
             f"description of {len(data)} bytes exceeds {_MAX_BYTES}",
             "describe one component",
         )
-    if b"<!DOCTYPE" in data or b"<!ENTITY" in data:
-        raise _fail(source, "descriptions with a DOCTYPE are refused", "remove the DOCTYPE")
     try:
-        root = etree.fromstring(data, etree.XMLParser(**_PARSER_OPTIONS))
+        root = safexml.parse(data)
+    except safexml.Refused:
+        raise _fail(
+            source, "descriptions with a DOCTYPE are refused", "remove the DOCTYPE"
+        ) from None
     except etree.XMLSyntaxError as err:
         line, column = err.position if err.position else (None, None)
         raise RepositoryError(
@@ -128,8 +124,6 @@ def parse_description(document: str | bytes, source: str = "<description>") -> C
             element="component description",
             hint="fix the description; nothing was added",
         ) from None
-    if root.getroottree().docinfo.internalDTD is not None:
-        raise _fail(source, "descriptions with a DOCTYPE are refused", "remove the DOCTYPE")
     if root.tag != "component":
         raise _fail(
             source,
