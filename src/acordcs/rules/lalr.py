@@ -6,7 +6,7 @@ fifteen-token rule (this one about 30) and importing it about 45 ms: a large sha
 ``acordcs-gen validate`` on a large model (``benchmarks/bench_validate.py`` measures both). So the analysis is done once and kept as plain data (JSON) in the private cache
 directory (see :mod:`acordcs.cachedir`), and this module runs the same automaton with the same
 tree-building rules (child filtering, ``_rule`` inlining, ``?rule`` single-child expansion,
-``[]`` placeholders) without importing lark. ``tests/test_rules_lalr.py`` holds it to lark's own
+``[]`` placeholders) without importing lark. ``tests/rules/test_lalr_matches_lark.py`` holds it to lark's own
 parser, trees and errors alike, on generated input.
 
 The input is one line (columns are offsets + 1): the rule language has no multi-line constructs.

@@ -10,7 +10,15 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from tests.support.toolchain import WEBLAB, no_crash, replace, run_main, run_process
+from tests.support.toolchain import (
+    WEBLAB,
+    codes_in,
+    no_crash,
+    replace,
+    run_main,
+    run_process,
+    write_model,
+)
 
 SECRET = "S3CR3T-acordcs-xxe-canary-7f3a"
 HEAD = (
@@ -238,6 +246,19 @@ def test_truncated_file_is_refused(where: str, tmp_path: Path) -> None:
     no_crash(result)
     assert result.code == 2, result.both
     assert " X104: " in result.out, result.out
+
+
+def test_a_missing_end_tag_is_refused_not_recovered(weblab_text, tmp_path):
+    text = weblab_text.replace("</packagedElement>", "", 1)
+    result = run_main(["validate", str(write_model(tmp_path, text))])
+    no_crash(result)
+    assert codes_in(result.out) == {"X108"} and result.code == 2, result.out
+
+
+def test_a_control_character_is_not_called_an_encoding_problem(weblab_text, tmp_path):
+    text = weblab_text.replace('name="Locomotion"', 'name="Loco\x01motion"', 1)
+    result = run_main(["validate", str(write_model(tmp_path, text))])
+    assert codes_in(result.out) == {"X108"} and "control character" in result.out
 
 
 def test_utf16_declaration_on_utf8_bytes_is_an_encoding_error(tmp_path: Path) -> None:

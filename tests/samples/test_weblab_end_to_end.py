@@ -6,7 +6,6 @@ component's operations) and drives the Control monitor as the locomotion interce
 
 from __future__ import annotations
 
-from pathlib import Path
 from typing import ClassVar
 
 import pytest
@@ -18,8 +17,8 @@ from acordcs.runtime.clock import VirtualClock
 from acordcs.runtime.component import CtxComponent
 from acordcs.runtime.monitor import Monitor
 from acordcs.runtime.ports import PortSpec
+from tests.support.toolchain import WEBLAB
 
-WEBLAB = Path(__file__).resolve().parents[1] / "samples" / "weblab" / "weblab.xmi"
 # Table 1 of the paper: cycles/s -> mean speed in mm/s (residential, campus, LAN).
 TABLE_1 = {0.90: 69, 1.46: 127, 1.72: 143}
 

@@ -17,7 +17,16 @@ import pytest
 from acordcs.cli.summary import summarize
 from acordcs.diagnostics import Severity
 from acordcs.model.reading import read_model
-from tests.support.toolchain import WEBLAB, remove_regex, replace, replace_in_element
+from tests.support.toolchain import (
+    WEBLAB,
+    codes_in,
+    no_crash,
+    remove_regex,
+    replace,
+    replace_in_element,
+    run_main,
+    write_model,
+)
 
 FIRST_RULE = (
     "smallNarrow: if cycleRate is small and angle is narrow then Locomotion.maxSpeed is slow"
@@ -350,6 +359,24 @@ def test_rule_syntax_error_names_policy_tag_and_rule_column(weblab_text: str, tm
     # the location is the line of the file that holds the broken rule (the Rule tag)
     text_line = target.read_text(encoding="utf-8").splitlines()[diag.line - 1]
     assert "Rule" in text_line and "angle narrow" in text_line
+
+
+def test_a_number_too_long_for_int_is_a_syntax_error_and_the_other_rules_are_still_checked(
+    weblab_text, tmp_path
+):
+    text = replace(
+        weblab_text, "Control.speed == 0 then", "Control.speed == " + "9" * 5000 + " then", count=2
+    )
+    text = replace(
+        text,
+        "if cycleRate is small and angle is narrow",
+        "if cycleRat is small and angle is narrow",
+        count=2,
+    )
+    result = run_main(["validate", str(write_model(tmp_path, text))])
+    no_crash(result)
+    assert codes_in(result.out) == {"L401", "L402"}, result.out
+    assert "Z901" not in result.out
 
 
 @pytest.mark.parametrize("name", ["open", "module", "to", "requires"])

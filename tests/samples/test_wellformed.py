@@ -24,10 +24,7 @@ from lxml import etree
 
 from acordcs.profile import profile
 from acordcs.rules import Assign, Call, Consequent, parse_rule, parse_terms
-
-ROOT = Path(__file__).resolve().parent.parent
-WEBLAB = ROOT / "samples" / "weblab" / "weblab.xmi"
-SMARTROOM = ROOT / "samples" / "smartroom" / "smartroom.xmi"
+from tests.support.toolchain import ROOT, SMARTROOM, WEBLAB
 
 XMI = "http://schema.omg.org/spec/XMI/2.1"
 ACORDCS = "http:///schemas/ACORDCS/1"

@@ -7,7 +7,6 @@ grammar's vocabulary (mostly errors, at every position) and well-formed rules (m
 
 from __future__ import annotations
 
-import json
 import os
 
 import pytest
@@ -18,7 +17,8 @@ from lark.exceptions import UnexpectedCharacters, UnexpectedToken
 
 from acordcs.rules import lalr
 from acordcs.rules import parser as rules
-from acordcs.rules.lalr import Node, Tables, Tok, Unexpected
+from acordcs.rules.lalr import Tables, Unexpected
+from tests.support.rules import plain
 
 GRAMMAR_PATH = os.path.join(os.path.dirname(rules.__file__), "rules.lark")
 with open(GRAMMAR_PATH, encoding="utf-8") as _handle:
@@ -36,19 +36,9 @@ def driver() -> Tables:
     return Tables(lalr.analyse(GRAMMAR, STARTS))
 
 
-def _plain(value):
-    if isinstance(value, Node):
-        return ("node", value.data, [_plain(c) for c in value.children])
-    if isinstance(value, Tok):
-        return ("tok", value.type, value.text, value.column)
-    if isinstance(value, tuple | list):
-        return type(value)(_plain(v) for v in value)
-    return value
-
-
 def _outcome_lark(parser: Lark, text: str, start: str):
     try:
-        return ("ok", _plain(parser.parse(text, start=start)))
+        return ("ok", plain(parser.parse(text, start=start)))
     except UnexpectedToken as err:
         if err.token.type == "$END":
             return ("stop", None, len(text) + 1, frozenset(err.expected))
@@ -66,7 +56,7 @@ def _outcome_lark(parser: Lark, text: str, start: str):
 
 def _outcome_driver(tables: Tables, text: str, start: str):
     try:
-        return ("ok", _plain(tables.parse(text, start, rules._BUILDERS)))
+        return ("ok", plain(tables.parse(text, start, rules._BUILDERS)))
     except Unexpected as err:
         return ("stop", err.found, err.column, err.expected)
     except rules.RuleSyntaxError as err:
@@ -243,39 +233,6 @@ def test_stored_tables_parse_as_lark_does(oracle, tmp_path, monkeypatch):
     for text, start in SAMPLES:
         expected = _outcome_lark(oracle, text, STARTS[start])
         assert _outcome_driver(stored, text, STARTS[start]) == expected, text
-
-
-def test_a_damaged_cache_file_is_analysed_again(tmp_path, monkeypatch):
-    monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path))
-    Tables.for_grammar(GRAMMAR, STARTS, "rules")
-    (stored,) = (tmp_path / "acordcs").glob("rules-*.lalr.json")
-    stored.write_text('{"format": 1, "actions": "garbage"')
-    tables = Tables.for_grammar(GRAMMAR, STARTS, "rules")
-    assert (
-        _plain(tables.parse("if a is b then c is d", "start_fuzzy", rules._BUILDERS))[0] == "node"
-    )
-    assert json.loads(stored.read_text())["format"] == lalr.TABLE_FORMAT
-
-
-def test_validate_never_imports_lark():
-    """Once the tables are stored, reading and checking a model runs without lark."""
-    import subprocess
-    import sys
-
-    from acordcs.cachedir import private_dir
-
-    assert private_dir() is not None, "no private cache directory: lark would run every time"
-    rules._tables()  # analysed and stored, if this is the first parse on this machine
-    code = (
-        "import sys; from acordcs.model.reading import read_model; "
-        "read_model('samples/weblab/weblab.xmi'); "
-        "print(sorted(m for m in sys.modules if m == 'lark' or m.startswith('lark.')))"
-    )
-    root = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-    done = subprocess.run(
-        [sys.executable, "-c", code], capture_output=True, text=True, cwd=root, check=True
-    )
-    assert done.stdout.strip() == "[]"
 
 
 def test_long_runs_of_blanks_cost_linear_time():

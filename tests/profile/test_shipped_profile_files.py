@@ -7,7 +7,6 @@ bug in the exporter cannot hide itself. Shape checks compare with real files in
 
 from __future__ import annotations
 
-import os
 from collections.abc import Iterator
 from pathlib import Path
 
@@ -16,13 +15,13 @@ from lxml import etree
 
 from acordcs.profile import export
 from acordcs.profile.declaration import PROFILE_NAME, Stereotype, Tag, profile
+from tests.support.toolchain import xmi_sample
 
 PACKAGE_DIR = Path(export.__file__).resolve().parent
 SHIPPED_BOUML = PACKAGE_DIR / "ACORDCS.xmi"
 SHIPPED_ECLIPSE = PACKAGE_DIR / "ACORDCS.profile.uml"
-SAMPLES = Path(__file__).resolve().parents[2] / "shared" / "reference" / "xmi-samples"
-CODEGEN_SAMPLE = SAMPLES / "pyuml2-codegen__Codegen.profile.uml"
-BOUML_SAMPLE = SAMPLES / "SecondStageModels__CDKatalog.xmi"
+CODEGEN_SAMPLE = "pyuml2-codegen__Codegen.profile.uml"  # in ../shared/reference/xmi-samples
+BOUML_SAMPLE = "SecondStageModels__CDKatalog.xmi"
 
 XMI21 = "http://schema.omg.org/spec/XMI/2.1"
 UML21 = "http://schema.omg.org/spec/UML/2.1"
@@ -39,12 +38,9 @@ def _parse(path: Path) -> etree._ElementTree:
     return etree.parse(str(path), _PARSER)
 
 
-def _sample(path: Path) -> etree._ElementTree:
-    if not path.is_file():
-        if os.environ.get("CI") == "true":
-            pytest.fail(f"reference sample {path} is missing; CI must provide ../shared")
-        pytest.skip(f"reference sample {path} is not available here")
-    return _parse(path)
+def _sample(name: str) -> etree._ElementTree:
+    """A real export: skip without it, fail when CI=true (see tests.support.toolchain)."""
+    return _parse(xmi_sample(name))
 
 
 def _tags() -> Iterator[tuple[Stereotype, Tag]]:

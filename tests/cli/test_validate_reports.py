@@ -1,4 +1,5 @@
-"""``acordcs-gen``: validate output formats and exit codes, inspect, usage errors, --version."""
+"""``acordcs-gen validate``: the text, JSON and SARIF reports (shape, locations, URIs, no line a
+name can forge) and the exit codes (--fail-on, several files, unreadable input)."""
 
 from __future__ import annotations
 
@@ -7,9 +8,6 @@ import re
 import shutil
 from pathlib import Path
 
-import pytest
-
-from acordcs import __version__
 from acordcs.diagnostics import CODES
 from tests.support.toolchain import (
     ROOT,
@@ -19,6 +17,7 @@ from tests.support.toolchain import (
     replace,
     run_main,
     run_process,
+    write_model,
 )
 
 WEBLAB_REL = WEBLAB.relative_to(ROOT).as_posix()
@@ -59,7 +58,6 @@ def _only_warning(tmp_path: Path) -> Path:
     return target
 
 
-# -------------------------------------------------------------------------------------- validate
 def test_clean_sample_text_output() -> None:
     result = run_main(["validate", WEBLAB_REL])
     assert result.code == 0
@@ -207,162 +205,6 @@ def test_several_files(tmp_path: Path) -> None:
     assert [f["readable"] for f in data["files"]] == [True, False]
 
 
-@pytest.mark.parametrize(
-    "args",
-    [
-        [],
-        ["validate"],
-        ["inspect"],
-        ["validate", "--bogus", str(WEBLAB)],
-        ["frobnicate"],
-        ["validate", "--format", "xml", str(WEBLAB)],
-        ["validate", "--fail-on", "info", str(WEBLAB)],
-        ["inspect", "--format", "sarif", str(WEBLAB)],
-    ],
-    ids=[
-        "no-args",
-        "validate-no-file",
-        "inspect-no-file",
-        "bad-option",
-        "bad-command",
-        "bad-format",
-        "bad-fail-on",
-        "inspect-bad-format",
-    ],
-)
-def test_usage_errors_exit_2(args: list[str]) -> None:
-    result = run_main(args)
-    no_crash(result)
-    assert result.code == 2
-    assert "Usage:" in result.both
-    assert not re.search(r"\b[XRTLANZ]\d{3}\b", result.out)  # no model was read
-
-
-def test_usage_error_from_the_real_entry_point() -> None:
-    result = run_process(["validate"])
-    no_crash(result)
-    assert result.code == 2
-    assert "Missing argument" in result.err
-
-
-def test_version() -> None:
-    result = run_main(["--version"])
-    assert result.code == 0
-    assert result.out.strip() == f"acordcs-gen, version {__version__}"
-    assert run_process(["--version"]).out.strip() == f"acordcs-gen, version {__version__}"
-
-
-# --------------------------------------------------------------------------------------- inspect
-WEBLAB_ACORDCS = {
-    "CtxContainer": ["UserSide", "WebLabSide"],
-    "CtxComponent": ["Access", "Locomotion", "Navigator", "PanoramicCamera", "Recovery", "Vision"],
-    "CtxMonitor": ["Control", "Telemetry", "Usage"],
-    "CtxPolicySet": ["BandwidthLimiting", "Recovering", "SpeedLimiting"],
-    "CtxPolicy": ["FrameRateRules", "RecoveryRules", "StraightRules", "TurnRules"],
-    "CtxPortConnection": [
-        "AccessLink",
-        "LocomotionLink",
-        "PanoramaLink",
-        "RecoveryLink",
-        "TelemetryLink",
-        "VisionLink",
-    ],
-    "CtxVariable": ["angle", "cycleRate", "fps", "maxSpeed", "numUsers", "speed"],
-}
-
-
-def test_inspect_json_weblab_acordcs_section() -> None:
-    result = run_main(["inspect", "--format", "json", str(WEBLAB)])
-    assert result.code == 0
-    data = json.loads(result.out)
-    assert (data["dialect"], data["exporter"], data["model"]) == (
-        "bouml-xmi2",
-        "Bouml 4.22.2",
-        "WebLab",
-    )
-    acordcs = data["acordcs"]
-    for kind, names in WEBLAB_ACORDCS.items():
-        assert acordcs["elements"][kind] == names, kind
-    assert len(acordcs["elements"]["CtxPort"]) == 11
-    assert acordcs["deployment"]["UserSide"] == ["Navigator"]
-    web = acordcs["deployment"]["WebLabSide"]
-    assert "Navigator" not in web and len(web) == 11
-    assert set(web) == (
-        set(WEBLAB_ACORDCS["CtxComponent"]) - {"Navigator"}
-        | set(WEBLAB_ACORDCS["CtxMonitor"])
-        | set(WEBLAB_ACORDCS["CtxPolicySet"])
-    )
-    sets = acordcs["policy_sets"]
-    summary = {name: (s["engine"], s["rules"]) for name, s in sets.items()}
-    assert summary == {
-        "SpeedLimiting": ("fuzzy", 12),
-        "Recovering": ("clips", 4),
-        "BandwidthLimiting": ("fuzzy", 9),
-    }
-    assert sets["SpeedLimiting"]["policies"] == ["StraightRules", "TurnRules"]
-    assert sets["SpeedLimiting"]["adapts"] == ["Locomotion"]
-    assert sets["Recovering"]["adapts"] == ["Recovery"]
-    assert sets["BandwidthLimiting"]["adapts"] == ["PanoramicCamera"]
-    assert sets["BandwidthLimiting"]["fed_by"] == ["Control", "Usage"]
-    assert sets["BandwidthLimiting"]["trigger"] == "periodic"
-    assert data["diagnostics"] == 0
-
-
-def _rule_lines(path: Path) -> int:
-    """Rules in the file's root-level CtxPolicy applications, counted by hand."""
-    from lxml import etree
-
-    root = etree.parse(str(path)).getroot()
-    total = 0
-    for app in root.iterfind("{http:///schemas/ACORDCS/1}CtxPolicy"):
-        for key, value in app.items():
-            if key.startswith("Rule"):
-                total += sum(
-                    1
-                    for ln in value.splitlines()
-                    if ln.strip() and not ln.strip().startswith(("#", "//"))
-                )
-    return total
-
-
-@pytest.mark.parametrize("path", [WEBLAB, SMARTROOM], ids=["weblab", "smartroom"])
-def test_inspect_text_and_json_agree(path: Path) -> None:
-    text = run_main(["inspect", str(path)])
-    data = json.loads(run_main(["inspect", "--format", "json", str(path)]).out)
-    assert text.code == 0
-    lines = text.out.splitlines()
-    assert lines[0] == f"{path}: {data['dialect']} ({data['exporter']}), model {data['model']!r}"
-    for key in (
-        "attributes",
-        "operations",
-        "associations",
-        "generalizations",
-        "dependencies",
-        "packages",
-    ):
-        assert f"  {key}: {data[key]}" in lines
-    for kind, names in data["acordcs"]["elements"].items():
-        assert f"    {kind} ({len(names)}): {', '.join(names)}" in lines
-    for name, info in data["acordcs"]["policy_sets"].items():
-        assert any(
-            ln.startswith(f"    policy set {name}: engine {info['engine']}, {info['rules']} rules")
-            for ln in lines
-        )
-    assert sum(s["rules"] for s in data["acordcs"]["policy_sets"].values()) == _rule_lines(path)
-    deployed = {n for hosted in data["acordcs"]["deployment"].values() for n in hosted}
-    elements = data["acordcs"]["elements"]
-    assert deployed == {
-        n for k in ("CtxComponent", "CtxMonitor", "CtxPolicySet") for n in elements.get(k, [])
-    }
-
-
-def test_inspect_unreadable_file(tmp_path: Path) -> None:
-    result = run_main(["inspect", str(tmp_path / "missing.xmi")])
-    no_crash(result)
-    assert result.code == 2
-    assert " X101: " in result.err and result.out == ""
-
-
 def test_sarif_uri_is_a_valid_uri_reference(tmp_path: Path, monkeypatch) -> None:
     folder = tmp_path / "my models"
     folder.mkdir()
@@ -373,3 +215,25 @@ def test_sarif_uri_is_a_valid_uri_reference(tmp_path: Path, monkeypatch) -> None
     assert result["locations"][0]["physicalLocation"]["artifactLocation"]["uri"] == (
         "my%20models/web%231.xmi"
     )
+
+
+def test_sarif_gives_a_file_uri_for_an_absolute_path(weblab_text, tmp_path):
+    text = weblab_text.replace('name="Locomotion"', 'name="native"')
+    path = write_model(tmp_path, text)
+    result = run_main(["validate", "--format", "sarif", str(path.resolve())])
+    uris = {
+        loc["physicalLocation"]["artifactLocation"]["uri"]
+        for res in json.loads(result.out)["runs"][0]["results"]
+        for loc in res["locations"]
+    }
+    assert uris == {path.resolve().as_uri()}
+
+
+def test_a_name_cannot_inject_a_line_into_text_output(weblab_text, tmp_path):
+    text = weblab_text.replace(
+        'name="Locomotion"', 'name="Loco&#10;/etc/passwd:1: error X000: fake&#x202e;"'
+    )
+    result = run_main(["validate", str(write_model(tmp_path, text))])
+    no_crash(result)
+    assert not any(line.startswith("/etc/passwd") for line in result.out.splitlines())
+    assert "\u202e" not in result.out and "\\u000a" in result.out

@@ -1,0 +1,1 @@
+"""Tests of the samples (samples/): well-formed, BOUML-shaped, and running."""
