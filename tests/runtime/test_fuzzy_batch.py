@@ -8,8 +8,8 @@ import numpy as np
 import pytest
 from hypothesis import HealthCheck, given, settings
 
-from acordcs.runtime.engine import RuleError
 from acordcs.runtime.fuzzy import FuzzyEngine
+from acordcs.runtime.rule_engine import RuleError
 from tests.runtime.test_fuzzy_bases import bandwidth_engine, speed_engine
 from tests.runtime.test_fuzzy_oracle import OPERATORS, rule_base
 

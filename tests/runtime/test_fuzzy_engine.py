@@ -7,8 +7,8 @@ import math
 
 import pytest
 
-from acordcs.runtime.engine import RuleEngine, RuleError
 from acordcs.runtime.fuzzy import FuzzyEngine, Semantics
+from acordcs.runtime.rule_engine import RuleEngine, RuleError
 from tests.runtime.test_fuzzy_bases import speed_engine
 
 

@@ -8,8 +8,8 @@ import numpy as np
 import pytest
 from hypothesis import HealthCheck, given, settings
 
-from acordcs.runtime.engine import RuleError
 from acordcs.runtime.fuzzy import FuzzyEngine, Semantics, read_fcl, write_fcl
+from acordcs.runtime.rule_engine import RuleError
 from tests.runtime.test_fuzzy_bases import speed_engine
 from tests.runtime.test_fuzzy_oracle import oracle, rule_base
 

@@ -7,8 +7,8 @@ import pytest
 
 from acordcs.metamodel import create, load
 from acordcs.rules import parse_terms
-from acordcs.runtime.engine import RuleError
 from acordcs.runtime.fuzzy import engine_for_policy_set
+from acordcs.runtime.rule_engine import RuleError
 from tests.runtime.test_fuzzy_bases import SPEED_RULES, SPEED_VARIABLES, speed_engine
 
 

@@ -10,8 +10,8 @@ from hypothesis import strategies as st
 
 from acordcs.model.checks.tags import shape_problem
 from acordcs.rules import Name, TermDef
-from acordcs.runtime.engine import RuleError
 from acordcs.runtime.fuzzy.membership import make_membership
+from acordcs.runtime.rule_engine import RuleError
 from tests.support.toolchain import WEBLAB, no_crash, replace, run_main
 
 TEXT = WEBLAB.read_text(encoding="utf-8")

@@ -25,9 +25,10 @@ from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
 from acordcs.runtime import events as ev
+from acordcs.runtime.calls import OperationCalls
 from acordcs.runtime.clock import Clock, RealClock, Timer
 from acordcs.runtime.component import ComponentFactory, ComponentRef, CtxComponent
-from acordcs.runtime.dispatch import Dispatcher, Handler
+from acordcs.runtime.dispatch import EventDispatcher, Handler
 from acordcs.runtime.errors import (
     ComponentDestroyedError,
     ComponentError,
@@ -38,7 +39,6 @@ from acordcs.runtime.errors import (
 )
 from acordcs.runtime.events import Event, FaultLog
 from acordcs.runtime.interceptors import InterceptorEntry
-from acordcs.runtime.operations import Operations
 from acordcs.runtime.wiring import Wiring
 
 if TYPE_CHECKING:
@@ -53,7 +53,7 @@ class Hosted:
     operations: frozenset[str]
 
 
-class Container(Operations, Wiring):
+class Container(OperationCalls, Wiring):
     """A container. ``clock`` defaults to a :class:`RealClock` the container owns (and closes)."""
 
     def __init__(
@@ -74,7 +74,7 @@ class Container(Operations, Wiring):
         self.stats: Counter[str] = Counter()
         self.properties: dict[str, object] = dict(properties or {})
         self.clock.on_error = self._timer_fault
-        self._dispatch = Dispatcher(
+        self._dispatch = EventDispatcher(
             self, max_depth=max_cascade_depth, max_events=max_cascade_events
         )
         self._lock = threading.RLock()

@@ -24,7 +24,7 @@ Handler = Callable[[Event], None]
 Key = tuple[str, str | None, str | None]
 
 
-class Dispatcher:
+class EventDispatcher:
     def __init__(self, container: Container, *, max_depth: int, max_events: int) -> None:
         if max_depth < 1 or max_events < 1:
             raise ConfigurationError("cascade bounds max_depth and max_events must be >= 1")

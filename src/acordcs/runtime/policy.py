@@ -27,9 +27,9 @@ from typing import TYPE_CHECKING, Any
 
 from acordcs.rules import Name, RuleSyntaxError, parse_rule, split_rules
 from acordcs.runtime import events as ev
-from acordcs.runtime.engine import RuleEngine, RuleError
 from acordcs.runtime.errors import BindingError, ComponentNotFoundError, ConfigurationError
 from acordcs.runtime.registry import EngineSetup, Variable, lookup_engine
+from acordcs.runtime.rule_engine import RuleEngine, RuleError
 
 if TYPE_CHECKING:
     from acordcs.runtime.clock import Timer

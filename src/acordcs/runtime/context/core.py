@@ -9,7 +9,7 @@ from collections.abc import Callable
 
 from lxml import etree
 
-from acordcs.runtime.context.delivery import Dispatcher, Notification, Subscription
+from acordcs.runtime.context.delivery import DeliveryDispatcher, Notification, Subscription
 from acordcs.runtime.context.errors import ContextError, SubscriptionError
 from acordcs.runtime.context.index import SubscriptionIndex
 from acordcs.runtime.context.xmlparse import Limits, parse_document, to_bytes
@@ -52,7 +52,7 @@ class ProviderCore:
 
     def __init__(self, limits: Limits | None = None, delivery_threads: int = 64) -> None:
         self.limits = limits or Limits()
-        self._dispatcher = Dispatcher(max_threads=delivery_threads)
+        self._dispatcher = DeliveryDispatcher(max_threads=delivery_threads)
         self._lock = threading.RLock()
         self._index = SubscriptionIndex(self.limits.max_eval_seconds, self.limits.max_strikes)
         self._index.on_suspend = self._suspended

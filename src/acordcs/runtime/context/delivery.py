@@ -84,7 +84,7 @@ class Subscription:
         return not self._closed
 
 
-class Dispatcher:
+class DeliveryDispatcher:
     """The delivery threads of one provider.
 
     One thread delivers while callbacks are quick (a document matching many subscriptions then costs one

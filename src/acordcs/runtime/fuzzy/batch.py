@@ -12,10 +12,10 @@ from collections.abc import Callable
 
 import numpy as np
 
-from acordcs.runtime.engine import RuleError
 from acordcs.runtime.fuzzy.compiler import CompiledRuleSet, OutputPlan
 from acordcs.runtime.fuzzy.defuzz import MaxMinCog, Singletons, SumProdCog
 from acordcs.runtime.fuzzy.sampled import Sampled, accumulate, sampled_method
+from acordcs.runtime.rule_engine import RuleError
 
 _CHUNK = 4096  # rows per step of the max-min centroid: bounds the (rows x pieces x terms) arrays
 

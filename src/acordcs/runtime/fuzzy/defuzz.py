@@ -19,10 +19,10 @@ from __future__ import annotations
 import itertools
 import math
 
-from acordcs.runtime.engine import RuleError
 from acordcs.runtime.fuzzy.membership import Membership
 from acordcs.runtime.fuzzy.sampled import Sampled
 from acordcs.runtime.fuzzy.semantics import SUMS, Semantics, collapses
+from acordcs.runtime.rule_engine import RuleError
 
 
 class OutputShape:

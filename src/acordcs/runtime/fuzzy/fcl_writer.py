@@ -11,7 +11,7 @@ from acordcs.runtime.fuzzy.membership import fmt_number
 from acordcs.runtime.fuzzy.semantics import AND_OPS
 
 if TYPE_CHECKING:
-    from acordcs.runtime.fuzzy.engine import FuzzyEngine
+    from acordcs.runtime.fuzzy.fuzzy_engine import FuzzyEngine
 
 
 def format_condition(node: object, *, fcl: bool = False) -> str:

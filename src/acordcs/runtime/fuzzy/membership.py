@@ -23,7 +23,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from acordcs.runtime.engine import RuleError
+from acordcs.runtime.rule_engine import RuleError
 
 SHAPES = ("triangle", "trapezoid", "gaussian", "bell", "sigmoid", "points", "singleton")
 _ARITY = {"triangle": 3, "trapezoid": 4, "gaussian": 2, "bell": 3, "sigmoid": 2, "singleton": 1}

@@ -10,8 +10,8 @@ after the policy; the set's ``semantics`` tag chooses the inference semantics.
 from __future__ import annotations
 
 from acordcs.rules import Name, RuleSyntaxError, TermDef, parse_rule
-from acordcs.runtime.engine import RuleError
-from acordcs.runtime.fuzzy.engine import FuzzyEngine
+from acordcs.runtime.fuzzy.fuzzy_engine import FuzzyEngine
+from acordcs.runtime.rule_engine import RuleError
 
 
 def _literal(value: object, default: str) -> str:

@@ -1,7 +1,7 @@
 """Operation calls into hosted components, through the interceptors (paper, Figure 2).
 
 Mixed into :class:`~acordcs.runtime.container.Container`. Every way into a component goes through
-:meth:`Operations._invoke`: a handle's call, a call arriving at a provided port (local or remote), a
+:meth:`OperationCalls._invoke`: a handle's call, a call arriving at a provided port (local or remote), a
 notification or stream item delivered to a handler, a stream source ticking. A component that raises
 is a fault (recorded, counted); the caller still gets an error, since request-reply needs an answer.
 """
@@ -26,7 +26,7 @@ if TYPE_CHECKING:
     from acordcs.runtime.ports import Port
 
 
-class Operations:
+class OperationCalls:
     def invoke(
         self: Container,
         name: str,
