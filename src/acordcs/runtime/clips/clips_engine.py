@@ -42,6 +42,7 @@ from acordcs.runtime.clips.prelude import (
     NUMERIC_FLAG,
     RUN,
     assign_dispatcher,
+    fixed_constructs,
     pusher,
     put_dispatcher,
 )
@@ -74,7 +75,7 @@ class ClipsEngine:
         self.strict = strict
         self._faults = Faults()
         self._ops = OperationTable()
-        self._bridge = Bridge()
+        self._bridge = Bridge(fixed_constructs())
         self._variables: dict[str, _Variable] = {}
         self._names: list[str] = [""]  # by number
         self._by_member: dict[str, list[str]] = {}

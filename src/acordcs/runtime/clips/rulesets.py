@@ -10,7 +10,7 @@ from __future__ import annotations
 import re
 from dataclasses import dataclass, field
 
-from clips.values import Symbol
+from clips import Symbol
 
 from acordcs.rules import RuleSyntaxError, parse_rule
 from acordcs.runtime.clips.bridge import Bridge, ClipsFailure
