@@ -96,6 +96,8 @@ class MaxMinCog:
     def __init__(self, shape: OutputShape) -> None:
         self.shape = shape
         self.intervals = [(x0, x1, lines) for x0, x1, lines in shape.intervals if lines]
+        # The batch form's fixed pieces: fuzzy.batch builds them on first use and keeps them here.
+        self.batch_tables: tuple | None = None
 
     def __call__(self, alpha) -> float | None:
         area = moment = 0.0
