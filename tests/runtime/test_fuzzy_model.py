@@ -9,7 +9,7 @@ from acordcs.metamodel import create, load
 from acordcs.rules import parse_terms
 from acordcs.runtime.fuzzy import engine_for_policy_set
 from acordcs.runtime.rule_engine import RuleError
-from tests.runtime.test_fuzzy_bases import SPEED_RULES, SPEED_VARIABLES, speed_engine
+from tests.support.fuzzy_bases import SPEED_RULES, SPEED_VARIABLES, speed_engine
 
 
 def _literal(enum: str, name: str):
