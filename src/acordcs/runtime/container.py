@@ -7,6 +7,12 @@ interceptor, listener or component) are isolated: recorded in :attr:`Container.f
 counted, and the container goes on. Bad calls by the user (unknown names, wrong kinds) raise a
 :class:`~acordcs.runtime.errors.RuntimeFailure` that says what to do.
 
+The parts: operation calls and interceptors (:mod:`.calls`) and the element namespace and
+connections (:mod:`.wiring`) are mixed in; events go through an :class:`~.dispatch.EventDispatcher`.
+Components, ports, monitors, policy sets and the remote endpoint know their container only through
+the Protocol each declares (``ComponentHost``, ``PortHost``, ``MonitorHost``, ``PolicyHost``,
+``ServedContainer``), so none of them imports this module.
+
 Removing a factory while instances of its type live (stated behaviour): no new instance of that type
 can be created; the live ones keep running, stay findable and callable, can be replaced, and when
 destroyed their (removed) factory's destroy hook still runs. ``remove_factory(t,

@@ -1,4 +1,4 @@
-"""Event dispatch with a cascade bound.
+"""Event dispatch with a cascade bound: a container's :class:`EventDispatcher`.
 
 Events are queued and handled breadth-first by the thread that emitted the first one; events emitted
 while handling (a policy action changing a property, which triggers a policy...) are caused by the

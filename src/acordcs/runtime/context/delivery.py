@@ -1,6 +1,6 @@
-"""Notifications, subscription handles, and the dispatcher that delivers them.
+"""Notifications, subscription handles, and the :class:`DeliveryDispatcher` that delivers them.
 
-Every subscription has its own bounded mailbox; a pool of delivery threads runs the callbacks, at most
+Every subscription has its own bounded :class:`Mailbox`; a pool of delivery threads runs the callbacks, at most
 one thread per subscription at a time (so each subscriber sees its notifications in order). When every
 thread is busy, e.g. inside a slow callback, the pool grows (up to ``max_threads``), so a slow or
 raising subscriber delays only itself, and publishers never wait for callbacks: when a mailbox is full

@@ -19,6 +19,7 @@ from __future__ import annotations
 
 import math
 from bisect import bisect_left, bisect_right
+from collections.abc import Iterable
 from dataclasses import dataclass
 
 import numpy as np
@@ -205,7 +206,7 @@ def _pwl_code(xs, ys, left: float, right: float, x: str, out: str) -> list[str]:
 
 
 # ---------------------------------------------------------------------------------- building
-def make_membership(shape: str, params, *, where: str = "term") -> Membership:
+def make_membership(shape: str, params: Iterable[float], *, where: str = "term") -> Membership:
     """Validate ``params`` for ``shape`` and build the function; errors say what to write instead.
 
     ``where`` names the term in messages, e.g. ``"term 'fast' of variable 'speed'"``.
