@@ -77,14 +77,7 @@ def subscriptions(n: int, rng: random.Random) -> list[tuple[str, str | None]]:
 
 
 class Sub:
-    __slots__ = (
-        "__weakref__",
-        "_index_compiled",
-        "_index_strikes",
-        "compiled",
-        "publisher",
-        "xpath",
-    )
+    __slots__ = ("__weakref__", "compiled", "publisher", "xpath")
 
     def __init__(self, xpath: str, publisher: str | None) -> None:
         self.xpath, self.publisher = xpath, publisher

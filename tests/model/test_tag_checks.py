@@ -9,8 +9,8 @@ from hypothesis import strategies as st
 
 from acordcs.model.checks.tags import shape_problem
 from acordcs.rules import Name, TermDef
-from acordcs.runtime.engine import RuleError
 from acordcs.runtime.fuzzy.membership import make_membership
+from acordcs.runtime.rule_engine import RuleError
 from tests.support.toolchain import codes_in, rule_and_tag_findings, run_main, write_model
 
 

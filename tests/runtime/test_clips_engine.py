@@ -10,7 +10,7 @@ import pytest
 from acordcs.metamodel import create
 from acordcs.runtime.clips import ClipsEngine
 from acordcs.runtime.clips.model import engine_for_policy_set
-from acordcs.runtime.engine import RuleEngine, RuleError
+from acordcs.runtime.rule_engine import RuleEngine, RuleError
 
 RECOVERY = [
     "count: if Control.speed == 0 then Recovery.zeros = Recovery.zeros + 1",
@@ -484,7 +484,7 @@ def test_one_call_into_clips_per_fire_and_no_construct_built_once_warm(monkeypat
 
 
 def test_the_generic_push_path_gives_the_same_results(monkeypatch):
-    monkeypatch.setattr("acordcs.runtime.clips.engine._MAX_PUSHERS", 0)
+    monkeypatch.setattr("acordcs.runtime.clips.clips_engine._MAX_PUSHERS", 0)
     engine, component = recovery_engine()
     for speed in [0, 0, 0, 0, 7.5]:
         engine.set("Control.speed", speed)

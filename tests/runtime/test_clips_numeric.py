@@ -13,14 +13,14 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from acordcs.runtime.clips import ClipsEngine
-from tests.runtime.test_clips_oracle import (
+from tests.support.clips_oracle import (
     STRINGS,
     Oracle,
-    _string_literal,
     check_fire,
     conditions,
     numbers_,
     recorder,
+    string_literal,
     values,
 )
 
@@ -190,7 +190,7 @@ def typed_actions(index: int) -> st.SearchStrategy[str]:
             lambda t: f"{t[0]} = {t[1]}"
         ),
         st.tuples(st.just("A.f"), conditions()).map(lambda t: f"A.f = ({t[1]})"),
-        st.sampled_from(STRINGS).map(lambda s: f"B.s = {_string_literal(s)}"),
+        st.sampled_from(STRINGS).map(lambda s: f"B.s = {string_literal(s)}"),
     )
     trace = f"Trace.fired({index})"
     return st.lists(assign, max_size=3).map(lambda xs: " and ".join([trace, *xs]))

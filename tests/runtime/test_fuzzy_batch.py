@@ -8,10 +8,10 @@ import numpy as np
 import pytest
 from hypothesis import HealthCheck, given, settings
 
-from acordcs.runtime.engine import RuleError
 from acordcs.runtime.fuzzy import FuzzyEngine
-from tests.runtime.test_fuzzy_bases import bandwidth_engine, speed_engine
-from tests.runtime.test_fuzzy_oracle import OPERATORS, rule_base
+from acordcs.runtime.rule_engine import RuleError
+from tests.support.fuzzy_bases import bandwidth_engine, speed_engine
+from tests.support.fuzzy_oracle import OPERATORS, rule_base
 
 
 def _row_by_row(engine: FuzzyEngine, ruleset: str, cols: dict, out: str) -> np.ndarray:

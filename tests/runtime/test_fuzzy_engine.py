@@ -7,9 +7,9 @@ import math
 
 import pytest
 
-from acordcs.runtime.engine import RuleEngine, RuleError
 from acordcs.runtime.fuzzy import FuzzyEngine, Semantics
-from tests.runtime.test_fuzzy_bases import speed_engine
+from acordcs.runtime.rule_engine import RuleEngine, RuleError
+from tests.support.fuzzy_bases import speed_engine
 
 
 def tiny(semantics="mamdani", **out_kwargs) -> FuzzyEngine:

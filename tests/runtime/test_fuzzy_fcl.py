@@ -8,10 +8,10 @@ import numpy as np
 import pytest
 from hypothesis import HealthCheck, given, settings
 
-from acordcs.runtime.engine import RuleError
 from acordcs.runtime.fuzzy import FuzzyEngine, Semantics, read_fcl, write_fcl
-from tests.runtime.test_fuzzy_bases import speed_engine
-from tests.runtime.test_fuzzy_oracle import oracle, rule_base
+from acordcs.runtime.rule_engine import RuleError
+from tests.support.fuzzy_bases import speed_engine
+from tests.support.fuzzy_oracle import oracle, rule_base
 
 FCL = Path(__file__).parent / "fcl"
 FILES = sorted(p.name for p in FCL.glob("*.fcl"))

@@ -9,9 +9,9 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from acordcs.runtime.engine import RuleError
 from acordcs.runtime.fuzzy import make_membership
 from acordcs.runtime.fuzzy.membership import Membership
+from acordcs.runtime.rule_engine import RuleError
 
 
 def _generated(mf: Membership):

@@ -7,9 +7,9 @@ import pytest
 
 from acordcs.metamodel import create, load
 from acordcs.rules import parse_terms
-from acordcs.runtime.engine import RuleError
 from acordcs.runtime.fuzzy import engine_for_policy_set
-from tests.runtime.test_fuzzy_bases import SPEED_RULES, SPEED_VARIABLES, speed_engine
+from acordcs.runtime.rule_engine import RuleError
+from tests.support.fuzzy_bases import SPEED_RULES, SPEED_VARIABLES, speed_engine
 
 
 def _literal(enum: str, name: str):

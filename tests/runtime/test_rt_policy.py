@@ -10,12 +10,12 @@ import pytest
 from acordcs.runtime.clock import VirtualClock
 from acordcs.runtime.component import ComponentFactory
 from acordcs.runtime.container import Container
-from acordcs.runtime.engine import RuleError
 from acordcs.runtime.errors import BindingError, EngineNotAvailableError
 from acordcs.runtime.interceptors import Interceptor
 from acordcs.runtime.monitor import Monitor
 from acordcs.runtime.policy import PolicySet
 from acordcs.runtime.registry import lookup_engine, register_engine, unregister_engine
+from acordcs.runtime.rule_engine import RuleError
 from tests.support.components import Counter, CrispEngine
 
 

@@ -18,9 +18,9 @@ from acordcs.rules import (
     parse_rule,
 )
 from acordcs.runtime.component import CtxComponent
-from acordcs.runtime.engine import RuleError
 from acordcs.runtime.ports import async_port, stream_port, sync_port
 from acordcs.runtime.registry import EngineSetup
+from acordcs.runtime.rule_engine import RuleError
 
 _CMP = {
     "==": operator.eq,

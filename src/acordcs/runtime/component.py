@@ -6,20 +6,45 @@ attributes rules read and write) and ``ports``; its public methods are its opera
 install and remove factories at run time. Callers never hold the instance: they hold a
 :class:`ComponentRef`, whose calls go through the container (interceptors, events) and which fails
 cleanly once the component is destroyed, but keeps working across a replacement.
+
+A container hosts an instance by :func:`attach_component` and keeps a :class:`Hosted` record of it;
+components and handles reach their container through :class:`ComponentHost`.
 """
 
 from __future__ import annotations
 
 import copy
 from collections.abc import Callable
-from typing import TYPE_CHECKING, Any, ClassVar
+from dataclasses import dataclass
+from typing import TYPE_CHECKING, Any, ClassVar, Protocol
 
 from acordcs.runtime.errors import ComponentDestroyedError, FactoryError, PortError
-from acordcs.runtime.ports import Port, PortSpec
+from acordcs.runtime.ports import Port, PortHost, PortSpec
 
 if TYPE_CHECKING:
     from acordcs.runtime.clock import Clock
-    from acordcs.runtime.container import Container
+
+
+class ComponentHost(PortHost, Protocol):
+    """What a component, its ports and the handles on it need from the container hosting it."""
+
+    def get_property(self, element: str, attribute: str) -> object: ...
+
+    def set_property(self, element: str, attribute: str, value: object) -> None: ...
+
+    def invoke(
+        self,
+        name: str,
+        operation: str,
+        args: tuple[Any, ...] = (),
+        kwargs: dict[str, Any] | None = None,
+        *,
+        lineage: int | None = None,
+    ) -> Any: ...
+
+    def instance(self, name: str, lineage: int | None = None) -> CtxComponent:
+        """The live instance (of that lineage); raises once it is destroyed."""
+        ...
 
 
 class CtxComponent:
@@ -35,23 +60,13 @@ class CtxComponent:
     ports: ClassVar[tuple[PortSpec, ...]] = ()
     state_fields: ClassVar[tuple[str, ...]] = ()
 
-    # Set by the container when it hosts the instance.
+    # Set by the container when it hosts the instance (attach_component).
     name: str
-    container: Container
+    container: ComponentHost
     factory: ComponentFactory
+    props: dict[str, object]
+    port_map: dict[str, Port]
     alive: bool = False
-
-    def _attach(self, name: str, container: Container, factory: ComponentFactory) -> None:
-        self.name = name
-        self.container = container
-        self.factory = factory
-        self.props: dict[str, object] = copy.deepcopy(dict(type(self).properties))
-        self.port_map: dict[str, Port] = {}
-        for spec in type(self).ports:
-            if spec.name in self.port_map:
-                raise PortError(f"{type(self).__name__} declares port {spec.name!r} twice")
-            self.port_map[spec.name] = Port(self, spec)
-        self.alive = True
 
     # ------------------------------------------------------------------------------ the API
     @property
@@ -112,6 +127,35 @@ class CtxComponent:
             for n in dir(cls)
             if not n.startswith("_") and n not in base and callable(getattr(cls, n, None))
         )
+
+
+def attach_component(
+    instance: CtxComponent, name: str, container: ComponentHost, factory: ComponentFactory
+) -> None:
+    """Make ``instance`` the component ``name`` of ``container``: its properties (copies of the
+    class defaults) and ports. A function, not a method: a component's public methods are its
+    operations."""
+    cls = type(instance)
+    instance.name = name
+    instance.container = container
+    instance.factory = factory
+    instance.props = copy.deepcopy(dict(cls.properties))
+    instance.port_map = {}
+    for spec in cls.ports:
+        if spec.name in instance.port_map:
+            raise PortError(f"{cls.__name__} declares port {spec.name!r} twice")
+        instance.port_map[spec.name] = Port(instance, spec)
+    instance.alive = True
+
+
+@dataclass(slots=True)
+class Hosted:
+    """A container's record of a component it hosts: the instance (replaced in place by
+    ``replace``), the lineage its handles carry, and its operations."""
+
+    instance: CtxComponent
+    lineage: int
+    operations: frozenset[str]
 
 
 class ComponentFactory:
@@ -176,7 +220,7 @@ class ComponentRef:
 
     __slots__ = ("_container", "_lineage", "_name")
 
-    def __init__(self, container: Container, name: str, lineage: int) -> None:
+    def __init__(self, container: ComponentHost, name: str, lineage: int) -> None:
         object.__setattr__(self, "_container", container)
         object.__setattr__(self, "_name", name)
         object.__setattr__(self, "_lineage", lineage)
@@ -188,7 +232,7 @@ class ComponentRef:
     @property
     def instance(self) -> CtxComponent:
         """The live instance (for tests and tools; calls on it bypass interceptors)."""
-        return self._container._hosted(self._name, self._lineage).instance
+        return self._container.instance(self._name, self._lineage)
 
     @property
     def type_name(self) -> str:
@@ -198,11 +242,11 @@ class ComponentRef:
         return self._container.invoke(self._name, operation, args, kwargs, lineage=self._lineage)
 
     def get(self, attribute: str) -> object:
-        self._container._hosted(self._name, self._lineage)
+        self._container.instance(self._name, self._lineage)  # raises once destroyed
         return self._container.get_property(self._name, attribute)
 
     def set(self, attribute: str, value: object) -> None:
-        self._container._hosted(self._name, self._lineage)
+        self._container.instance(self._name, self._lineage)  # raises once destroyed
         self._container.set_property(self._name, attribute, value)
 
     def port(self, name: str) -> Port:
@@ -211,7 +255,7 @@ class ComponentRef:
     @property
     def alive(self) -> bool:
         try:
-            self._container._hosted(self._name, self._lineage)
+            self._container.instance(self._name, self._lineage)
         except ComponentDestroyedError:
             return False
         return True

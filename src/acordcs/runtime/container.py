@@ -7,6 +7,12 @@ interceptor, listener or component) are isolated: recorded in :attr:`Container.f
 counted, and the container goes on. Bad calls by the user (unknown names, wrong kinds) raise a
 :class:`~acordcs.runtime.errors.RuntimeFailure` that says what to do.
 
+The parts: operation calls and interceptors (:mod:`.calls`) and the element namespace and
+connections (:mod:`.wiring`) are mixed in; events go through an :class:`~.dispatch.EventDispatcher`.
+Components, ports, monitors, policy sets and the remote endpoint know their container only through
+the Protocol each declares (``ComponentHost``, ``PortHost``, ``MonitorHost``, ``PolicyHost``,
+``ServedContainer``), so none of them imports this module.
+
 Removing a factory while instances of its type live (stated behaviour): no new instance of that type
 can be created; the live ones keep running, stay findable and callable, can be replaced, and when
 destroyed their (removed) factory's destroy hook still runs. ``remove_factory(t,
@@ -21,13 +27,19 @@ import threading
 from collections import Counter
 from collections.abc import Iterator
 from contextlib import contextmanager
-from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
 from acordcs.runtime import events as ev
+from acordcs.runtime.calls import OperationCalls
 from acordcs.runtime.clock import Clock, RealClock, Timer
-from acordcs.runtime.component import ComponentFactory, ComponentRef, CtxComponent
-from acordcs.runtime.dispatch import Dispatcher, Handler
+from acordcs.runtime.component import (
+    ComponentFactory,
+    ComponentRef,
+    CtxComponent,
+    Hosted,
+    attach_component,
+)
+from acordcs.runtime.dispatch import EventDispatcher, Handler
 from acordcs.runtime.errors import (
     ComponentDestroyedError,
     ComponentError,
@@ -37,8 +49,6 @@ from acordcs.runtime.errors import (
     PortError,
 )
 from acordcs.runtime.events import Event, FaultLog
-from acordcs.runtime.interceptors import InterceptorEntry
-from acordcs.runtime.operations import Operations
 from acordcs.runtime.wiring import Wiring
 
 if TYPE_CHECKING:
@@ -46,14 +56,7 @@ if TYPE_CHECKING:
     from acordcs.runtime.policy import PolicySet
 
 
-@dataclass(slots=True)
-class Hosted:
-    instance: CtxComponent
-    lineage: int
-    operations: frozenset[str]
-
-
-class Container(Operations, Wiring):
+class Container(OperationCalls, Wiring):
     """A container. ``clock`` defaults to a :class:`RealClock` the container owns (and closes)."""
 
     def __init__(
@@ -74,18 +77,22 @@ class Container(Operations, Wiring):
         self.stats: Counter[str] = Counter()
         self.properties: dict[str, object] = dict(properties or {})
         self.clock.on_error = self._timer_fault
-        self._dispatch = Dispatcher(
-            self, max_depth=max_cascade_depth, max_events=max_cascade_events
+        self._events = EventDispatcher(
+            self.stats,
+            self.faults,
+            self.clock,
+            max_depth=max_cascade_depth,
+            max_events=max_cascade_events,
         )
         self._lock = threading.RLock()
         self._lineages = itertools.count(1)
         self._factories: dict[str, ComponentFactory] = {}
         self._components: dict[str, Hosted] = {}
         self._destroyed: dict[int, float] = {}
-        self._interceptors: list[InterceptorEntry] = []
         self._monitors: dict[str, Monitor] = {}
         self._policy_sets: dict[str, PolicySet] = {}
         self._where = f"container {name!r}"
+        OperationCalls.__init__(self)
         Wiring.__init__(self)
 
     def __repr__(self) -> str:
@@ -118,29 +125,39 @@ class Container(Operations, Wiring):
             raise ConfigurationError(
                 f"unknown event kind {kind!r}; one of {sorted(ev.EVENT_KINDS)} or '*'"
             )
-        self._dispatch.subscribe(kind, handler, name=name, element=element, attribute=attribute)
+        self._events.subscribe(kind, handler, name=name, element=element, attribute=attribute)
 
     def unsubscribe(self, name: str) -> None:
-        self._dispatch.unsubscribe(name)
+        self._events.unsubscribe(name)
 
     def emit(self, kind: str, element: str, attribute: str | None = None, **fields: Any) -> None:
-        if not self._dispatch.wants(kind):
+        if not self._events.wants(kind):
             # Nobody could observe it: count it, skip building and queueing it.
             self.stats["events"] += 1
             return
         data = fields.pop("data", None) or {}
         event = Event(kind, element, attribute, time=self.clock.now(), data=data, **fields)
-        self._dispatch.emit(event)
+        self._events.emit(event)
 
     @contextmanager
     def acting_as(self, origin: str) -> Iterator[None]:
         """Events emitted inside are attributed to ``origin`` (a policy set applying its actions)."""
-        previous = self._dispatch.origin
-        self._dispatch.origin = origin
+        previous = self._events.origin
+        self._events.origin = origin
         try:
             yield
         finally:
-            self._dispatch.origin = previous
+            self._events.origin = previous
+
+    @property
+    def origin(self) -> str | None:
+        """What events emitted now are attributed to; :meth:`acting_as` sets it for a block (a
+        policy set's firing sets and restores it itself: that is the adaptation hot path)."""
+        return self._events.origin
+
+    @origin.setter
+    def origin(self, origin: str | None) -> None:
+        self._events.origin = origin
 
     # ---------------------------------------------------------------------------- factories
     def install_factory(self, factory: ComponentFactory) -> None:
@@ -222,7 +239,7 @@ class Container(Operations, Wiring):
                 where=self._where,
                 hint="check the configuration passed to create()",
             ) from exc
-        instance._attach(name, self, factory)
+        attach_component(instance, name, self, factory)
         for key, value in (properties or {}).items():
             if key not in instance.props:
                 raise self._no_attribute(name, key, instance.props)
@@ -299,6 +316,16 @@ class Container(Operations, Wiring):
         hosted = self._hosted(name)
         return ComponentRef(self, name, hosted.lineage)
 
+    def instance(self, name: str, lineage: int | None = None) -> CtxComponent:
+        """The live instance named ``name`` (of ``lineage``, a handle's: raises
+        ComponentDestroyedError once that one is gone); calls on it bypass interceptors."""
+        return self._hosted(name, lineage).instance
+
+    def operations_of(self, name: str) -> frozenset[str]:
+        """The operations of component ``name`` (none when there is no such component)."""
+        hosted = self._components.get(name)
+        return hosted.operations if hosted is not None else frozenset()
+
     def find_by_type(self, type_name: str) -> list[ComponentRef]:
         return [
             ComponentRef(self, n, h.lineage)
@@ -342,17 +369,17 @@ class Container(Operations, Wiring):
 
             for source in monitor.sources:
                 for kind in (ev.OPERATION_CALLED, ev.PROPERTY_CHANGED):
-                    self._dispatch.subscribe(
+                    self._events.subscribe(
                         kind, feed, name=f"monitor:{monitor.name}", element=source
                     )
-            monitor._start(self)
+            monitor.attach(self)
 
     def remove_monitor(self, name: str) -> None:
         monitor = self._monitors.pop(name, None)
         if monitor is None:
             raise ComponentNotFoundError(f"no monitor named {name!r}", where=self._where)
-        self._dispatch.unsubscribe(f"monitor:{name}")
-        monitor._stop()
+        self._events.unsubscribe(f"monitor:{name}")
+        monitor.detach()
 
     def monitors(self) -> list[str]:
         return sorted(self._monitors)

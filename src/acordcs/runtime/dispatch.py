@@ -1,4 +1,4 @@
-"""Event dispatch with a cascade bound.
+"""Event dispatch with a cascade bound: a container's :class:`EventDispatcher`.
 
 Events are queued and handled breadth-first by the thread that emitted the first one; events emitted
 while handling (a policy action changing a property, which triggers a policy...) are caused by the
@@ -10,7 +10,7 @@ event being handled and one level deeper. A cascade deeper than ``max_depth`` or
 from __future__ import annotations
 
 import threading
-from collections import deque
+from collections import Counter, deque
 from collections.abc import Callable
 from typing import TYPE_CHECKING
 
@@ -18,17 +18,30 @@ from acordcs.runtime.errors import ConfigurationError
 from acordcs.runtime.events import Event
 
 if TYPE_CHECKING:
-    from acordcs.runtime.container import Container
+    from acordcs.runtime.clock import Clock
+    from acordcs.runtime.events import FaultLog
 
 Handler = Callable[[Event], None]
 Key = tuple[str, str | None, str | None]
 
 
-class Dispatcher:
-    def __init__(self, container: Container, *, max_depth: int, max_events: int) -> None:
+class EventDispatcher:
+    """The event queue of one container: counts into its ``stats``, reports faults to its ``faults``."""
+
+    def __init__(
+        self,
+        stats: Counter[str],
+        faults: FaultLog,
+        clock: Clock,
+        *,
+        max_depth: int,
+        max_events: int,
+    ) -> None:
         if max_depth < 1 or max_events < 1:
             raise ConfigurationError("cascade bounds max_depth and max_events must be >= 1")
-        self.container = container
+        self.stats = stats
+        self.faults = faults
+        self.clock = clock
         self.max_depth = max_depth
         self.max_events = max_events
         self._subs: dict[Key, list[tuple[str, Handler]]] = {}
@@ -110,35 +123,34 @@ class Dispatcher:
                 self._queue.clear()
 
     def _drain(self) -> None:
-        container = self.container
+        stats, faults, clock = self.stats, self.faults, self.clock
         handled = 0
         cut_reported = False
         while self._queue:
             event = self._queue.popleft()
             if event.depth > self.max_depth or handled >= self.max_events:
-                container.stats["events_dropped"] += 1
+                stats["events_dropped"] += 1
                 if not cut_reported:
                     cut_reported = True
                     self._report_cut(event, handled)
                 continue
             handled += 1
-            container.stats["events"] += 1
+            stats["events"] += 1
             self._current = event
             for name, handler in self._handlers(event):
                 try:
                     handler(event)
                 except Exception as exc:
-                    container.faults.record(
+                    faults.record(
                         "listener",
                         name,
                         exc,
-                        container.clock.now(),
+                        clock.now(),
                         event=f"{event.kind} {event.element}",
                     )
 
     def _report_cut(self, event: Event, handled: int) -> None:
-        container = self.container
-        container.stats["cascades_cut"] += 1
+        self.stats["cascades_cut"] += 1
         reason = (
             f"cascade deeper than {self.max_depth} events"
             if event.depth > self.max_depth
@@ -146,11 +158,11 @@ class Dispatcher:
         )
         chain = event.chain()
         origins = sorted({e.split(" (by ", 1)[1][:-1] for e in chain if " (by " in e})
-        container.faults.record(
+        self.faults.record(
             "cascade",
             ", ".join(origins) or event.element,
             f"{reason} cut (after {handled} handled); the rest of it was dropped",
-            container.clock.now(),
+            self.clock.now(),
             chain=chain[-6:],
             hint="a policy whose actions re-trigger it: check its rules",
         )

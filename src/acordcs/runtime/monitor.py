@@ -8,19 +8,30 @@ an event-driven one (no frequency) has :meth:`Monitor.on_event` called for the e
 new reading is news).
 
 A raising ``acquire`` or ``on_event`` is a fault: recorded and counted; the monitor keeps its rate.
+The container attaches a monitor when it is added and detaches it when it is removed.
 """
 
 from __future__ import annotations
 
 from collections.abc import Iterable, Mapping
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, Protocol
 
 from acordcs.runtime.errors import ConfigurationError
 
 if TYPE_CHECKING:
-    from acordcs.runtime.clock import Timer
-    from acordcs.runtime.container import Container
-    from acordcs.runtime.events import Event
+    from acordcs.runtime.clock import Clock, Timer
+    from acordcs.runtime.events import Event, FaultLog
+
+
+class MonitorHost(Protocol):
+    """What a monitor needs from its container."""
+
+    clock: Clock
+    faults: FaultLog
+
+    def monitor_update(self, monitor: Monitor, values: dict[str, object]) -> None:
+        """Take the new attribute values and emit ``monitor.updated``."""
+        ...
 
 
 class Monitor:
@@ -42,7 +53,7 @@ class Monitor:
         self.frequency = frequency
         self.sources = tuple(sources)
         self.attributes: dict[str, object] = dict(attributes or {})
-        self.container: Container | None = None
+        self.container: MonitorHost | None = None
         self.ticks = 0
         self._timer: Timer | None = None
 
@@ -61,7 +72,8 @@ class Monitor:
         self.container.monitor_update(self, values)
 
     # ------------------------------------------------------------------ driven by the container
-    def _start(self, container: Container) -> None:
+    def attach(self, container: MonitorHost) -> None:
+        """Start publishing to ``container`` (and ticking, for a periodic monitor)."""
         self.container = container
         if self.frequency is not None:
             self._timer = container.clock.call_every(1.0 / self.frequency, self._tick)
@@ -80,7 +92,8 @@ class Monitor:
                 "monitor", self.name, exc, container.clock.now(), tick=self.ticks
             )
 
-    def _stop(self) -> None:
+    def detach(self) -> None:
+        """Stop ticking and publishing (values published afterwards stay in ``attributes``)."""
         if self._timer is not None:
             self._timer.cancel()
             self._timer = None

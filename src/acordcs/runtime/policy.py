@@ -22,21 +22,57 @@ element in scope has. With neither ``adapts`` nor ``fed_by``, every element of t
 
 from __future__ import annotations
 
+from collections import Counter
 from collections.abc import Iterable, Mapping, Sequence
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, Protocol
 
 from acordcs.rules import Name, RuleSyntaxError, parse_rule, split_rules
 from acordcs.runtime import events as ev
-from acordcs.runtime.engine import RuleEngine, RuleError
 from acordcs.runtime.errors import BindingError, ComponentNotFoundError, ConfigurationError
 from acordcs.runtime.registry import EngineSetup, Variable, lookup_engine
+from acordcs.runtime.rule_engine import RuleEngine, RuleError
 
 if TYPE_CHECKING:
-    from acordcs.runtime.clock import Timer
-    from acordcs.runtime.container import Container
-    from acordcs.runtime.events import Event
+    from acordcs.runtime.clock import Clock, Timer
+    from acordcs.runtime.dispatch import Handler
+    from acordcs.runtime.events import Event, FaultLog
 
 Target = tuple[str, str]
+
+
+class PolicyHost(Protocol):
+    """What a policy set needs from its container: its elements, events, clock and calls."""
+
+    name: str
+    clock: Clock
+    faults: FaultLog
+    stats: Counter[str]
+    # The element events emitted now are attributed to (a policy set applying its actions).
+    origin: str | None
+
+    def elements(self) -> dict[str, dict[str, object]]: ...
+
+    def monitors(self) -> list[str]: ...
+
+    def operations_of(self, component: str) -> frozenset[str]: ...
+
+    def subscribe(
+        self,
+        kind: str,
+        handler: Handler,
+        *,
+        name: str,
+        element: str | None = None,
+        attribute: str | None = None,
+    ) -> None: ...
+
+    def unsubscribe(self, name: str) -> None: ...
+
+    def get_property(self, element: str, attribute: str) -> object: ...
+
+    def set_property(self, element: str, attribute: str, value: object) -> None: ...
+
+    def invoke(self, name: str, operation: str, args: tuple[Any, ...] = ()) -> Any: ...
 
 
 class PolicySet:
@@ -78,7 +114,7 @@ class PolicySet:
         self.variables = dict(variables or {})
         self.bindings = dict(bindings or {})
         self.engine: RuleEngine | None = None
-        self.container: Container | None = None
+        self.container: PolicyHost | None = None
         self.inputs: dict[str, Target] = {}
         self.outputs: dict[str, Target] = {}
         self.operations: dict[str, Target] = {}
@@ -90,7 +126,7 @@ class PolicySet:
         return f"<PolicySet {self.name} ({self.engine_kind}, {self.trigger}), fired {self.fires}x>"
 
     # ------------------------------------------------------------------------------ binding
-    def attach(self, container: Container) -> None:
+    def attach(self, container: PolicyHost) -> None:
         """Bind to ``container``: parse rules, resolve variables, build the engine, subscribe."""
         constructor, syntax = lookup_engine(self.engine_kind)
         parsed = []
@@ -146,7 +182,7 @@ class PolicySet:
         self.container = container
         self._subscribe(container)
 
-    def _scope(self, container: Container) -> dict[str, dict[str, object]]:
+    def _scope(self, container: PolicyHost) -> dict[str, dict[str, object]]:
         elements = container.elements()
         names = list(self.adapts) + list(self.fed_by)
         if not names:
@@ -165,7 +201,7 @@ class PolicySet:
         return scope
 
     def _resolve(
-        self, container: Container, scope: dict[str, dict[str, object]], var: Name, where: str
+        self, container: PolicyHost, scope: dict[str, dict[str, object]], var: Name, where: str
     ) -> Target:
         text = self.bindings.get(var.text, var.text)
         element, dot, attribute = text.rpartition(".")
@@ -188,15 +224,11 @@ class PolicySet:
         return owners[0], attribute
 
     def _resolve_op(
-        self, container: Container, scope: dict[str, dict[str, object]], target: Name, where: str
+        self, container: PolicyHost, scope: dict[str, dict[str, object]], target: Name, where: str
     ) -> Target:
         element, dot, operation = target.text.rpartition(".")
         candidates = [element] if dot else sorted(scope)
-        owners = [
-            e
-            for e in candidates
-            if e in container._components and operation in container._components[e].operations
-        ]
+        owners = [e for e in candidates if operation in container.operations_of(e)]
         if len(owners) != 1:
             raise BindingError(
                 f"{where}: operation {target.text!r} (column {target.column}) matches "
@@ -206,7 +238,7 @@ class PolicySet:
             )
         return owners[0], operation
 
-    def _subscribe(self, container: Container) -> None:
+    def _subscribe(self, container: PolicyHost) -> None:
         label = f"policy:{self.name}"
         if self.trigger == "periodic":
             self._timer = container.clock.call_every(
@@ -258,8 +290,7 @@ class PolicySet:
             container.stats["policy_skipped"] += 1
             return False
         # Plain try/finally rather than context managers: this is the adaptation hot path.
-        dispatch = container._dispatch
-        previous, dispatch.origin = dispatch.origin, self.name
+        previous, container.origin = container.origin, self.name
         try:
             for var, value in values:
                 engine.set(var, value)
@@ -280,7 +311,7 @@ class PolicySet:
             )
             return False
         finally:
-            dispatch.origin = previous
+            container.origin = previous
 
     def _call(self, target: str, args: tuple[Any, ...]) -> Any:
         container = self.container

@@ -12,6 +12,9 @@
 
 A connection joins two ports through a connector; a port may have several connections (fan-out),
 except a synchronous required port, which has exactly one provider.
+
+A port knows its component and its container only through what it needs of them (:class:`PortOwner`,
+:class:`PortHost`), so this module depends on neither.
 """
 
 from __future__ import annotations
@@ -19,18 +22,44 @@ from __future__ import annotations
 import contextlib
 from collections import deque
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, Protocol
 
 from acordcs.runtime.errors import ComponentError, PortError, QueueFullError
 
 if TYPE_CHECKING:
-    from acordcs.runtime.clock import Timer
-    from acordcs.runtime.component import CtxComponent
+    from acordcs.runtime.clock import Clock, Timer
     from acordcs.runtime.connectors.base import Connection
 
 KINDS = ("synchronous", "asynchronous", "stream")
 ROLES = ("provided", "required")
 OVERFLOW_POLICIES = ("drop_oldest", "drop_newest", "reject")
+
+
+class PortHost(Protocol):
+    """What a port (and a connector delivering to it) needs from its component's container."""
+
+    name: str
+    clock: Clock
+
+    def invoke_internal(
+        self, instance: PortOwner, method: str, args: tuple[Any, ...], port: Port
+    ) -> Any:
+        """Deliver into the component (a notification handler, a stream source or sink)."""
+        ...
+
+    def invoke_port(
+        self, port: Port, operation: str, args: tuple[Any, ...], kwargs: dict[str, Any]
+    ) -> Any:
+        """A call arriving at a synchronous provided port."""
+        ...
+
+
+class PortOwner(Protocol):
+    """What a port needs from its component (a hosted :class:`~acordcs.runtime.component.CtxComponent`)."""
+
+    name: str
+    alive: bool
+    container: PortHost
 
 
 @dataclass(frozen=True)
@@ -76,7 +105,7 @@ class Port:
     """A port of one component instance. Its properties (``rate``, ``capacity``, ``overflow``, plus any
     the spec's component adds) are adapted through ``container.set_property("Comp.port", ...)``."""
 
-    def __init__(self, component: CtxComponent, spec: PortSpec) -> None:
+    def __init__(self, component: PortOwner, spec: PortSpec) -> None:
         self.component = component
         self.spec = spec
         self.name = spec.name

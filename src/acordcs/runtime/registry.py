@@ -2,7 +2,7 @@
 
 A constructor takes an :class:`EngineSetup` (what the policy set knows: its name, fuzzy semantics,
 linguistic variables, and a way to call operations through the container) and returns an object
-implementing :class:`~acordcs.runtime.engine.RuleEngine` (``defrule``, ``set``, ``fire``, ``get``).
+implementing :class:`~acordcs.runtime.rule_engine.RuleEngine` (``defrule``, ``set``, ``fire``, ``get``).
 
 The two engine kinds of the metamodel are registered lazily: asking for ``fuzzy`` imports
 ``acordcs.runtime.fuzzy`` (``clips``: ``acordcs.runtime.clips``) the first time, if it exists.
@@ -17,13 +17,15 @@ from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import Any
 
-from acordcs.runtime.engine import RuleEngine
 from acordcs.runtime.errors import ConfigurationError, EngineNotAvailableError
+from acordcs.runtime.rule_engine import RuleEngine
 
 
 @dataclass(frozen=True)
 class Variable:
-    """A linguistic variable: its universe and terms (FCL text ``slow := trape 0 0 40 80; ...``)."""
+    """A linguistic variable as a policy set declares it (the model's CtxVariable): its universe and
+    terms as FCL text (``slow := trape 0 0 40 80; ...``). The fuzzy engine builds its
+    :class:`~acordcs.runtime.fuzzy.variable.LinguisticVariable` from it."""
 
     lo: float
     hi: float

@@ -8,6 +8,8 @@ emits ``property.changed`` (only when the value really changes, so an idempotent
 
 from __future__ import annotations
 
+import threading
+from collections import Counter
 from typing import TYPE_CHECKING, Any
 
 from acordcs.runtime import events as ev
@@ -18,18 +20,31 @@ from acordcs.runtime.errors import BindingError, ComponentNotFoundError, PortErr
 from acordcs.runtime.ports import Port
 
 if TYPE_CHECKING:
-    from acordcs.runtime.container import Container
+    from acordcs.runtime.component import Hosted
+    from acordcs.runtime.monitor import Monitor
 
 
 class Wiring:
-    """Mixed into :class:`~acordcs.runtime.container.Container`."""
+    """The element namespace and the connections of a container.
 
-    def __init__(self: Container) -> None:
+    Mixed into :class:`~acordcs.runtime.container.Container`, which keeps the attributes declared
+    below and provides ``_hosted(name)``, ``guard`` and ``emit``.
+    """
+
+    name: str
+    properties: dict[str, object]
+    stats: Counter[str]
+    _where: str
+    _lock: threading.RLock
+    _components: dict[str, Hosted]
+    _monitors: dict[str, Monitor]
+
+    def __init__(self) -> None:
         self._connections: dict[str, Connection] = {}
         self._connectors: list[Connector] = []
 
     # ------------------------------------------------------------------------------ elements
-    def _properties_of(self: Container, element: str) -> tuple[str, dict[str, object], object]:
+    def _properties_of(self, element: str) -> tuple[str, dict[str, object], object]:
         """(kind, property dict, owner) of an element name."""
         hosted = self._components.get(element)
         if hosted is not None:
@@ -53,9 +68,7 @@ class Wiring:
             where=self._where,
         )
 
-    def _no_attribute(
-        self: Container, element: str, attribute: str, props: dict[str, object]
-    ) -> BindingError:
+    def _no_attribute(self, element: str, attribute: str, props: dict[str, object]) -> BindingError:
         return BindingError(
             f"element {element!r} has no property {attribute!r} (properties: "
             f"{', '.join(sorted(props)) or 'none'})",
@@ -63,20 +76,20 @@ class Wiring:
             hint="declare it (CtxComponent.properties, Monitor attributes, connection qos)",
         )
 
-    def has_property(self: Container, element: str, attribute: str) -> bool:
+    def has_property(self, element: str, attribute: str) -> bool:
         try:
             return attribute in self._properties_of(element)[1]
         except ComponentNotFoundError:
             return False
 
-    def get_property(self: Container, element: str, attribute: str) -> object:
+    def get_property(self, element: str, attribute: str) -> object:
         _kind, props, _owner = self._properties_of(element)
         try:
             return props[attribute]
         except KeyError:
             raise self._no_attribute(element, attribute, props) from None
 
-    def set_property(self: Container, element: str, attribute: str, value: object) -> None:
+    def set_property(self, element: str, attribute: str, value: object) -> None:
         """Change a property; emits ``property.changed`` when the value differs."""
         kind, props, owner = self._properties_of(element)
         if attribute not in props:
@@ -99,7 +112,7 @@ class Wiring:
         self.stats["property_changes"] += 1
         self.emit(ev.PROPERTY_CHANGED, element, attribute, value=value, old=old)
 
-    def elements(self: Container) -> dict[str, dict[str, object]]:
+    def elements(self) -> dict[str, dict[str, object]]:
         """Every element name with its properties (policy variable resolution reads this)."""
         out: dict[str, dict[str, object]] = {self.name: self.properties}
         for name, hosted in self._components.items():
@@ -113,10 +126,10 @@ class Wiring:
         return out
 
     # --------------------------------------------------------------------------- connections
-    def port_of(self: Container, component: str, port: str) -> Port:
+    def port_of(self, component: str, port: str) -> Port:
         return self._hosted(component).instance.port(port)
 
-    def _endpoint(self: Container, end: str | Port | RemotePort) -> Port | RemotePort:
+    def _endpoint(self, end: str | Port | RemotePort) -> Port | RemotePort:
         if isinstance(end, Port | RemotePort):
             return end
         comp, dot, port = end.rpartition(".")
@@ -125,7 +138,7 @@ class Wiring:
         return self.port_of(comp, port)
 
     def connect(
-        self: Container,
+        self,
         required: str | Port | RemotePort,
         provided: str | Port | RemotePort,
         *,
@@ -182,7 +195,7 @@ class Wiring:
         self.emit(ev.CONNECTION_CHANGED, label, value="connected")
         return conn
 
-    def disconnect(self: Container, name: str) -> None:
+    def disconnect(self, name: str) -> None:
         with self._lock:
             conn = self._connections.pop(name, None)
             if conn is None:
@@ -195,22 +208,22 @@ class Wiring:
                     end.connections.remove(conn)
         self.emit(ev.CONNECTION_CHANGED, name, value="disconnected")
 
-    def connections(self: Container) -> list[Connection]:
+    def connections(self) -> list[Connection]:
         return list(self._connections.values())
 
-    def connection(self: Container, name: str) -> Connection:
+    def connection(self, name: str) -> Connection:
         try:
             return self._connections[name]
         except KeyError:
             raise PortError(f"no connection named {name!r}", where=self._where) from None
 
-    def _drop_connections_of(self: Container, instance: Any) -> None:
+    def _drop_connections_of(self, instance: Any) -> None:
         for port in instance.port_map.values():
             for conn in list(port.connections):
                 if conn.name in self._connections:
                     self.disconnect(conn.name)
 
-    def close_connectors(self: Container) -> None:
+    def close_connectors(self) -> None:
         for connector in self._connectors:
             with self.guard("connector", type(connector).__name__, phase="close"):
                 connector.close()

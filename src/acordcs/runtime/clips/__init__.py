@@ -1,5 +1,5 @@
-"""The CLIPS rule engine (through clipspy) behind the paper's four calls: see :mod:`.engine`."""
+"""The CLIPS rule engine (through clipspy) behind the paper's four calls: see :mod:`.clips_engine`."""
 
-from acordcs.runtime.clips.engine import ClipsEngine, FireError
+from acordcs.runtime.clips.clips_engine import ClipsEngine, FireError
 
 __all__ = ["ClipsEngine", "FireError"]

@@ -1,10 +1,16 @@
-"""One CLIPS environment (clipspy) with its messages captured and a lean function call.
+"""One CLIPS environment (clipspy) with its messages captured and a lean function call; the one
+module that touches clipspy's internals.
 
 clipspy's ``Environment.call`` converts every argument through generic helpers that allocate a new
 ``CLIPSValue`` each, and its result field by field; on a 4-argument call that is half of a cycle's
 budget. :meth:`Bridge.call` reuses one value and clipspy's own function-call builder, and leaves the
 result to :mod:`.records`, which reads it directly. No ``Fact`` wrapper is ever created (those make
 the per-cycle cost grow).
+
+Everything the engine relies on below clipspy's public API (the cffi ``lib`` and ``ffi``, type codes,
+the layout of the C values :mod:`.records` reads, the environment's C pointer, the function-call
+builder, the generic value conversion) is imported here only, and checked when this module is
+imported: a clipspy that changed any of it fails at import, naming what is missing.
 """
 
 from __future__ import annotations
@@ -12,14 +18,65 @@ from __future__ import annotations
 from collections.abc import Iterable
 
 import clips
-from clips import common
+from clips import Symbol, common
 from clips._clips import ffi, lib
-from clips.values import Symbol
-
-from acordcs.runtime.clips.prelude import fixed_constructs
+from clips.values import python_value
 
 # Values passed to CLIPS: the engine validates them before they get here.
 Scalar = bool | int | float | str | None
+
+# The C functions this module calls.
+_LIB_FUNCTIONS = (
+    "FCBReset",
+    "FCBAppend",
+    "FCBCall",
+    "CreateFloat",
+    "CreateInteger",
+    "CreateSymbol",
+    "CreateString",
+    "CreateBoolean",
+)
+# The C struct fields read here, in the engine and in records.py.
+_FIELDS = {
+    "CLIPSValue": ("header", "floatValue", "integerValue", "lexemeValue", "multifieldValue"),
+    "TypeHeader": ("type",),
+    "Multifield": ("length", "contents"),
+    "CLIPSFloat": ("contents",),
+    "CLIPSInteger": ("contents",),
+    "CLIPSLexeme": ("contents",),
+}
+
+
+def _missing_internals() -> list[str]:
+    """The clipspy internals this package relies on that are not there (empty: all are)."""
+    missing = [f"lib.{name}" for name in _LIB_FUNCTIONS if not hasattr(lib, name)]
+    # records.py and the engine compare type codes as plain numbers: 0 float, 1 integer, 2 symbol,
+    # 3 string, 4 multifield...; and a function call succeeded when its code is 0.
+    if getattr(lib, "FCBE_NO_ERROR", None) != 0:
+        missing.append("lib.FCBE_NO_ERROR == 0")
+    if [int(t) for t in common.CLIPSType] != list(range(10)):
+        missing.append(
+            "common.CLIPSType codes 0..9 (FLOAT, INTEGER, SYMBOL, STRING, MULTIFIELD...)"
+        )
+    if not callable(getattr(common, "environment_builder", None)):
+        missing.append("common.environment_builder")
+    if "_env" not in getattr(clips.Environment, "__slots__", ()):
+        missing.append("Environment._env (the C environment)")
+    for struct, fields in _FIELDS.items():
+        try:
+            present = {name for name, _type in ffi.typeof(struct).fields}
+        except ffi.error:
+            present = set()
+        missing.extend(f"{struct}.{field}" for field in fields if field not in present)
+    return missing
+
+
+if _missing := _missing_internals():
+    raise ImportError(
+        f"clipspy {getattr(clips, '__version__', '?')} lacks what acordcs.runtime.clips relies on: "
+        f"{', '.join(_missing)}; review acordcs/runtime/clips/bridge.py and records.py "
+        "(tests/runtime/test_clips_records.py checks the conversions themselves)"
+    )
 
 # The C functions of the hot path, looked up once (an attribute of ``lib`` costs a lookup per use).
 _reset, _append, _call = lib.FCBReset, lib.FCBAppend, lib.FCBCall
@@ -30,10 +87,10 @@ _float, _integer, _symbol, _string = (
     lib.CreateString,
 )
 MULTIFIELD = int(common.CLIPSType.MULTIFIELD)
-# clipspy internals this module relies on: fail at import, loudly, if a new clipspy changed them
-# (tests/runtime/test_clips_records.py checks the conversions themselves).
-if (lib.FCBE_NO_ERROR, *map(int, common.CLIPSType)) != (0, *range(10)):
-    raise ImportError("clipspy's type codes changed: review acordcs/runtime/clips/bridge.py")
+# For records.py: the bytes of a C string, and clipspy's generic conversion of a value (for those
+# no rule produces, such as a native rule's fact address).
+c_string = ffi.string
+__all__ = ["MULTIFIELD", "Bridge", "ClipsFailure", "Scalar", "c_string", "python_value"]
 
 
 class ClipsFailure(Exception):
@@ -67,19 +124,22 @@ class _Capture(clips.Router):
 
 
 class Bridge:
-    """The environment, its prelude, building constructs and the one call per fire."""
+    """The environment, building constructs and the one call per fire.
 
-    def __init__(self) -> None:
+    ``constructs`` are built first, in order (the engine passes its prelude, :mod:`.prelude`).
+    """
+
+    def __init__(self, constructs: Iterable[str] = ()) -> None:
         self.env = clips.Environment()
         self.capture = _Capture()  # its text is non-empty when CLIPS printed something
         self.env.add_router(self.capture)
-        self.ptr = self.env._env  # the C environment, for the lean call
+        self.ptr = self.env._env  # the C environment, for the lean call (checked at import)
         self._builder = common.environment_builder(self.ptr, "function")
         self._arg = ffi.new("CLIPSValue *")
         self._result = ffi.new("CLIPSValue *")
         self._true = lib.CreateBoolean(self.ptr, True)
         self._false = lib.CreateBoolean(self.ptr, False)
-        for construct in fixed_constructs():
+        for construct in constructs:
             self.build(construct)
 
     def messages(self) -> str:

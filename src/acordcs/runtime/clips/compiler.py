@@ -63,7 +63,7 @@ from acordcs.rules import (
     VarRef,
 )
 from acordcs.runtime.clips.records import Sites, python_constant
-from acordcs.runtime.engine import RuleError
+from acordcs.runtime.rule_engine import RuleError
 
 _COMPARE = {
     "==": "acord-eq",

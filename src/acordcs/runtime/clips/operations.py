@@ -57,7 +57,7 @@ class Faults:
             log.debug("traceback of the operation", exc_info=exc)
 
 
-class Operations:
+class OperationTable:
     """Declared and bound operations, and the numbers CLIPS records use for them."""
 
     def __init__(self) -> None:

@@ -12,9 +12,7 @@ send what Python already knows (the operation, the rule, the constant).
 
 from __future__ import annotations
 
-from clips._clips import ffi
-from clips.values import python_value
-
+from acordcs.runtime.clips.bridge import c_string, python_value
 from acordcs.runtime.clips.values import Value
 
 Call = tuple[int | str, int, list[Value]]  # operation (number or name), rule number, arguments
@@ -55,16 +53,16 @@ def python_constant(value: int | float | str | bool) -> Value:
 
 def read_value(item: object, ptr: object) -> Value:
     """One field as a rule value: TRUE/FALSE are booleans, nil is unset, other symbols are text."""
-    kind = item.header.type
+    kind = item.header.type  # type codes as numbers: bridge.py checks them at import
     if kind == 0:
         return item.floatValue.contents
     if kind == 1:
         return item.integerValue.contents
     if kind == 2:
-        text = ffi.string(item.lexemeValue.contents).decode()
+        text = c_string(item.lexemeValue.contents).decode()
         return _SYMBOLS.get(text, text)
     if kind == 3:
-        return ffi.string(item.lexemeValue.contents).decode()
+        return c_string(item.lexemeValue.contents).decode()
     return python_value(ptr, item)  # not a rule value (a native rule's fact address...): as clipspy
 
 

@@ -10,13 +10,13 @@ from __future__ import annotations
 import re
 from dataclasses import dataclass, field
 
-from clips.values import Symbol
+from clips import Symbol
 
 from acordcs.rules import RuleSyntaxError, parse_rule
 from acordcs.runtime.clips.bridge import Bridge, ClipsFailure
 from acordcs.runtime.clips.compiler import OperationResolver, VariableResolver, compile_rule
 from acordcs.runtime.clips.records import Sites
-from acordcs.runtime.engine import RuleError
+from acordcs.runtime.rule_engine import RuleError
 
 _SET_NAME = re.compile(r"[A-Za-z_][A-Za-z0-9_]*\Z")
 _NATIVE_HEAD = re.compile(r"\(\s*defrule\s+([^\s()\";&|~<>]+)")

@@ -1,7 +1,7 @@
 """What every connector implements, and the connection object it serves.
 
 A :class:`Connection` joins two endpoints (local :class:`~acordcs.runtime.ports.Port` s, or a local
-port and a remote one) and carries QoS properties (``qos``) that policies may change through the
+port and a :class:`~acordcs.runtime.connectors.remote.RemotePort`) and carries QoS properties (``qos``) that policies may change through the
 container (``container.set_property(connection_name, "bandwidth", 2e6)``); connectors read them at
 each send, so a change applies to the next message.
 """
@@ -9,12 +9,16 @@ each send, so a change applies to the next message.
 from __future__ import annotations
 
 from abc import ABC, abstractmethod
-from typing import TYPE_CHECKING, Any
+from typing import Any, Protocol
 
 from acordcs.runtime.errors import PortError
 
-if TYPE_CHECKING:
-    from acordcs.runtime.ports import Port
+
+class Endpoint(Protocol):
+    """An end of a connection: a local port or a remote one."""
+
+    @property
+    def qualified_name(self) -> str: ...
 
 
 class Connector(ABC):
@@ -55,8 +59,8 @@ class Connection:
     def __init__(
         self,
         name: str,
-        required: object,
-        provided: object,
+        required: Endpoint,
+        provided: Endpoint,
         connector: Connector,
         qos: dict[str, object],
     ) -> None:
@@ -67,17 +71,17 @@ class Connection:
         self.qos = qos
         self.stats: dict[str, int] = {"sent": 0, "lost": 0}
 
-    def peer_of(self, port: Port) -> object:
+    def peer_of(self, port: Endpoint) -> Endpoint:
         if self.required is port:
             return self.provided
         if self.provided is port:
             return self.required
         raise PortError(f"port {port.qualified_name} is not an end of connection {self.name!r}")
 
-    def ends(self) -> tuple[object, object]:
+    def ends(self) -> tuple[Endpoint, Endpoint]:
         return self.required, self.provided
 
-    def replace_end(self, old: Port, new: Port) -> None:
+    def replace_end(self, old: Endpoint, new: Endpoint) -> None:
         """Swap a port (component replacement keeps connections)."""
         if self.required is old:
             self.required = new
@@ -86,14 +90,3 @@ class Connection:
 
     def __repr__(self) -> str:
         return f"<Connection {self.name} via {self.connector.kind}>"
-
-
-def deliver_call(
-    target: Port, operation: str, args: tuple[Any, ...], kwargs: dict[str, Any]
-) -> Any:
-    """Run a synchronous call on a local provided port (through its container's interceptors)."""
-    return target.component.container.invoke_port(target, operation, args, kwargs)
-
-
-def deliver_message(target: Port, message: Any) -> None:
-    target.deliver(message)

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from typing import Any
 
-from acordcs.runtime.connectors.base import Connection, Connector, deliver_call, deliver_message
+from acordcs.runtime.connectors.base import Connection, Connector
 from acordcs.runtime.errors import PortError
 from acordcs.runtime.ports import Port
 
@@ -29,12 +29,14 @@ class InProcessConnector(Connector):
         args: tuple[Any, ...],
         kwargs: dict[str, Any],
     ) -> Any:
-        return deliver_call(_local(conn, target), operation, args, kwargs)
+        port = _local(conn, target)
+        # Through the provider's container: its interceptors and events see the call.
+        return port.component.container.invoke_port(port, operation, args, kwargs)
 
     def notify(self, conn: Connection, target: object, message: Any, size: int | None) -> None:
         conn.stats["sent"] += 1
-        deliver_message(_local(conn, target), message)
+        _local(conn, target).deliver(message)
 
     def stream(self, conn: Connection, target: object, item: Any, size: int | None) -> None:
         conn.stats["sent"] += 1
-        deliver_message(_local(conn, target), item)
+        _local(conn, target).deliver(item)

@@ -21,7 +21,7 @@ from __future__ import annotations
 
 import threading
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, Protocol
 
 import Pyro5.api
 import Pyro5.errors
@@ -36,7 +36,21 @@ from acordcs.runtime.errors import (
 )
 
 if TYPE_CHECKING:
-    from acordcs.runtime.container import Container
+    from acordcs.runtime.ports import Port
+
+
+class ServedContainer(Protocol):
+    """What a :class:`ContainerServer` needs from the container it serves."""
+
+    name: str
+
+    def describe(self) -> dict[str, Any]: ...
+
+    def port_of(self, component: str, port: str) -> Port: ...
+
+    def invoke_port(
+        self, port: Port, operation: str, args: tuple[Any, ...], kwargs: dict[str, Any]
+    ) -> Any: ...
 
 
 @dataclass(frozen=True)
@@ -79,6 +93,8 @@ class RemoteConnector(Connector):
             proxies = self._local.proxies = {}
         proxy = proxies.get(uri)
         if proxy is None:
+            # The _pyro* attributes and methods of a proxy are Pyro5's documented public API
+            # (underscored so they cannot clash with remote method names), not its internals.
             proxy = Pyro5.api.Proxy(uri)
             proxy._pyroSerializer = "serpent"
             proxy._pyroMaxRetries = 0
@@ -183,7 +199,7 @@ def _fault(exc: BaseException) -> RemoteFault:
 class ContainerEndpoint:
     """What a container exposes over Pyro5; failures come back as :class:`RemoteFault`."""
 
-    def __init__(self, container: Container) -> None:
+    def __init__(self, container: ServedContainer) -> None:
         self._container = container
 
     def ping(self) -> str:
@@ -211,7 +227,9 @@ class ContainerEndpoint:
 class ContainerServer:
     """Serves a container on ``host:port`` (port 0: any free one) with a Pyro5 daemon thread."""
 
-    def __init__(self, container: Container, *, host: str = "127.0.0.1", port: int = 0) -> None:
+    def __init__(
+        self, container: ServedContainer, *, host: str = "127.0.0.1", port: int = 0
+    ) -> None:
         self.container = container
         self.daemon = Pyro5.api.Daemon(host=host, port=port)
         self.host, self.port = host, int(self.daemon.locationStr.rsplit(":", 1)[1])

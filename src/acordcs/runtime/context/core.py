@@ -9,7 +9,7 @@ from collections.abc import Callable
 
 from lxml import etree
 
-from acordcs.runtime.context.delivery import Dispatcher, Notification, Subscription
+from acordcs.runtime.context.delivery import DeliveryDispatcher, Notification, Subscription
 from acordcs.runtime.context.errors import ContextError, SubscriptionError
 from acordcs.runtime.context.index import SubscriptionIndex
 from acordcs.runtime.context.xmlparse import Limits, parse_document, to_bytes
@@ -52,14 +52,15 @@ class ProviderCore:
 
     def __init__(self, limits: Limits | None = None, delivery_threads: int = 64) -> None:
         self.limits = limits or Limits()
-        self._dispatcher = Dispatcher(max_threads=delivery_threads)
+        self._dispatcher = DeliveryDispatcher(max_threads=delivery_threads)
         self._lock = threading.RLock()
         self._index = SubscriptionIndex(self.limits.max_eval_seconds, self.limits.max_strikes)
         self._index.on_suspend = self._suspended
         self._subs: dict[int, tuple[Subscription, object]] = {}
         self._latest: dict[str, tuple[int, etree._ElementTree]] = {}
-        # publisher -> the on_change subscriptions whose last selection there was not empty
-        self._changing: dict[str, set[Subscription]] = {}
+        # publisher -> the on_change subscriptions whose last selection there was not empty, with
+        # the fingerprint of that selection
+        self._changing: dict[str, dict[Subscription, object]] = {}
         self._closed = False
         self.rejected = 0  # documents refused (malformed, hostile, too large)
 
@@ -123,7 +124,7 @@ class ProviderCore:
             sub, form = entry
             self._index.remove(sub, sub.publisher, form)
             for holders in self._changing.values():
-                holders.discard(sub)
+                holders.pop(sub, None)
         self._dispatcher.cancel(sub)
         self._unsubscribed(sub)
         return True
@@ -189,24 +190,21 @@ class ProviderCore:
         with self._lock:
             self._latest[publisher] = (seq, tree)
             matches = self._index.match(tree, publisher)
-            changing = self._changing.get(publisher)
+            changing = self._changing.get(publisher) or {}
             queued = 0
-            matched_changing: set[Subscription] = set()
+            matched_changing: dict[Subscription, object] = {}
             for subs, nodes, value in matches:
                 for sub in subs:
                     if sub.on_change:
-                        matched_changing.add(sub)
-                        fp = _fingerprint(nodes, value)
-                        if sub._last_selection.get(publisher) == fp:
+                        fp = matched_changing[sub] = _fingerprint(nodes, value)
+                        if changing.get(sub) == fp:
                             sub.stats.unchanged += 1
                             continue
-                        sub._last_selection[publisher] = fp
                     self._dispatcher.offer(sub, Notification(publisher, seq, tree, nodes, value))
                     queued += 1
             if changing or matched_changing:
                 # on_change subscribers whose selection just became empty are told so once
-                for sub in (changing or set()) - matched_changing:
-                    del sub._last_selection[publisher]
+                for sub in changing.keys() - matched_changing.keys():
                     self._dispatcher.offer(sub, Notification(publisher, seq, tree, [], None))
                     queued += 1
                 self._changing[publisher] = matched_changing

@@ -1,6 +1,6 @@
-"""Notifications, subscription handles, and the dispatcher that delivers them.
+"""Notifications, subscription handles, and the :class:`DeliveryDispatcher` that delivers them.
 
-Every subscription has its own bounded mailbox; a pool of delivery threads runs the callbacks, at most
+Every subscription has its own bounded :class:`Mailbox`; a pool of delivery threads runs the callbacks, at most
 one thread per subscription at a time (so each subscriber sees its notifications in order). When every
 thread is busy, e.g. inside a slow callback, the pool grows (up to ``max_threads``), so a slow or
 raising subscriber delays only itself, and publishers never wait for callbacks: when a mailbox is full
@@ -50,6 +50,20 @@ class SubscriptionStats:
     last_error: str | None = None
 
 
+class Mailbox:
+    """A subscription's pending notifications and delivery state, kept by the
+    :class:`DeliveryDispatcher` under its lock."""
+
+    __slots__ = ("closed", "next_allowed", "pending", "running", "scheduled")
+
+    def __init__(self) -> None:
+        self.pending: deque[Notification] = deque()
+        self.scheduled = False  # in the ready queue or the delayed heap
+        self.running = False  # a delivery thread is in its callback
+        self.closed = False
+        self.next_allowed = 0.0  # max_rate: monotonic time of the next delivery
+
+
 @dataclass(eq=False)
 class Subscription:
     """The handle ``subscribe`` returns; pass it to ``unsubscribe``."""
@@ -62,15 +76,7 @@ class Subscription:
     queue_size: int = 1024
     id: int = field(default_factory=lambda: next(_ids))
     stats: SubscriptionStats = field(default_factory=SubscriptionStats)
-
-    def __post_init__(self) -> None:
-        # all of these are guarded by the dispatcher's lock
-        self._mailbox: deque[Notification] = deque()
-        self._scheduled = False  # in the ready queue or the delayed heap
-        self._running = False  # a delivery thread is in its callback
-        self._closed = False
-        self._next_allowed = 0.0  # max_rate: monotonic time of the next delivery
-        self._last_selection: dict[str, object] = {}  # publisher -> fingerprint (on_change)
+    mailbox: Mailbox = field(default_factory=Mailbox, init=False, repr=False)
 
     def __repr__(self) -> str:
         where = f" publisher={self.publisher!r}" if self.publisher is not None else ""
@@ -81,10 +87,10 @@ class Subscription:
 
     @property
     def active(self) -> bool:
-        return not self._closed
+        return not self.mailbox.closed
 
 
-class Dispatcher:
+class DeliveryDispatcher:
     """The delivery threads of one provider.
 
     One thread delivers while callbacks are quick (a document matching many subscriptions then costs one
@@ -127,9 +133,10 @@ class Dispatcher:
     def offer(self, sub: Subscription, note: Notification) -> None:
         """Queue ``note`` for ``sub``; never blocks on a callback."""
         with self._lock:
-            if sub._closed or self._closed:
+            box = sub.mailbox
+            if box.closed or self._closed:
                 return
-            mailbox = sub._mailbox
+            mailbox = box.pending
             if sub.max_rate is not None and mailbox:
                 mailbox.clear()
                 sub.stats.coalesced += 1
@@ -145,14 +152,14 @@ class Dispatcher:
                         sub.queue_size,
                     )
             mailbox.append(note)
-            if not sub._scheduled and not sub._running:
+            if not box.scheduled and not box.running:
                 self._schedule(sub, wake=True)
 
     def cancel(self, sub: Subscription) -> None:
         """No more deliveries to ``sub`` (a callback already running finishes)."""
         with self._lock:
-            sub._closed = True
-            sub._mailbox.clear()
+            sub.mailbox.closed = True
+            sub.mailbox.pending.clear()
 
     def close(self, timeout: float = 5.0) -> None:
         """Stop delivering and join the threads (one stuck in a callback is left behind, as a daemon)."""
@@ -168,10 +175,11 @@ class Dispatcher:
 
     # -- under the lock -------------------------------------------------------------------------------
     def _schedule(self, sub: Subscription, wake: bool) -> None:
-        sub._scheduled = True
+        box = sub.mailbox
+        box.scheduled = True
         now = time.monotonic()
-        if sub._next_allowed > now:
-            heapq.heappush(self._delayed, (sub._next_allowed, sub.id, sub))
+        if box.next_allowed > now:
+            heapq.heappush(self._delayed, (box.next_allowed, sub.id, sub))
         else:
             self._ready.append((now, sub))
         if not wake:
@@ -208,8 +216,9 @@ class Dispatcher:
             self._promote_due(now)
             while self._ready:
                 sub = self._ready.popleft()[1]
-                sub._scheduled = False
-                if not sub._closed and sub._mailbox:
+                box = sub.mailbox
+                box.scheduled = False
+                if not box.closed and box.pending:
                     return sub
             timeout = self._delayed[0][0] - now if self._delayed else self._idle_seconds
             self._idle += 1
@@ -229,10 +238,11 @@ class Dispatcher:
                     sub = self._next()
                     if sub is None:
                         return
-                    note = sub._mailbox.popleft()
-                    sub._running = True
+                    box = sub.mailbox
+                    note = box.pending.popleft()
+                    box.running = True
                     if sub.max_rate:
-                        sub._next_allowed = time.monotonic() + 1.0 / sub.max_rate
+                        box.next_allowed = time.monotonic() + 1.0 / sub.max_rate
                     me = threading.current_thread()
                     self._in_callback[me] = time.monotonic()
                     self._lock.release()
@@ -241,8 +251,8 @@ class Dispatcher:
                     finally:
                         self._lock.acquire()
                         del self._in_callback[me]
-                        sub._running = False
-                    if sub._mailbox and not sub._closed:
+                        box.running = False
+                    if box.pending and not box.closed:
                         self._schedule(sub, wake=False)  # this thread comes back for it
             finally:
                 self._threads.discard(threading.current_thread())

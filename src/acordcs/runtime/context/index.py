@@ -25,7 +25,17 @@ from acordcs.runtime.context.xpathnum import xpath_number
 
 log = logging.getLogger(__name__)
 
-Entry = Any  # the index stores any hashable subscription object with the attributes used below
+Entry = Any  # the index stores any hashable subscription object
+
+
+class _Fallback:
+    """A subscription matched by its own compiled XPath: the expression, and its overruns so far."""
+
+    __slots__ = ("compiled", "strikes")
+
+    def __init__(self, compiled: Callable[[etree._ElementTree], object]) -> None:
+        self.compiled = compiled
+        self.strikes = 0
 
 
 class _PublisherIndex:
@@ -34,8 +44,8 @@ class _PublisherIndex:
     def __init__(self) -> None:
         self.entries: dict[tuple, ValueEntry] = {}  # (path, value kind, value name) -> entry
         self.by_path: dict[str, list[tuple]] = {}  # path -> [(value kind, value name, entry)]
-        self.fallback: dict[Entry, None] = {}  # ordered set
-        self.everything: dict[Entry, None] = {}
+        self.fallback: dict[Entry, _Fallback] = {}  # in subscription order
+        self.everything: dict[Entry, None] = {}  # ordered set
 
     def empty(self) -> bool:
         return not (self.entries or self.fallback or self.everything)
@@ -82,14 +92,19 @@ class SubscriptionIndex:
 
     # -- maintenance ------------------------------------------------------------------------------
     def add(
-        self, sub: Entry, publisher: str | None, form: IndexedForm | None, compiled: object
+        self,
+        sub: Entry,
+        publisher: str | None,
+        form: IndexedForm | None,
+        compiled: Callable[[etree._ElementTree], object] | None,
     ) -> None:
         """Index ``sub``; ``form`` None with ``compiled`` None means "every document"."""
         pindex = self._by_publisher.setdefault(publisher, _PublisherIndex())
-        sub._index_compiled = compiled
-        sub._index_strikes = 0
         if form is None:
-            (pindex.fallback if compiled is not None else pindex.everything)[sub] = None
+            if compiled is not None:
+                pindex.fallback[sub] = _Fallback(compiled)
+            else:
+                pindex.everything[sub] = None
             return
         _add_entry(pindex, sub, form)
         self._ref_path(form, +1)
@@ -223,17 +238,17 @@ class SubscriptionIndex:
     def _match_fallback(
         self, pindex: _PublisherIndex, tree: etree._ElementTree, results: list
     ) -> None:
-        for sub in list(pindex.fallback):
+        for sub, state in list(pindex.fallback.items()):
             started = time.perf_counter()
             try:
-                value = sub._index_compiled(tree)
+                value = state.compiled(tree)
             except etree.XPathError as err:
                 log.warning("subscription %s: XPath evaluation failed: %s", sub, err)
                 continue
             elapsed = time.perf_counter() - started
             if elapsed > self._max_eval:
-                sub._index_strikes += 1
-                if sub._index_strikes >= self._max_strikes:
+                state.strikes += 1
+                if state.strikes >= self._max_strikes:
                     del pindex.fallback[sub]
                     if self.on_suspend is not None:
                         self.on_suspend(sub, elapsed)

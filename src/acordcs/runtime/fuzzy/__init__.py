@@ -4,21 +4,21 @@
 >>> e = FuzzyEngine()  # mamdani: min/max, exact centroid
 """
 
-from acordcs.runtime.fuzzy.engine import FuzzyEngine
 from acordcs.runtime.fuzzy.fcl import read_fcl, write_fcl
+from acordcs.runtime.fuzzy.fuzzy_engine import FuzzyEngine
 from acordcs.runtime.fuzzy.membership import Membership, make_membership
 from acordcs.runtime.fuzzy.model import engine_for_policy_set, load_policy_set
 from acordcs.runtime.fuzzy.semantics import FCL_DEFAULTS, MAMDANI, SAZONOV, Semantics
-from acordcs.runtime.fuzzy.variable import Variable
+from acordcs.runtime.fuzzy.variable import LinguisticVariable
 
 __all__ = [
     "FCL_DEFAULTS",
     "MAMDANI",
     "SAZONOV",
     "FuzzyEngine",
+    "LinguisticVariable",
     "Membership",
     "Semantics",
-    "Variable",
     "engine_for_policy_set",
     "load_policy_set",
     "make_membership",

@@ -12,10 +12,10 @@ from collections.abc import Callable
 
 import numpy as np
 
-from acordcs.runtime.engine import RuleError
 from acordcs.runtime.fuzzy.compiler import CompiledRuleSet, OutputPlan
 from acordcs.runtime.fuzzy.defuzz import MaxMinCog, Singletons, SumProdCog
 from acordcs.runtime.fuzzy.sampled import Sampled, accumulate, sampled_method
+from acordcs.runtime.rule_engine import RuleError
 
 _CHUNK = 4096  # rows per step of the max-min centroid: bounds the (rows x pieces x terms) arrays
 
@@ -204,7 +204,7 @@ def _maxmin_tables(dz: MaxMinCog):
     f_i = min(level_i, line_i): min_S f_i = min(min_S level_i, lower envelope of the lines in S).
     That lower envelope is concave with kinks that do not depend on the levels, so every subset of
     every interval becomes a few fixed straight pieces, each clipped at one level per row."""
-    cached = getattr(dz, "_tables", None)
+    cached = dz.batch_tables
     if cached is not None:
         return cached
     rows = []  # (sign, term indices, xa, ya, xb, yb)
@@ -232,7 +232,7 @@ def _maxmin_tables(dz: MaxMinCog):
     )
     sign, xa, ya, xb, yb = (np.array([r[i] for r in rows], dtype=float) for i in (0, 2, 3, 4, 5))
     cached = (idx, sign, xa, ya, xb, yb)
-    dz._tables = cached  # type: ignore[attr-defined]
+    dz.batch_tables = cached
     return cached
 
 

@@ -15,10 +15,10 @@ from collections.abc import Callable
 from dataclasses import dataclass, field
 
 from acordcs.rules import BoolOp, Consequent, Is, Name, Not, Rule
-from acordcs.runtime.engine import RuleError
 from acordcs.runtime.fuzzy.defuzz import OutputShape, make_defuzzifier
 from acordcs.runtime.fuzzy.semantics import Semantics, collapses
-from acordcs.runtime.fuzzy.variable import Variable
+from acordcs.runtime.fuzzy.variable import LinguisticVariable
+from acordcs.runtime.rule_engine import RuleError
 
 
 @dataclass(frozen=True)
@@ -49,7 +49,7 @@ class RuleEntry:
         return out
 
 
-def resolve_name(variables: dict[str, Variable], written: str) -> str | list[str]:
+def resolve_name(variables: dict[str, LinguisticVariable], written: str) -> str | list[str]:
     """The canonical name ``written`` stands for, or the list of candidates (empty: unknown).
 
     ``Element.attribute`` must match exactly; a bare ``attribute`` matches itself or the one
@@ -61,7 +61,9 @@ def resolve_name(variables: dict[str, Variable], written: str) -> str | list[str
     return [n for n in variables if n.rpartition(".")[2] == written]
 
 
-def unknown_variable_message(variables: dict[str, Variable], written: str, found: list[str]) -> str:
+def unknown_variable_message(
+    variables: dict[str, LinguisticVariable], written: str, found: list[str]
+) -> str:
     if found:
         return (
             f"variable {written!r} is ambiguous: it may be {', '.join(sorted(found))}; "
@@ -76,7 +78,7 @@ def resolve_rule(
     rule: Rule,
     label: str,
     ruleset: str,
-    variables: dict[str, Variable],
+    variables: dict[str, LinguisticVariable],
     *,
     file: str | None = None,
     line: int | None = None,
@@ -88,7 +90,7 @@ def resolve_rule(
             msg, ruleset=ruleset, rule=label, column=name.column or None, file=file, line=line
         )
 
-    def var_of(name: Name) -> Variable:
+    def var_of(name: Name) -> LinguisticVariable:
         found = resolve_name(variables, name.text)
         if isinstance(found, str):
             return variables[found]
@@ -96,7 +98,7 @@ def resolve_rule(
             return variables[found[0]]
         raise fail(unknown_variable_message(variables, name.text, found), name)
 
-    def term_of(var: Variable, term: Name) -> str:
+    def term_of(var: LinguisticVariable, term: Name) -> str:
         if term.text not in var.terms:
             raise fail(
                 f"variable {var.name!r} has no term {term.text!r} (terms: {', '.join(var.terms) or 'none'})",
@@ -154,7 +156,7 @@ class OutputPlan:
     """How one output of a rule set is computed."""
 
     name: str
-    variable: Variable
+    variable: LinguisticVariable
     defuzzifier: Callable
     collapsed: bool
     sources: list[tuple[int, int]] = field(default_factory=list)  # (rule index, term index)
@@ -169,7 +171,7 @@ class CompiledRuleSet:
     outputs: list[OutputPlan]
     run: Callable[[dict], tuple[str, ...]]
     source: str
-    variables: dict[str, Variable]
+    variables: dict[str, LinguisticVariable]
 
 
 class _Emitter:
@@ -187,7 +189,7 @@ class _Emitter:
 
 
 def compile_ruleset(
-    name: str, entries: list[RuleEntry], variables: dict[str, Variable], sem: Semantics
+    name: str, entries: list[RuleEntry], variables: dict[str, LinguisticVariable], sem: Semantics
 ) -> CompiledRuleSet:
     """Generate and compile the rule set's fire function (see module doc)."""
     inputs: list[str] = []
@@ -283,7 +285,7 @@ def compile_ruleset(
     return CompiledRuleSet(name, sem, entries, inputs, outputs, namespace["_run"], source, used)  # type: ignore[arg-type]
 
 
-def output_plan(ruleset: str, var: Variable, sem: Semantics) -> OutputPlan:
+def output_plan(ruleset: str, var: LinguisticVariable, sem: Semantics) -> OutputPlan:
     """The defuzzifier for ``var`` in a rule set; RuleError if the method does not fit its terms."""
     shape = OutputShape(var.lo, var.hi, list(var.terms.values()))
     method = var.method or sem.method

@@ -19,10 +19,10 @@ from __future__ import annotations
 import itertools
 import math
 
-from acordcs.runtime.engine import RuleError
 from acordcs.runtime.fuzzy.membership import Membership
 from acordcs.runtime.fuzzy.sampled import Sampled
 from acordcs.runtime.fuzzy.semantics import SUMS, Semantics, collapses
+from acordcs.runtime.rule_engine import RuleError
 
 
 class OutputShape:
@@ -65,7 +65,9 @@ def _piece(xa: float, ya: float, xb: float, yb: float) -> tuple[float, float]:
 
 
 # ---------------------------------------------------------------------------------- choosing
-def make_defuzzifier(shape: OutputShape, sem: Semantics, method: str, *, where: str):
+def make_defuzzifier(
+    shape: OutputShape, sem: Semantics, method: str, *, where: str
+) -> Singletons | Sampled | MaxMinCog | SumProdCog | ExactGeneric:
     """The defuzzifier for one output of one rule set; configuration errors name ``where``."""
     if shape.mixed:
         raise RuleError(
@@ -96,6 +98,8 @@ class MaxMinCog:
     def __init__(self, shape: OutputShape) -> None:
         self.shape = shape
         self.intervals = [(x0, x1, lines) for x0, x1, lines in shape.intervals if lines]
+        # The batch form's fixed pieces: fuzzy.batch builds them on first use and keeps them here.
+        self.batch_tables: tuple | None = None
 
     def __call__(self, alpha) -> float | None:
         area = moment = 0.0
@@ -219,7 +223,7 @@ class ExactGeneric:
             return None
         return apply_method(self.pieces(items), self.method)
 
-    def pieces(self, items) -> list[tuple[float, float, float, float]]:
+    def pieces(self, items: list[tuple[int, float]]) -> list[tuple[float, float, float, float]]:
         """The aggregated set as straight pieces (xa, ya, xb, yb), in order."""
         out = []
         mn, accu = self.act == "MIN", self.accu
@@ -275,7 +279,7 @@ class ExactGeneric:
         return new_us, new_vals
 
 
-def apply_method(pieces, method: str) -> float | None:
+def apply_method(pieces: list[tuple[float, float, float, float]], method: str) -> float | None:
     """COG, COA, LM, RM or MM of a piecewise-linear set given as straight pieces."""
     if method in ("COG", "COA"):
         areas = [_piece(*p) for p in pieces]

@@ -23,9 +23,8 @@ from lark.exceptions import UnexpectedCharacters, UnexpectedInput, UnexpectedTok
 
 from acordcs.cachedir import lark_cache
 from acordcs.rules import BoolOp, Consequent, Is, Name, Not, Rule
-from acordcs.runtime.engine import RuleError
-from acordcs.runtime.fuzzy.engine import FuzzyEngine
 from acordcs.runtime.fuzzy.fcl_writer import format_condition, format_rule, write_fcl
+from acordcs.runtime.fuzzy.fuzzy_engine import FuzzyEngine
 from acordcs.runtime.fuzzy.membership import make_membership
 from acordcs.runtime.fuzzy.semantics import (
     ACCU_OPS,
@@ -35,6 +34,7 @@ from acordcs.runtime.fuzzy.semantics import (
     METHODS,
     OR_OPS,
 )
+from acordcs.runtime.rule_engine import RuleError
 
 __all__ = ["format_condition", "format_rule", "read_fcl", "write_fcl"]
 

@@ -4,14 +4,15 @@ and no hedge other than NOT is used (see the README's section on the fuzzy engin
 
 from __future__ import annotations
 
+from collections.abc import Iterable
 from typing import TYPE_CHECKING
 
-from acordcs.rules import BoolOp, Is, Not
+from acordcs.rules import BoolOp, Consequent, Is, Not
 from acordcs.runtime.fuzzy.membership import fmt_number
 from acordcs.runtime.fuzzy.semantics import AND_OPS
 
 if TYPE_CHECKING:
-    from acordcs.runtime.fuzzy.engine import FuzzyEngine
+    from acordcs.runtime.fuzzy.fuzzy_engine import FuzzyEngine
 
 
 def format_condition(node: object, *, fcl: bool = False) -> str:
@@ -30,7 +31,7 @@ def format_condition(node: object, *, fcl: bool = False) -> str:
     raise TypeError(f"not a fuzzy condition: {node!r}")
 
 
-def format_rule(condition: object, actions, weight: float = 1.0) -> str:
+def format_rule(condition: object, actions: Iterable[Consequent], weight: float = 1.0) -> str:
     """A fuzzy rule in the paper's syntax (without label)."""
     then = " and ".join(f"{a.var.text} is {a.term.text}" for a in actions)
     text = f"if {format_condition(condition)} then {then}"

@@ -19,11 +19,12 @@ from __future__ import annotations
 
 import math
 from bisect import bisect_left, bisect_right
+from collections.abc import Iterable
 from dataclasses import dataclass
 
 import numpy as np
 
-from acordcs.runtime.engine import RuleError
+from acordcs.runtime.rule_engine import RuleError
 
 SHAPES = ("triangle", "trapezoid", "gaussian", "bell", "sigmoid", "points", "singleton")
 _ARITY = {"triangle": 3, "trapezoid": 4, "gaussian": 2, "bell": 3, "sigmoid": 2, "singleton": 1}
@@ -205,7 +206,7 @@ def _pwl_code(xs, ys, left: float, right: float, x: str, out: str) -> list[str]:
 
 
 # ---------------------------------------------------------------------------------- building
-def make_membership(shape: str, params, *, where: str = "term") -> Membership:
+def make_membership(shape: str, params: Iterable[float], *, where: str = "term") -> Membership:
     """Validate ``params`` for ``shape`` and build the function; errors say what to write instead.
 
     ``where`` names the term in messages, e.g. ``"term 'fast' of variable 'speed'"``.

@@ -5,13 +5,18 @@ of the elements it adapts and, for an adapted component, of its ports. Every suc
 a linguistic variable (``Attribute.variable``, a CtxVariable) is declared as ``Element.attribute``;
 rules may write it unqualified where that is unambiguous. Each CtxPolicy becomes one rule set, named
 after the policy; the set's ``semantics`` tag chooses the inference semantics.
+
+``policy_set`` arguments are CtxPolicySet objects of a pyecore model (typed ``Any``: pyecore's
+dynamic classes have no static types).
 """
 
 from __future__ import annotations
 
+from typing import Any
+
 from acordcs.rules import Name, RuleSyntaxError, TermDef, parse_rule
-from acordcs.runtime.engine import RuleError
-from acordcs.runtime.fuzzy.engine import FuzzyEngine
+from acordcs.runtime.fuzzy.fuzzy_engine import FuzzyEngine
+from acordcs.runtime.rule_engine import RuleError
 
 
 def _literal(value: object, default: str) -> str:
@@ -20,9 +25,9 @@ def _literal(value: object, default: str) -> str:
     return str(getattr(value, "name", value))
 
 
-def scope_elements(policy_set) -> list:
+def scope_elements(policy_set: Any) -> list[Any]:
     """The model elements whose attributes the policy set's rules may use, in a stable order."""
-    out: list = []
+    out: list[Any] = []
     app = policy_set.eContainer()
     for monitor in getattr(app, "monitors", ()) or ():
         if policy_set in monitor.feeds:
@@ -34,7 +39,7 @@ def scope_elements(policy_set) -> list:
     return [e for e in out if not (id(e) in seen or seen.add(id(e)))]
 
 
-def declare_variables(engine: FuzzyEngine, policy_set) -> list[str]:
+def declare_variables(engine: FuzzyEngine, policy_set: Any) -> list[str]:
     """Declare every linguistic variable in the set's scope; returns their qualified names."""
     names = []
     for element in scope_elements(policy_set):
@@ -66,7 +71,7 @@ def declare_variables(engine: FuzzyEngine, policy_set) -> list[str]:
     return names
 
 
-def load_policy_set(engine: FuzzyEngine, policy_set) -> list[str]:
+def load_policy_set(engine: FuzzyEngine, policy_set: Any) -> list[str]:
     """Declare the set's variables and define its policies' rules; returns the rule set names."""
     kind = _literal(policy_set.engine, "fuzzy")
     if kind != "fuzzy":
@@ -93,7 +98,7 @@ def load_policy_set(engine: FuzzyEngine, policy_set) -> list[str]:
     return names
 
 
-def engine_for_policy_set(policy_set) -> FuzzyEngine:
+def engine_for_policy_set(policy_set: Any) -> FuzzyEngine:
     """A new engine holding one policy set (its ``semantics`` tag as the engine's default)."""
     engine = FuzzyEngine(_literal(policy_set.semantics, "mamdani"), name=policy_set.name)
     load_policy_set(engine, policy_set)

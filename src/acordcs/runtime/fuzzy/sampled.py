@@ -7,11 +7,14 @@ sigmoid output terms, PROBOR accumulation): :data:`FALLBACK_SAMPLES` points with
 
 from __future__ import annotations
 
+from collections.abc import Iterable
+
 import numpy as np
 
 from acordcs.runtime.fuzzy.semantics import SUMS, Semantics, collapses
 
 FALLBACK_SAMPLES = 2001
+ArrayOrFloat = np.ndarray | float
 
 
 class Sampled:
@@ -31,7 +34,7 @@ class Sampled:
         self.act, self.accu, self.method = sem.act, sem.accu, method
         self.collapsed = collapses(sem, False)
 
-    def mu(self, data) -> np.ndarray | None:
+    def mu(self, data: Iterable[float] | Iterable[tuple[int, float]]) -> np.ndarray | None:
         """The aggregated set on the grid (None when nothing is active)."""
         items = list(enumerate(data)) if self.collapsed else list(data)
         items = [(k, lev) for k, lev in items if lev > 0.0]
@@ -51,7 +54,7 @@ class Sampled:
         return None if mu is None else sampled_method(self.grid, self.weights, mu, self.method)
 
 
-def accumulate(accu: str, acc, row):
+def accumulate(accu: str, acc: ArrayOrFloat, row: ArrayOrFloat) -> ArrayOrFloat:
     """Fold one activated set into the accumulated one (numpy arrays or floats)."""
     if accu == "MAX":
         return np.maximum(acc, row)

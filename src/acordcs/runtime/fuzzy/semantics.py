@@ -14,7 +14,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field, replace
 
-from acordcs.runtime.engine import RuleError
+from acordcs.runtime.rule_engine import RuleError
 
 AND_OPS = {"MIN": "MAX", "PROD": "ASUM", "BDIF": "BSUM"}  # AND and the OR that goes with it
 OR_OPS = ("MAX", "ASUM", "BSUM")

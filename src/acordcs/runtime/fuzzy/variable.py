@@ -8,15 +8,15 @@ from collections.abc import Iterable, Mapping
 from dataclasses import dataclass, field
 
 from acordcs.rules import RuleSyntaxError, TermDef, parse_terms
-from acordcs.runtime.engine import RuleError
 from acordcs.runtime.fuzzy.membership import Membership, fmt_number, make_membership
 from acordcs.runtime.fuzzy.semantics import METHODS
+from acordcs.runtime.rule_engine import RuleError
 
 TermsSpec = str | Iterable[TermDef] | Mapping[str, Membership] | None
 
 
 @dataclass(frozen=True)
-class Variable:
+class LinguisticVariable:
     """A linguistic variable. ``default``/``keep_last`` only matter for outputs:
 
     - ``default`` set: the output takes it when no rule fired (FCL ``DEFAULT := v``);
@@ -56,7 +56,7 @@ def build_variable(
     keep_last: bool = False,
     method: str | None = None,
     initial: float | None = None,
-) -> Variable:
+) -> LinguisticVariable:
     """Validate everything about a variable; errors say which variable and term, and what to do."""
     where = f"variable {name!r}"
     if not isinstance(name, str) or not name.strip():
@@ -85,7 +85,7 @@ def build_variable(
                 f"{where}: term {term!r} ({mf.fcl()}) lies outside the range "
                 f"{fmt_number(lo)}..{fmt_number(hi)}; move it or widen the range"
             )
-    return Variable(name, lo, hi, members, default, keep_last, method, initial)
+    return LinguisticVariable(name, lo, hi, members, default, keep_last, method, initial)
 
 
 def _finite(value: object, what: str) -> float:

@@ -36,19 +36,20 @@ from dataclasses import dataclass
 from acordcs.rules import Name
 from acordcs.runtime.clips.bridge import MULTIFIELD, Bridge, ClipsFailure
 from acordcs.runtime.clips.compiler import Target
-from acordcs.runtime.clips.operations import Faults, FireError, Operations
+from acordcs.runtime.clips.operations import Faults, FireError, OperationTable
 from acordcs.runtime.clips.prelude import (
     FIRE,
     NUMERIC_FLAG,
     RUN,
     assign_dispatcher,
+    fixed_constructs,
     pusher,
     put_dispatcher,
 )
 from acordcs.runtime.clips.records import decode
 from acordcs.runtime.clips.rulesets import RuleSet, RuleSets
 from acordcs.runtime.clips.values import Value, kind_of_type, normalise
-from acordcs.runtime.engine import RuleError
+from acordcs.runtime.rule_engine import RuleError
 
 __all__ = ["ClipsEngine", "FireError"]
 
@@ -73,8 +74,8 @@ class ClipsEngine:
         """``strict``: ``set`` refuses variables never declared (engines built from a model are strict)."""
         self.strict = strict
         self._faults = Faults()
-        self._ops = Operations()
-        self._bridge = Bridge()
+        self._ops = OperationTable()
+        self._bridge = Bridge(fixed_constructs())
         self._variables: dict[str, _Variable] = {}
         self._names: list[str] = [""]  # by number
         self._by_member: dict[str, list[str]] = {}

@@ -7,7 +7,7 @@ Values:
 - ``set`` rejects NaN and infinities with :class:`RuleError` (the variable keeps its value) and
   clamps a value outside the variable's range into it, logging a warning once per variable;
 - ``fire`` never raises for data: an output for which no rule fired takes its DEFAULT (or keeps its
-  value, see :class:`~acordcs.runtime.fuzzy.variable.Variable`); :meth:`FuzzyEngine.defaulted`
+  value, see :class:`~acordcs.runtime.fuzzy.variable.LinguisticVariable`); :meth:`FuzzyEngine.defaulted`
   says which outputs did so in the last fire of a rule set.
 """
 
@@ -21,7 +21,6 @@ from collections.abc import Mapping
 import numpy as np
 
 from acordcs.rules import Rule, RuleSyntaxError, parse_rule
-from acordcs.runtime.engine import RuleError
 from acordcs.runtime.fuzzy.compiler import (
     CompiledRuleSet,
     RuleEntry,
@@ -32,14 +31,15 @@ from acordcs.runtime.fuzzy.compiler import (
     unknown_variable_message,
 )
 from acordcs.runtime.fuzzy.semantics import Semantics, resolve
-from acordcs.runtime.fuzzy.variable import TermsSpec, Variable, build_variable
+from acordcs.runtime.fuzzy.variable import LinguisticVariable, TermsSpec, build_variable
+from acordcs.runtime.rule_engine import RuleError
 
 log = logging.getLogger("acordcs.runtime.fuzzy")
 _LABEL = re.compile(r"\s*([A-Za-z_][A-Za-z0-9_]*)\s*:(?!=)")
 
 
 class FuzzyEngine:
-    """A fuzzy rule engine implementing :class:`acordcs.runtime.engine.RuleEngine`.
+    """A fuzzy rule engine implementing :class:`acordcs.runtime.rule_engine.RuleEngine`.
 
     ``semantics``: ``"mamdani"`` (default), ``"sazonov"``, ``"fcl"`` or a :class:`Semantics`; it is
     the default for rule sets created by ``defrule``; :meth:`define_ruleset` chooses per rule set.
@@ -48,7 +48,7 @@ class FuzzyEngine:
     def __init__(self, semantics: str | Semantics = "mamdani", *, name: str | None = None) -> None:
         self.semantics = resolve(semantics)
         self.name = name
-        self._vars: dict[str, Variable] = {}
+        self._vars: dict[str, LinguisticVariable] = {}
         self._values: dict[str, float | None] = {}
         self._alias: dict[str, str] = {}
         self._sets: dict[str, dict[str, RuleEntry]] = {}
@@ -69,7 +69,7 @@ class FuzzyEngine:
         keep_last: bool = False,
         method: str | None = None,
         initial: float | None = None,
-    ) -> Variable:
+    ) -> LinguisticVariable:
         """Declare (or redeclare) a linguistic variable.
 
         ``terms``: FCL-style text (``"slow := trape 0 0 40 80; fast := trian 60 200 200"``), a list of
@@ -216,7 +216,7 @@ class FuzzyEngine:
         return self._defaulted.get(ruleset, ())
 
     @property
-    def variables(self) -> dict[str, Variable]:
+    def variables(self) -> dict[str, LinguisticVariable]:
         return dict(self._vars)
 
     def rulesets(self) -> list[str]:

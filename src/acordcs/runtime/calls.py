@@ -1,13 +1,14 @@
 """Operation calls into hosted components, through the interceptors (paper, Figure 2).
 
 Mixed into :class:`~acordcs.runtime.container.Container`. Every way into a component goes through
-:meth:`Operations._invoke`: a handle's call, a call arriving at a provided port (local or remote), a
+:meth:`OperationCalls._invoke`: a handle's call, a call arriving at a provided port (local or remote), a
 notification or stream item delivered to a handler, a stream source ticking. A component that raises
 is a fault (recorded, counted); the caller still gets an error, since request-reply needs an answer.
 """
 
 from __future__ import annotations
 
+from collections import Counter
 from typing import TYPE_CHECKING, Any
 
 from acordcs.runtime import events as ev
@@ -21,14 +22,34 @@ from acordcs.runtime.errors import (
 from acordcs.runtime.interceptors import Interceptor, InterceptorEntry, Invocation
 
 if TYPE_CHECKING:
-    from acordcs.runtime.component import CtxComponent
-    from acordcs.runtime.container import Container, Hosted
-    from acordcs.runtime.ports import Port
+    from acordcs.runtime.clock import Clock
+    from acordcs.runtime.component import Hosted
+    from acordcs.runtime.dispatch import EventDispatcher
+    from acordcs.runtime.events import FaultLog
+    from acordcs.runtime.ports import Port, PortOwner
 
 
-class Operations:
+class OperationCalls:
+    """The calls and the interceptors of a container.
+
+    The container this is mixed into keeps the attributes declared below, and provides
+    ``_hosted(name, lineage)`` (the record of a live component, or the error saying why there is
+    none), ``guard`` and ``emit``.
+    """
+
+    name: str
+    clock: Clock
+    faults: FaultLog
+    stats: Counter[str]
+    _where: str
+    _components: dict[str, Hosted]
+    _events: EventDispatcher
+
+    def __init__(self) -> None:
+        self._interceptors: list[InterceptorEntry] = []
+
     def invoke(
-        self: Container,
+        self,
         name: str,
         operation: str,
         args: tuple[Any, ...] = (),
@@ -41,7 +62,7 @@ class Operations:
         return self._invoke(hosted, operation, args, kwargs or {}, None)
 
     def invoke_port(
-        self: Container, port: Port, operation: str, args: tuple[Any, ...], kwargs: dict[str, Any]
+        self, port: Port, operation: str, args: tuple[Any, ...], kwargs: dict[str, Any]
     ) -> Any:
         """A call arriving at a synchronous provided port (from a connector)."""
         if port.kind != "synchronous" or port.role != "provided":
@@ -65,7 +86,7 @@ class Operations:
         return self._invoke(self._hosted(port.component.name), operation, args, kwargs, port.name)
 
     def invoke_internal(
-        self: Container, instance: CtxComponent, method: str, args: tuple[Any, ...], port: Port
+        self, instance: PortOwner, method: str, args: tuple[Any, ...], port: Port
     ) -> Any:
         """A delivery into a component (notification handler, stream source/sink), intercepted."""
         hosted = self._components.get(instance.name)
@@ -74,7 +95,7 @@ class Operations:
         return self._invoke(hosted, method, args, {}, port.name)
 
     def _invoke(
-        self: Container,
+        self,
         hosted: Hosted,
         operation: str,
         args: tuple[Any, ...],
@@ -120,7 +141,7 @@ class Operations:
         for entry in entries:
             with self.guard("interceptor", entry.label, phase="after", call=f"{name}.{operation}"):
                 entry.interceptor.after(call)
-        if self._dispatch.wants(ev.OPERATION_CALLED):
+        if self._events.wants(ev.OPERATION_CALLED):
             self.emit(
                 ev.OPERATION_CALLED,
                 name,
@@ -142,7 +163,7 @@ class Operations:
 
     # ------------------------------------------------------------------------- interceptors
     def add_interceptor(
-        self: Container,
+        self,
         interceptor: Interceptor,
         *,
         component: str | None = None,
@@ -152,5 +173,5 @@ class Operations:
         """Intercept the calls matching every given filter (none given: all calls)."""
         self._interceptors.append(InterceptorEntry(interceptor, component, type_name, operation))
 
-    def remove_interceptor(self: Container, interceptor: Interceptor) -> None:
+    def remove_interceptor(self, interceptor: Interceptor) -> None:
         self._interceptors = [e for e in self._interceptors if e.interceptor is not interceptor]
