@@ -3,10 +3,9 @@
 Prints, measured in one run on the same file:
 - B: the time lxml takes to parse and re-serialize the file, and the whole-process time of
   ``acordcs-gen validate`` on it, interpreter start included, as a multiple of B (target: at most
-  3 B), with each of the executable's two speed devices on and off: the parse on a second thread
-  while the toolchain imports (:func:`acordcs.xmi.source.prefetch`) and the exit without the
-  interpreter's teardown (:func:`acordcs.cli.run`). The five are alternated, 15 runs each, and
-  their medians compared: the host's speed drifts between minutes;
+  3 B), with each of the executable's two speed devices on and off (:func:`acordcs.cli.run`: the
+  cyclic garbage collector off, and the exit without the interpreter's teardown). The variants are
+  alternated, 15 runs each, and their medians compared: the host's speed drifts between minutes;
 - the same for a model with no classes (start-up alone), to show where the time goes;
 - in-process read + check time of an ISO-8859-1 BOUML export with over 1,000 stereotype
   applications (target: well under a second);
@@ -36,11 +35,10 @@ PAIRS = 15
 CLI = [str(Path(sys.executable).with_name("acordcs-gen")), "validate"]
 # The executable with its speed devices switched off one at a time, by patching them out in the
 # benchmark's own process only: the collector left on, the interpreter's teardown at the end
-# (`main()` instead of `run()`), the model parsed on the main thread after the imports.
+# (`main()` instead of `run()`).
 _OFF = {
     "garbage collector off": "import gc; gc.disable = lambda: None; ",
     "os._exit": "",  # main() instead of run()
-    "parse thread": "from acordcs.xmi import source; source.prefetch = lambda paths: None; ",
 }
 
 

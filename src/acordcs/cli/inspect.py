@@ -6,7 +6,8 @@ import json
 
 import click
 
-from acordcs.xmi.source import prefetch
+from acordcs.cli.summary import summarize, summary_text
+from acordcs.model.reading import read_model
 
 
 @click.command()
@@ -23,10 +24,6 @@ def inspect(file: str, fmt: str) -> int:
     Example:
       acordcs-gen inspect samples/weblab/weblab.xmi --format json
     """
-    prefetch([file])  # parsed on a second thread while the toolchain imports (see prefetch)
-    from acordcs.cli.summary import summarize, summary_text
-    from acordcs.model.reading import read_model
-
     reading = read_model(file, check=False)
     if reading.unreadable:
         for d in reading.diagnostics:

@@ -4,7 +4,9 @@ from __future__ import annotations
 
 import click
 
-from acordcs.xmi.source import prefetch
+from acordcs.cli.report import render
+from acordcs.diagnostics import Severity
+from acordcs.model.reading import read_model
 
 
 @click.command()
@@ -33,11 +35,6 @@ def validate(files: tuple[str, ...], fmt: str, fail_on: str) -> int:
     Example:
       acordcs-gen validate samples/weblab/weblab.xmi --format sarif > weblab.sarif
     """
-    prefetch(files)  # parsed on a second thread while the toolchain imports (see prefetch)
-    from acordcs.cli.report import render
-    from acordcs.diagnostics import Severity
-    from acordcs.model.reading import read_model
-
     readings = [read_model(f) for f in files]
     click.echo(render(readings, fmt), nl=False)
     threshold = Severity.ERROR if fail_on == "error" else Severity.WARNING

@@ -6,15 +6,13 @@ the encoding checks. UML exports never contain a document type declaration, so o
 (X102). A strict parse comes first; only a file that fails it for a reason recovery can repair (BOUML's
 unescaped ``<`` in names) is read again in recover mode, with a warning saying so (X107). Truncated
 files, wrong encodings and undeclared prefixes are errors: recovery would silently drop or garble model
-elements. :func:`prefetch` parses the files named on the command line on a second thread while the
-rest of the command starts.
+elements.
 """
 
 from __future__ import annotations
 
 import os
 import re
-import threading
 
 from lxml import etree
 
@@ -106,65 +104,8 @@ _RECOVERABLE = frozenset(
 )
 
 
-def prefetch(paths: list[str]) -> None:
-    """Start parsing ``paths`` in a background thread; :func:`read_xml` picks the results up.
-
-    libxml2 parses with the GIL released, so a model is parsed on the second core while the
-    interpreter imports the rest of the toolchain (``acordcs-gen`` does this for its file
-    arguments). A result is used only if the file is still the one that was parsed.
-    """
-    slots = {path: _Prefetch() for path in dict.fromkeys(paths) if path not in _prefetched}
-    if not slots:
-        return
-    _prefetched.update(slots)
-    threading.Thread(target=_prefetch_all, args=(slots,), daemon=True).start()
-
-
-class _Prefetch:
-    __slots__ = ("done", "identity", "result")
-
-    def __init__(self) -> None:
-        self.done = threading.Event()
-        self.result: XmlInput | None = None
-        self.identity: tuple[int, ...] | None = None
-
-
-_prefetched: dict[str, _Prefetch] = {}
-
-
-def _identity(st: os.stat_result) -> tuple[int, ...]:
-    return (st.st_dev, st.st_ino, st.st_size, st.st_mtime_ns)
-
-
-def _prefetch_all(slots: dict[str, _Prefetch]) -> None:
-    for path, slot in slots.items():
-        try:
-            slot.identity = _identity(os.stat(path))
-            slot.result = _read_xml(path)
-        except Exception:  # the main thread reads the file again and reports what it finds
-            slot.result = None
-        finally:
-            slot.done.set()
-
-
-def _take_prefetched(path: str) -> XmlInput | None:
-    slot = _prefetched.pop(path, None)
-    if slot is None:
-        return None
-    slot.done.wait()
-    try:
-        unchanged = slot.identity == _identity(os.stat(path))
-    except OSError:
-        unchanged = False
-    return slot.result if unchanged else None
-
-
 def read_xml(path: str) -> XmlInput:
-    """Parse ``path`` (or take its prefetched parse); never raises for bad input."""
-    return _take_prefetched(path) or _read_xml(path)
-
-
-def _read_xml(path: str) -> XmlInput:
+    """Parse ``path``; never raises for bad input."""
     try:
         with open(path, "rb") as handle:
             size = os.fstat(handle.fileno()).st_size
