@@ -1,0 +1,368 @@
+"""``describe(arch) -> Application``: the application descriptor of an interpreted model.
+
+Built from the architecture index (:mod:`acordcs.model.architecture`) and the model's queries
+(:mod:`acordcs.model.queries`), never from pyecore (about 40 us per object: the generator reads the
+descriptor and must be fast). Meant for a model that validates without errors: an element an error
+left without a place (a port of no component, a policy of no set, an element no container hosts) is
+left out of the lists, and a connection without one provided and one required port of a component
+raises :class:`DescriptorError`.
+
+Order is deterministic: containers, components, connections, monitors, policy sets, ports,
+policies, variables and references sorted by name, then id (references to hosted elements grouped
+by kind first); properties, operations, parameters and rules stay in the model's order, which is
+meaningful (declaration order, rule order).
+"""
+
+from __future__ import annotations
+
+import re
+from collections.abc import Iterable
+from typing import TypeVar
+
+from acordcs.descriptor.model import (
+    Application,
+    Component,
+    Connection,
+    Container,
+    DescriptorError,
+    End,
+    Endpoint,
+    Monitor,
+    Operation,
+    Parameter,
+    Policy,
+    PolicySet,
+    Port,
+    Property,
+    Ref,
+    Rule,
+    Term,
+    Value,
+    Variable,
+)
+from acordcs.model.architecture import (
+    COMPONENT,
+    CONNECTION,
+    CONTAINER,
+    MONITOR,
+    POLICY_SET,
+    PORT,
+    Architecture,
+    Role,
+)
+from acordcs.model.queries import parse_real, policy_rules, variable_terms
+from acordcs.xmi.uml import Classifier, Element
+from acordcs.xmi.uml import Operation as UmlOperation
+from acordcs.xmi.uml import Property as UmlProperty
+
+_KIND = {
+    CONTAINER: "container",
+    COMPONENT: "component",
+    PORT: "port",
+    CONNECTION: "connection",
+    MONITOR: "monitor",
+    POLICY_SET: "policy-set",
+}
+_T = TypeVar("_T")
+_KIND_ORDER = {kind: n for n, kind in enumerate(_KIND.values())}
+
+# "label: if ..." (a label is an identifier before the first ':'), as the pyecore builder reads it
+_LABELLED = re.compile(r"^\s*([A-Za-z_][A-Za-z0-9_]*)\s*:\s*((?i:if)\b.*)$", re.S)
+
+_INT_TYPES = frozenset({"int", "integer", "long", "short"})
+_REAL_TYPES = frozenset({"double", "float", "real", "number"})
+_BOOL_TYPES = frozenset({"bool", "boolean"})
+_TRUE = frozenset({"true", "1", "yes"})
+
+PYRO_OBJECT = "acordcs.container.{}"
+"""The Pyro5 object name a container's server registers (``acordcs.runtime``'s ``endpoint_uri``)."""
+
+
+def describe(arch: Architecture) -> Application:
+    """The descriptor of the application ``arch`` reads (see the module's docstring)."""
+    return _Describer(arch).application()
+
+
+# ------------------------------------------------------------------------------- typed defaults
+def value_kind(type_name: str | None, *, variable: bool = False) -> str:
+    """How a UML type is read: ``int``, ``double``, ``bool`` or ``string``. A linguistic variable
+    of any type but an integer one is a ``double``."""
+    kind = (type_name or "").strip().lower()
+    if kind in _INT_TYPES:
+        return "int"
+    if kind in _REAL_TYPES or variable:
+        return "double"
+    if kind in _BOOL_TYPES:
+        return "bool"
+    return "string"
+
+
+def typed_default(kind: str, text: str | None, range_min: float | None = None) -> Value:
+    """A UML default value read by its kind (see :func:`value_kind`); these are the initial values
+    ``assemble`` gives properties, as ``acordcs.runtime.application`` does today.
+
+    Unset (None or empty): a linguistic variable gets the minimum of its range (``range_min``),
+    anything else 0, 0.0, False or "". An ``int`` default may be written as a real (``10.0``: 10,
+    truncated as the runtime does); numbers must be finite xsd:double literals. A ``bool`` is true
+    for ``true``, ``1`` or ``yes`` (any case), false otherwise. Raises ValueError for a number that
+    does not parse.
+    """
+    unset = text is None or text.strip() == ""
+    if kind in ("int", "double"):
+        if unset:
+            number = range_min if range_min is not None else 0.0
+        else:
+            number = parse_real(text)
+            if number is None:
+                raise ValueError(text)
+        return int(number) if kind == "int" else float(number)
+    if kind == "bool":
+        return (text or "").strip().lower() in _TRUE
+    return text if text is not None else ""
+
+
+# ------------------------------------------------------------------------------------- builder
+def _order(item: object) -> tuple[str, str]:
+    return (item.name, item.id)  # type: ignore[attr-defined]
+
+
+def _documentation(element: Element) -> str:
+    return "\n".join(c for c in element.comments if c)
+
+
+class _Describer:
+    def __init__(self, arch: Architecture) -> None:
+        self.arch = arch
+        self.file = arch.uml.file
+        self._names: dict[str, str] = {}
+        self._served = self._remote_containers()
+
+    def application(self) -> Application:
+        arch = self.arch
+        return Application(
+            name=arch.uml.name or "application",
+            containers=self._sorted(self.container(r) for r in arch.of_kind(CONTAINER)),
+            components=self._sorted(self.component(r) for r in arch.of_kind(COMPONENT)),
+            connections=self._sorted(self.connection(r) for r in arch.of_kind(CONNECTION)),
+            monitors=self._sorted(self.monitor(r) for r in arch.of_kind(MONITOR)),
+            policy_sets=self._sorted(self.policy_set(r) for r in arch.of_kind(POLICY_SET)),
+        )
+
+    @staticmethod
+    def _sorted(items: Iterable[_T]) -> tuple[_T, ...]:
+        return tuple(sorted(items, key=_order))
+
+    # ----------------------------------------------------------------------------- references
+    def name(self, role: Role) -> str:
+        """A role's resolved name: a port owned by a component as ``Component.Port``."""
+        found = self._names.get(role.id)
+        if found is None:
+            found = role.name
+            if role.kind == PORT:
+                owners = self.arch.related_to(role, "owns_port")
+                if owners:
+                    found = f"{owners[0].name}.{role.name}"
+            self._names[role.id] = found
+        return found
+
+    def refs(self, roles: list[Role]) -> tuple[Ref, ...]:
+        refs = {r.id: Ref(_KIND.get(r.kind, r.kind), self.name(r), r.id) for r in roles}
+        return tuple(
+            sorted(refs.values(), key=lambda r: (_KIND_ORDER.get(r.kind, 9), r.name, r.id))
+        )
+
+    # -------------------------------------------------------------------------------- members
+    def properties(self, role: Role) -> tuple[Property, ...]:
+        return tuple(self.property(role, p) for p in self.arch.attributes(role))
+
+    def property(self, owner: Role, prop: UmlProperty) -> Property:
+        var = self.arch.variable(prop)
+        kind = value_kind(prop.type_name, variable=var is not None)
+        range_min = (parse_real(var.tags.get("min", "")) or 0.0) if var is not None else None
+        qualified = prop.qualified_name()
+        try:
+            default = typed_default(kind, prop.default, range_min)
+        except ValueError:
+            raise DescriptorError(
+                f"attribute {owner.name}.{prop.name}: default {prop.default!r} is not a valid {kind} "
+                f"(its type is {prop.type_name!r})",
+                file=self.file,
+                line=prop.line or None,
+                element=f"{qualified} ({prop.id})",
+                hint="fix the attribute's default value or its type in the model",
+            ) from None
+        return Property(
+            prop.id, prop.name, qualified, prop.type_name or "", kind, default, _documentation(prop)
+        )
+
+    def operations(self, role: Role) -> tuple[Operation, ...]:
+        element = role.element
+        ops = element.operations if isinstance(element, Classifier) else []
+        return tuple(self.operation(op) for op in ops)
+
+    @staticmethod
+    def operation(op: UmlOperation) -> Operation:
+        return Operation(
+            op.id,
+            op.name,
+            op.qualified_name(),
+            tuple(Parameter(p.id, p.name, p.type_name or "", p.direction) for p in op.inputs),
+            op.return_type,
+            _documentation(op),
+        )
+
+    # ------------------------------------------------------------------------------- elements
+    def container(self, role: Role) -> Container:
+        return Container(
+            role.id,
+            role.name,
+            role.element.qualified_name(),
+            role.tag("host") or "localhost",
+            self.endpoint(role),
+            self.refs(self.arch.related(role, "hosts")),
+            self.properties(role),
+            self.operations(role),
+            _documentation(role.element),
+        )
+
+    def endpoint(self, container: Role) -> Endpoint | None:
+        if container.id not in self._served:
+            return None
+        host = container.tag("host") or "localhost"
+        return Endpoint("pyro", PYRO_OBJECT.format(container.name), host)
+
+    def _remote_containers(self) -> set[str]:
+        """Ids of the containers that need an endpoint: those hosting a component with a port
+        joined by a ``remote`` connection (each side calls or notifies the other's server)."""
+        arch = self.arch
+        served: set[str] = set()
+        for conn in arch.of_kind(CONNECTION):
+            if conn.tag("connector") != "remote":
+                continue
+            for port in arch.related(conn, "joins"):
+                for owner in arch.related_to(port, "owns_port"):
+                    served.update(c.id for c in arch.related_to(owner, "hosts"))
+        return served
+
+    def component(self, role: Role) -> Component:
+        ports = self.arch.related(role, "owns_port")
+        return Component(
+            role.id,
+            role.name,
+            role.element.qualified_name(),
+            role.tag("language") or "python",
+            self.properties(role),
+            self.operations(role),
+            self._sorted(self.port(p) for p in ports),
+            _documentation(role.element),
+        )
+
+    def port(self, role: Role) -> Port:
+        return Port(
+            role.id,
+            role.name,
+            role.element.qualified_name(),
+            role.tag("kind") or "synchronous",
+            role.tag("role") or "provided",
+            self.properties(role),
+            self.operations(role),
+            _documentation(role.element),
+        )
+
+    def connection(self, role: Role) -> Connection:
+        ends: dict[str, list[End]] = {"provided": [], "required": []}
+        for port in self.arch.related(role, "joins"):
+            owners = self.arch.related_to(port, "owns_port")
+            side = ends.get(port.tag("role") or "provided")
+            if owners and side is not None:
+                side.append(End(owners[0].name, port.name, port.id))
+        if len(ends["provided"]) != 1 or len(ends["required"]) != 1:
+            raise DescriptorError(
+                f"connection {role.name!r} joins {len(ends['required'])} required and "
+                f"{len(ends['provided'])} provided ports of components; it needs one of each",
+                file=self.file,
+                line=role.element.line or None,
+                element=f"{role.element.qualified_name()} ({role.id})",
+                hint="run 'acordcs-gen validate' on the model and fix its errors (A501, A503)",
+            )
+        return Connection(
+            role.id,
+            role.name,
+            role.element.qualified_name(),
+            role.tag("connector") or "inprocess",
+            ends["required"][0],
+            ends["provided"][0],
+            self.properties(role),
+            self.operations(role),
+            _documentation(role.element),
+        )
+
+    def monitor(self, role: Role) -> Monitor:
+        frequency = parse_real(role.tag("frequency") or "")
+        return Monitor(
+            role.id,
+            role.name,
+            role.element.qualified_name(),
+            frequency,
+            "event" if frequency is None else "periodic",
+            self.refs(self.arch.related(role, "sources")),
+            self.refs(self.arch.related(role, "feeds")),
+            self.properties(role),
+            self.operations(role),
+            _documentation(role.element),
+        )
+
+    def policy_set(self, role: Role) -> PolicySet:
+        arch = self.arch
+        return PolicySet(
+            role.id,
+            role.name,
+            role.element.qualified_name(),
+            role.tag("engine") or "fuzzy",
+            role.tag("semantics") or "mamdani",
+            role.tag("trigger") or "event",
+            parse_real(role.tag("frequency") or ""),
+            self.refs(arch.related(role, "adapts")),
+            self._sorted(self.policy(p) for p in arch.policies(role)),
+            self.variables(role),
+            self.properties(role),
+            self.operations(role),
+            _documentation(role.element),
+        )
+
+    @staticmethod
+    def policy(role: Role) -> Policy:
+        rules = []
+        for rule in policy_rules(role):
+            found = _LABELLED.match(rule.text)
+            label, text = (found.group(1), found.group(2)) if found else (None, rule.text)
+            rules.append(Rule(label, text, rule.tag))
+        return Policy(
+            role.id,
+            role.name,
+            role.element.qualified_name(),
+            tuple(rules),
+            _documentation(role.element),
+        )
+
+    def variables(self, policy_set: Role) -> tuple[Variable, ...]:
+        found: dict[tuple[str, str], Variable] = {}
+        for owner in self.arch.scope(policy_set):
+            for prop in self.arch.attributes(owner):
+                var = self.arch.variable(prop)
+                if var is None or (owner.id, prop.id) in found:
+                    continue
+                terms = tuple(
+                    Term(t.name.text, t.shape, tuple(float(p) for p in t.parameters))
+                    for t in variable_terms(var)
+                )
+                found[owner.id, prop.id] = Variable(
+                    prop.id,
+                    self.name(owner),
+                    prop.name,
+                    prop.qualified_name(),
+                    parse_real(var.tags.get("min", "")) or 0.0,
+                    parse_real(var.tags.get("max", "")) or 0.0,
+                    terms,
+                )
+        return tuple(sorted(found.values(), key=lambda v: (v.name, v.id)))
