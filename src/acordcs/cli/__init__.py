@@ -8,7 +8,6 @@ that lives for one command, with what only such a process may do (see :func:`run
 
 from __future__ import annotations
 
-import gc
 import os
 import sys
 from typing import NoReturn
@@ -53,18 +52,15 @@ def main(argv: list[str] | None = None) -> int:
 
 
 def run() -> NoReturn:
-    """The installed ``acordcs-gen``: :func:`main` in a process that lives for one command.
+    """The installed ``acordcs-gen``: :func:`main` in a process that lives for one command, which
+    ends with ``os._exit`` once its output is flushed.
 
-    Two things only such a process can do, each measured on and off (README, "Benchmarks"):
-
-    - the cyclic garbage collector is off: a command builds one structure (the parsed tree, tens
-      of thousands of model objects and rule trees) that lives until the end, and the collector,
-      triggered every 700 allocations, would scan that growing heap again and again for nothing;
-    - the process ends with ``os._exit`` once its output is flushed: tearing the interpreter down
-      would free all of it one object at a time. Commands write files only in ``with`` blocks,
-      so nothing they write is still buffered here; standard output and error are flushed below.
+    Tearing the interpreter down would free the parsed tree and the tens of thousands of model
+    objects one at a time: about a quarter of ``validate``'s whole time on a large model (README,
+    "Benchmarks": the benchmark measures it on and off). Commands write files only in ``with``
+    blocks, so nothing they write is still buffered here; standard output and error are flushed
+    below.
     """
-    gc.disable()
     code = main()
     for stream in (sys.stdout, sys.stderr):
         try:
