@@ -1,4 +1,4 @@
-"""The WebLab sample runs: XMI -> checked model -> pyecore -> containers -> fuzzy and CLIPS policies.
+"""The WebLab sample runs: XMI -> checked model -> descriptor -> containers -> fuzzy and CLIPS policies.
 
 The policies come from the model file alone; the test supplies only what a model cannot (the Recovery
 component's operations) and drives the Control monitor as the locomotion interceptor would.
@@ -10,9 +10,9 @@ from typing import ClassVar
 
 import pytest
 
-from acordcs.model.ecore_builder import to_ecore
+from acordcs.descriptor import describe
 from acordcs.model.reading import read_model
-from acordcs.runtime.application import build_application
+from acordcs.runtime.assembly import assemble
 from acordcs.runtime.clock import VirtualClock
 from acordcs.runtime.component import CtxComponent
 from acordcs.runtime.monitor import Monitor
@@ -47,8 +47,8 @@ def weblab():
         monitors[name] = Monitor(name, **kw)
         return monitors[name]
 
-    run = build_application(
-        to_ecore(reading.architecture),
+    run = assemble(
+        describe(reading.architecture),
         clock=VirtualClock(seed=1),
         factories={"Recovery": Recovery},
         monitors={"Control": monitor},

@@ -3,6 +3,7 @@
 Start with :class:`Container` (the README's section on the runtime walks through an example).
 """
 
+from acordcs.runtime.assembly import RunningApplication, assemble
 from acordcs.runtime.clock import Clock, RealClock, VirtualClock
 from acordcs.runtime.component import ComponentFactory, ComponentRef, CtxComponent
 from acordcs.runtime.connectors import (
@@ -43,9 +44,11 @@ __all__ = [
     "RealClock",
     "RemoteConnector",
     "RemotePort",
+    "RunningApplication",
     "ShapedConnector",
     "Variable",
     "VirtualClock",
+    "assemble",
     "async_port",
     "register_engine",
     "stream_port",

@@ -1,0 +1,226 @@
+"""``assemble(descriptor) -> RunningApplication``: running containers built from an application
+descriptor (:mod:`acordcs.descriptor`), the one source of truth between a model and what runs.
+
+Each container of the descriptor becomes a :class:`Container` (all sharing one clock); a descriptor
+with no container gets one named after the application. Components are created from the factories
+given by component name; a component without one gets a generic class made from the model (its
+properties and ports). Monitors are made by the makers given by name (default: a plain
+:class:`Monitor`, fed from outside with ``update``). Connections get the connector their ``connector``
+says, their QoS properties; an end in a container not built here must be given as ``remote={container
+name: uri}``. Policy sets get their engine, trigger, semantics and the linguistic variables of their
+scope.
+
+The descriptor is read as plain data: this module imports neither the descriptor package nor the
+model (the caller that made or read the descriptor has them), so a deployed application does not
+load the toolchain.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Iterable, Mapping
+from typing import TYPE_CHECKING
+
+from acordcs.runtime.clock import Clock, VirtualClock
+from acordcs.runtime.component import ComponentFactory, CtxComponent
+from acordcs.runtime.connectors import (
+    InProcessConnector,
+    RemoteConnector,
+    RemotePort,
+    ShapedConnector,
+)
+from acordcs.runtime.connectors.base import Connector
+from acordcs.runtime.container import Container
+from acordcs.runtime.errors import BindingError
+from acordcs.runtime.monitor import Monitor
+from acordcs.runtime.operations import generic_component
+from acordcs.runtime.policy import PolicySet
+from acordcs.runtime.ports import Port
+from acordcs.runtime.registry import Variable
+
+if TYPE_CHECKING:
+    from acordcs.descriptor.model import Application, Connection
+    from acordcs.descriptor.model import PolicySet as PolicySetDescriptor
+
+MonitorMaker = Callable[..., Monitor]
+
+
+class RunningApplication:
+    """The containers assembled from one descriptor; ``close()`` stops them all."""
+
+    def __init__(self, name: str, clock: Clock, containers: dict[str, Container]) -> None:
+        self.name = name
+        self.clock = clock
+        self.containers = containers
+
+    def container(self, name: str | None = None) -> Container:
+        """The container ``name`` (default: the first one built)."""
+        if name is None:
+            return next(iter(self.containers.values()))
+        try:
+            return self.containers[name]
+        except KeyError:
+            raise BindingError(
+                f"application {self.name!r} has no container {name!r} here "
+                f"(built: {', '.join(self.containers)})"
+            ) from None
+
+    def close(self) -> None:
+        for container in self.containers.values():
+            container.close()
+        self.clock.close()
+
+    def __enter__(self) -> RunningApplication:
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self.close()
+
+
+def assemble(
+    descriptor: Application,
+    *,
+    factories: Mapping[str, type[CtxComponent] | ComponentFactory] | None = None,
+    monitors: Mapping[str, MonitorMaker] | None = None,
+    clock: Clock | None = None,
+    only: Iterable[str] | None = None,
+    remote: Mapping[str, str] | None = None,
+    remote_timeout: float = 5.0,
+) -> RunningApplication:
+    """Build the containers of ``descriptor`` (all, or those named in ``only``) on one clock
+    (default: a :class:`VirtualClock` with seed 0); see the module's docstring."""
+    return _Assembler(
+        descriptor,
+        factories=dict(factories or {}),
+        monitors=dict(monitors or {}),
+        clock=clock or VirtualClock(),
+        only=only,
+        remote=dict(remote or {}),
+        remote_timeout=remote_timeout,
+    ).run()
+
+
+class _Assembler:
+    def __init__(
+        self,
+        app: Application,
+        *,
+        factories: dict[str, type[CtxComponent] | ComponentFactory],
+        monitors: dict[str, MonitorMaker],
+        clock: Clock,
+        only: Iterable[str] | None,
+        remote: dict[str, str],
+        remote_timeout: float,
+    ) -> None:
+        self.app = app
+        self.factories = factories
+        self.monitors = monitors
+        self.clock = clock
+        self.remote = remote
+        self.remote_timeout = remote_timeout
+        wanted = set(only) if only is not None else None
+        unknown = sorted((wanted or set()) - {c.name for c in app.containers})
+        if unknown:
+            raise BindingError(
+                f"application {app.name!r} has no container {', '.join(map(repr, unknown))} "
+                f"(containers: {', '.join(c.name for c in app.containers) or 'none'})",
+                hint="name containers of the descriptor in only=[...]",
+            )
+        self.containers: dict[str, Container] = {}
+        # Where each component, monitor and policy set runs (by name; names are unique in a model).
+        self.placed: dict[str, str] = {}
+        for c in app.containers:
+            for ref in c.hosts:
+                self.placed[ref.name] = c.name
+            if wanted is None or c.name in wanted:
+                props = {p.name: p.default for p in c.properties}
+                self.containers[c.name] = Container(c.name, clock=clock, properties=props)
+        if not app.containers:
+            self.containers[app.name] = Container(app.name, clock=clock)
+        self.default = app.containers[0].name if app.containers else app.name
+
+    def where(self, name: str) -> str:
+        """The container the element ``name`` runs in."""
+        return self.placed.get(name, self.default)
+
+    def home(self, name: str) -> Container | None:
+        """The container of ``name`` if it is built here."""
+        return self.containers.get(self.where(name))
+
+    def run(self) -> RunningApplication:
+        for comp in self.app.components:
+            target = self.home(comp.name)
+            if target is None:
+                continue
+            given = self.factories.get(comp.name) or generic_component(comp)
+            factory = (
+                given if isinstance(given, ComponentFactory) else ComponentFactory(comp.name, given)
+            )
+            target.install_factory(factory)
+            target.create(factory.type_name, comp.name)
+        for mon in self.app.monitors:
+            target = self.home(mon.name)
+            if target is None:
+                continue
+            maker = self.monitors.get(mon.name, Monitor)
+            target.add_monitor(
+                maker(
+                    mon.name,
+                    frequency=mon.frequency,
+                    sources=[s.name for s in mon.sources],
+                    attributes={p.name: p.default for p in mon.properties},
+                )
+            )
+        for conn in self.app.connections:
+            self.connect(conn)
+        for ps in self.app.policy_sets:
+            target = self.home(ps.name)
+            if target is not None:
+                target.add_policy_set(self.policy_set(ps, target))
+        return RunningApplication(self.app.name, self.clock, self.containers)
+
+    def connect(self, conn: Connection) -> None:
+        ends = [
+            (self.where(e.component), e.component, e.port) for e in (conn.required, conn.provided)
+        ]
+        local = [e for e in ends if e[0] in self.containers]
+        if not local:
+            return
+        host = self.containers[local[0][0]]
+        resolved: list[Port | RemotePort] = []
+        for where, comp, port in ends:
+            if where in self.containers:
+                resolved.append(self.containers[where].port_of(comp, port))
+            elif where in self.remote:
+                resolved.append(RemotePort(self.remote[where], comp, port))
+            else:
+                raise BindingError(
+                    f"connection {conn.name!r}: {comp}.{port} is in container {where!r}, not built here",
+                    hint=f"pass remote={{{where!r}: uri}} to assemble",
+                )
+        connector: Connector
+        if conn.connector == "remote":
+            connector = RemoteConnector(timeout=self.remote_timeout)
+        elif conn.connector == "shaped":
+            connector = ShapedConnector(self.clock)
+        else:
+            connector = InProcessConnector()
+        qos = {q.name: q.default for q in conn.qos}
+        host.connect(resolved[0], resolved[1], connector=connector, name=conn.name, qos=qos)
+
+    def policy_set(self, ps: PolicySetDescriptor, target: Container) -> PolicySet:
+        fed_by = [m for m in self.app.fed_by(ps.name) if self.home(m) is target]
+        policies = {
+            p.name: [f"{r.label}: {r.text}" if r.label else r.text for r in p.rules]
+            for p in ps.policies
+        }
+        return PolicySet(
+            ps.name,
+            policies,
+            engine=ps.engine,
+            trigger=ps.trigger,
+            frequency=ps.frequency,
+            semantics=ps.semantics,
+            adapts=[a.name for a in ps.adapts],
+            fed_by=fed_by,
+            variables={v.name: Variable(v.minimum, v.maximum, v.terms_text) for v in ps.variables},
+        )
