@@ -384,6 +384,16 @@ class Container(OperationCalls, Wiring):
     def monitors(self) -> list[str]:
         return sorted(self._monitors)
 
+    def monitor(self, name: str) -> Monitor:
+        """The monitor ``name`` (to feed it with ``update``)."""
+        try:
+            return self._monitors[name]
+        except KeyError:
+            raise ComponentNotFoundError(
+                f"no monitor named {name!r} (monitors: {', '.join(sorted(self._monitors)) or 'none'})",
+                where=self._where,
+            ) from None
+
     def monitor_update(self, monitor: Monitor, values: dict[str, object]) -> None:
         monitor.attributes.update(values)
         self.emit(ev.MONITOR_UPDATED, monitor.name, data=dict(values))
