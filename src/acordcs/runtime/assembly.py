@@ -4,10 +4,11 @@ descriptor (:mod:`acordcs.descriptor`), the one source of truth between a model 
 Each container of the descriptor becomes a :class:`Container` (all sharing one clock); a descriptor
 with no container gets one named after the application. Components are created from the factories
 given by component name; a component without one gets a generic class made from the model (its
-properties and ports). Monitors are made by the makers given by name (default: a plain
-:class:`Monitor`, fed from outside with ``update``). Connections get the connector their ``connector``
-says, their QoS properties; an end in a container not built here must be given as ``remote={container
-name: uri}``. Policy sets get their engine, trigger, semantics and the linguistic variables of their
+properties, ports and operations: :mod:`.operations`). Monitors are made by the makers given by name
+(default: a plain :class:`Monitor`, fed from outside with ``update``). Connections get their QoS
+properties and a connector by where their ends run: in-process between containers built here (also
+for a ``remote`` connection: co-located containers need no network), Pyro5 to an end in a container
+not built here (given as ``remote={container name: uri}``); ``shaped`` adds an emulated link. Policy sets get their engine, trigger, semantics and the linguistic variables of their
 scope.
 
 The descriptor is read as plain data: this module imports neither the descriptor package nor the
@@ -197,15 +198,32 @@ class _Assembler:
                     f"connection {conn.name!r}: {comp}.{port} is in container {where!r}, not built here",
                     hint=f"pass remote={{{where!r}: uri}} to assemble",
                 )
-        connector: Connector
-        if conn.connector == "remote":
-            connector = RemoteConnector(timeout=self.remote_timeout)
-        elif conn.connector == "shaped":
-            connector = ShapedConnector(self.clock)
-        else:
-            connector = InProcessConnector()
+        connector = self.connector(conn, crosses=any(isinstance(e, RemotePort) for e in resolved))
         qos = {q.name: q.default for q in conn.qos}
         host.connect(resolved[0], resolved[1], connector=connector, name=conn.name, qos=qos)
+
+    def connector(self, conn: Connection, *, crosses: bool) -> Connector:
+        """The connector of ``conn``: the transport follows where the ends run (Pyro5 to another
+        process, direct calls within this one, whatever the model's ``remote`` says: co-located
+        containers need no network), and ``shaped`` puts an emulated link over it."""
+        if conn.connector == "inprocess" and crosses:
+            raise BindingError(
+                f"connection {conn.name!r} is in-process but joins {conn.required.component} and "
+                f"{conn.provided.component}, which run in different processes (containers "
+                f"{self.where(conn.required.component)!r} and {self.where(conn.provided.component)!r})",
+                hint="set the connection's connector to remote (or shaped) in the model, or "
+                "assemble both containers in one process",
+            )
+        transport: Connector
+        if crosses:
+            transport = RemoteConnector(timeout=self.remote_timeout)
+        else:
+            transport = InProcessConnector()
+        if conn.connector == "shaped":
+            # A lost message waits as long as a remote reply would.
+            timeout = {"timeout": self.remote_timeout} if crosses else {}
+            return ShapedConnector(self.clock, transport, **timeout)
+        return transport
 
     def policy_set(self, ps: PolicySetDescriptor, target: Container) -> PolicySet:
         fed_by = [m for m in self.app.fed_by(ps.name) if self.home(m) is target]
