@@ -14,6 +14,7 @@ from acordcs.runtime.connectors import (
     RemoteConnector,
     RemotePort,
     ShapedConnector,
+    container_uri,
 )
 from acordcs.runtime.container import Container
 from acordcs.runtime.events import Event, Fault
@@ -50,6 +51,7 @@ __all__ = [
     "VirtualClock",
     "assemble",
     "async_port",
+    "container_uri",
     "register_engine",
     "stream_port",
     "sync_port",

@@ -24,6 +24,7 @@ from typing import TYPE_CHECKING
 from acordcs.runtime.clock import Clock, VirtualClock
 from acordcs.runtime.component import ComponentFactory, CtxComponent
 from acordcs.runtime.connectors import (
+    ContainerServer,
     InProcessConnector,
     RemoteConnector,
     RemotePort,
@@ -46,12 +47,17 @@ MonitorMaker = Callable[..., Monitor]
 
 
 class RunningApplication:
-    """The containers assembled from one descriptor; ``close()`` stops them all."""
+    """The containers assembled from one descriptor (``descriptor``); ``close()`` stops them all,
+    and the servers :meth:`serve` started."""
 
-    def __init__(self, name: str, clock: Clock, containers: dict[str, Container]) -> None:
-        self.name = name
+    def __init__(
+        self, descriptor: Application, clock: Clock, containers: dict[str, Container]
+    ) -> None:
+        self.descriptor = descriptor
+        self.name = descriptor.name
         self.clock = clock
         self.containers = containers
+        self.servers: dict[str, ContainerServer] = {}
 
     def container(self, name: str | None = None) -> Container:
         """The container ``name`` (default: the first one built)."""
@@ -65,7 +71,23 @@ class RunningApplication:
                 f"(built: {', '.join(self.containers)})"
             ) from None
 
+    def serve(self, name: str, *, host: str | None = None, port: int = 0) -> ContainerServer:
+        """Serve the container ``name`` to other processes at its endpoint,
+        ``container_uri(name, host, port)`` (``server.uri``; port 0: any free one). ``host``
+        defaults to the container's host in the descriptor."""
+        container = self.container(name)
+        if name in self.servers:
+            raise BindingError(f"container {name!r} is already served at {self.servers[name].uri}")
+        if host is None:
+            found = next((c for c in self.descriptor.containers if c.name == name), None)
+            host = (found.endpoint.host if found.endpoint else found.host) if found else "localhost"
+        self.servers[name] = server = ContainerServer(container, host=host, port=port)
+        return server
+
     def close(self) -> None:
+        for server in self.servers.values():
+            server.close()
+        self.servers.clear()
         for container in self.containers.values():
             container.close()
         self.clock.close()
@@ -177,7 +199,7 @@ class _Assembler:
             target = self.home(ps.name)
             if target is not None:
                 target.add_policy_set(self.policy_set(ps, target))
-        return RunningApplication(self.app.name, self.clock, self.containers)
+        return RunningApplication(self.app, self.clock, self.containers)
 
     def connect(self, conn: Connection) -> None:
         ends = [
@@ -187,6 +209,13 @@ class _Assembler:
         if not local:
             return
         host = self.containers[local[0][0]]
+        caller = ends[0]
+        if caller[0] not in self.containers and caller[0] not in self.remote:
+            provided = host.port_of(conn.provided.component, conn.provided.port)
+            if provided.kind == "synchronous":
+                # Request-reply from another process: the calls arrive through this container's
+                # endpoint (serve it); nothing goes back on this connection, so nothing to declare.
+                return
         resolved: list[Port | RemotePort] = []
         for where, comp, port in ends:
             if where in self.containers:

@@ -66,9 +66,15 @@ class RemotePort:
         return f"{self.component}.{self.port}@{self.uri}"
 
 
-def endpoint_uri(container_name: str, host: str, port: int) -> str:
-    """The URI a :class:`ContainerServer` publishes: stable for a given name, host and port."""
-    return f"PYRO:acordcs.container.{container_name}@{host}:{port}"
+CONTAINER_OBJECT = "acordcs.container.{}"
+"""The Pyro5 object name of a container's endpoint (the application descriptor's ``Endpoint``)."""
+
+
+def container_uri(container: str, host: str, port: int) -> str:
+    """The URI of the remote endpoint of ``container``, served by a :class:`ContainerServer` on
+    ``host:port``: what ``remote={container: uri}`` gives another process (the descriptor's
+    ``Endpoint.uri(port)``). Stable for a given name, host and port."""
+    return f"PYRO:{CONTAINER_OBJECT.format(container)}@{host}:{port}"
 
 
 class RemoteConnector(Connector):
@@ -225,7 +231,8 @@ class ContainerEndpoint:
 
 
 class ContainerServer:
-    """Serves a container on ``host:port`` (port 0: any free one) with a Pyro5 daemon thread."""
+    """Serves a container on ``host:port`` (port 0: any free one) with a Pyro5 daemon thread, at
+    :func:`container_uri` (``uri``)."""
 
     def __init__(
         self, container: ServedContainer, *, host: str = "127.0.0.1", port: int = 0
@@ -235,7 +242,7 @@ class ContainerServer:
         self.host, self.port = host, int(self.daemon.locationStr.rsplit(":", 1)[1])
         self.uri = str(
             self.daemon.register(
-                ContainerEndpoint(container), f"acordcs.container.{container.name}"
+                ContainerEndpoint(container), CONTAINER_OBJECT.format(container.name)
             )
         )
         self._thread = threading.Thread(
