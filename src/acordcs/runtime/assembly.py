@@ -8,8 +8,9 @@ properties, ports and operations: :mod:`.operations`). Monitors are made by the 
 (default: a plain :class:`Monitor`, fed from outside with ``update``). Connections get their QoS
 properties and a connector by where their ends run: in-process between containers built here (also
 for a ``remote`` connection: co-located containers need no network), Pyro5 to an end in a container
-not built here (given as ``remote={container name: uri}``); ``shaped`` adds an emulated link. Policy sets get their engine, trigger, semantics and the linguistic variables of their
-scope.
+not built here (given as ``remote={container name: uri}``); ``shaped`` adds an emulated link.
+Policy sets get their engine, trigger, semantics and the linguistic variables of their scope. A monitor feeding a policy set of another container has a replica there, updated with its
+readings (in-process, or over Pyro5 to another process: see :class:`Feed`).
 
 The descriptor is read as plain data: this module imports neither the descriptor package nor the
 model (the caller that made or read the descriptor has them), so a deployed application does not
@@ -18,9 +19,12 @@ load the toolchain.
 
 from __future__ import annotations
 
+import logging
 from collections.abc import Callable, Iterable, Mapping
+from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
+from acordcs.runtime import events as ev
 from acordcs.runtime.clock import Clock, VirtualClock
 from acordcs.runtime.component import ComponentFactory, CtxComponent
 from acordcs.runtime.connectors import (
@@ -33,6 +37,7 @@ from acordcs.runtime.connectors import (
 from acordcs.runtime.connectors.base import Connector
 from acordcs.runtime.container import Container
 from acordcs.runtime.errors import BindingError
+from acordcs.runtime.events import Event
 from acordcs.runtime.monitor import Monitor
 from acordcs.runtime.operations import generic_component
 from acordcs.runtime.policy import PolicySet
@@ -44,6 +49,30 @@ if TYPE_CHECKING:
     from acordcs.descriptor.model import PolicySet as PolicySetDescriptor
 
 MonitorMaker = Callable[..., Monitor]
+log = logging.getLogger(__name__)
+
+
+@dataclass(frozen=True)
+class Feed:
+    """A monitor feeding a policy set, as assembled here: the monitor and the container it runs in
+    (``source``), the policy set and its container (``target``), and ``delivery``:
+
+    - ``local``: the same container;
+    - ``in-process``: another container of this process: a replica of the monitor there is updated
+      with each reading;
+    - ``remote``: the monitor runs here, the policy set's container in the process given by
+      ``remote=``: each reading is sent to that container's endpoint, which updates its replica;
+    - ``replica``: the policy set runs here, the monitor in another process: a replica here, fed
+      by that process (``remote``) or by ``container.monitor(name).update``;
+    - ``undelivered``: the monitor runs here, and the policy set's container is neither here nor
+      given by ``remote=``: its readings do not reach it (a warning says so at assembly).
+    """
+
+    monitor: str
+    source: str
+    policy_set: str
+    target: str
+    delivery: str
 
 
 class RunningApplication:
@@ -51,13 +80,21 @@ class RunningApplication:
     and the servers :meth:`serve` started."""
 
     def __init__(
-        self, descriptor: Application, clock: Clock, containers: dict[str, Container]
+        self,
+        descriptor: Application,
+        clock: Clock,
+        containers: dict[str, Container],
+        *,
+        feeds: tuple[Feed, ...] = (),
+        release: Iterable[Callable[[], None]] = (),
     ) -> None:
         self.descriptor = descriptor
         self.name = descriptor.name
         self.clock = clock
         self.containers = containers
+        self.feeds = feeds
         self.servers: dict[str, ContainerServer] = {}
+        self._release = list(release)  # what else close() releases (the feeds' connector)
 
     def container(self, name: str | None = None) -> Container:
         """The container ``name`` (default: the first one built)."""
@@ -90,6 +127,9 @@ class RunningApplication:
         self.servers.clear()
         for container in self.containers.values():
             container.close()
+        for release in self._release:
+            release()
+        self._release.clear()
         self.clock.close()
 
     def __enter__(self) -> RunningApplication:
@@ -160,6 +200,7 @@ class _Assembler:
         if not app.containers:
             self.containers[app.name] = Container(app.name, clock=clock)
         self.default = app.containers[0].name if app.containers else app.name
+        self.relay: RemoteConnector | None = None  # sends readings to other processes
 
     def where(self, name: str) -> str:
         """The container the element ``name`` runs in."""
@@ -195,11 +236,15 @@ class _Assembler:
             )
         for conn in self.app.connections:
             self.connect(conn)
+        feeds = self.feeds()
         for ps in self.app.policy_sets:
             target = self.home(ps.name)
             if target is not None:
                 target.add_policy_set(self.policy_set(ps, target))
-        return RunningApplication(self.app, self.clock, self.containers)
+        release = [self.relay.close] if self.relay is not None else []
+        return RunningApplication(
+            self.app, self.clock, self.containers, feeds=feeds, release=release
+        )
 
     def connect(self, conn: Connection) -> None:
         ends = [
@@ -254,8 +299,95 @@ class _Assembler:
             return ShapedConnector(self.clock, transport, **timeout)
         return transport
 
+    def feeds(self) -> tuple[Feed, ...]:
+        """Deliver the readings of monitors to the policy sets they feed in other containers
+        (see :class:`Feed`); the feeds that involve a container built here."""
+        out: list[Feed] = []
+        done: set[tuple[str, str]] = set()  # (monitor, target container) already wired
+        for mon in self.app.monitors:
+            source = self.where(mon.name)
+            for fed in mon.feeds:
+                target = self.where(fed.name)
+                delivery = self.delivery(source, target)
+                if delivery is None:
+                    continue
+                out.append(Feed(mon.name, source, fed.name, target, delivery))
+                if delivery == "local" or (mon.name, target) in done:
+                    continue
+                done.add((mon.name, target))
+                self.wire(mon.name, {p.name: p.default for p in mon.properties}, out[-1])
+        return tuple(out)
+
+    def delivery(self, source: str, target: str) -> str | None:
+        here = self.containers
+        if source == target:
+            return "local" if source in here else None
+        if target in here:
+            return "in-process" if source in here else "replica"
+        if source in here:
+            return "remote" if target in self.remote else "undelivered"
+        return None
+
+    def wire(self, monitor: str, attributes: dict[str, object], feed: Feed) -> None:
+        """A replica of ``monitor`` in the policy set's container, and the relay of readings to it."""
+        source, target = feed.source, feed.target
+        replica: Monitor | None = None
+        if feed.delivery in ("in-process", "replica"):
+            replica = Monitor(monitor, attributes=attributes)
+            self.containers[target].add_monitor(replica)
+        if feed.delivery == "replica":
+            log.info(
+                "policy set %r of container %r reads monitor %r of container %r (another process) "
+                "through a replica here: it gets the readings that process sends to this "
+                "container's endpoint (serve it, and assemble that process with "
+                "remote={%r: uri}); until then the monitor's attributes keep their defaults",
+                feed.policy_set,
+                target,
+                monitor,
+                source,
+                target,
+            )
+            return
+        if feed.delivery == "undelivered":
+            log.warning(
+                "monitor %r feeds policy set %r of container %r, which is neither assembled in "
+                "this process nor given as remote={%r: uri}: its readings are not delivered there",
+                monitor,
+                feed.policy_set,
+                target,
+                target,
+            )
+            return
+        relay: Callable[[Event], None]
+        if replica is not None:
+
+            def relay(event: Event, replica: Monitor = replica) -> None:
+                replica.update(**event.data)
+
+        else:
+            if self.relay is None:
+                self.relay = RemoteConnector(timeout=self.remote_timeout)
+            uri, connector = self.remote[target], self.relay
+
+            def relay(event: Event) -> None:
+                # Synchronous, no retry: an unreachable container is a fault of this feed (logged
+                # once, counted) and the reading is lost for it; the monitor goes on.
+                connector.request(
+                    uri,
+                    "update_monitor",
+                    monitor,
+                    dict(event.data),
+                    where=f"feed of monitor {monitor!r} to container {target!r}",
+                    what="a reading",
+                )
+
+        self.containers[source].subscribe(
+            ev.MONITOR_UPDATED, relay, name=f"feed:{monitor}->{target}", element=monitor
+        )
+
     def policy_set(self, ps: PolicySetDescriptor, target: Container) -> PolicySet:
-        fed_by = [m for m in self.app.fed_by(ps.name) if self.home(m) is target]
+        # Every monitor feeding the set is in its container, or has a replica there (see feeds).
+        fed_by = list(self.app.fed_by(ps.name))
         policies = {
             p.name: [f"{r.label}: {r.text}" if r.label else r.text for r in p.rules]
             for p in ps.policies
