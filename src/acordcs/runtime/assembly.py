@@ -39,7 +39,7 @@ from acordcs.runtime.container import Container
 from acordcs.runtime.errors import BindingError
 from acordcs.runtime.events import Event
 from acordcs.runtime.monitor import Monitor
-from acordcs.runtime.operations import generic_component
+from acordcs.runtime.operations import OutParameters, generic_component
 from acordcs.runtime.policy import PolicySet
 from acordcs.runtime.ports import Port
 from acordcs.runtime.registry import Variable
@@ -221,6 +221,9 @@ class _Assembler:
             )
             target.install_factory(factory)
             target.create(factory.type_name, comp.name)
+            check = OutParameters(comp.name, comp.operations)
+            if check.lengths:
+                target.add_interceptor(check, component=comp.name)
         for mon in self.app.monitors:
             target = self.home(mon.name)
             if target is None:

@@ -1,5 +1,19 @@
-"""Components from the application descriptor: the generic class of a component no factory
-implements, with the model's properties, ports and operations.
+"""Model operations at run time: how their parameters map to Python, and the generic class of a
+component no factory implements.
+
+The mapping of a model operation to a Python method (what a factory's class implements):
+
+- the arguments are the ``in`` and ``inout`` parameters, in the model's order (by position or by
+  name; :func:`signature`);
+- an operation without ``out`` or ``inout`` parameters returns its return value (None when it has
+  no return type);
+- an operation with ``out`` or ``inout`` parameters returns a tuple: its return value (None when it
+  has no return type), then the final value of each ``out`` and ``inout`` parameter in the model's
+  order (:func:`out_parameters`). ``find(in frame, out x, inout y): bool`` is
+  ``def find(self, frame, y)`` returning ``(found, x, y)``. Over Pyro5 the tuple stays a tuple.
+
+``assemble`` checks the results of such operations (:class:`OutParameters`): a result of another
+shape is a fault of the call, recorded and logged; the caller still gets what was returned.
 
 A generic component runs (its properties are rule variables, its ports connect) and has every
 operation the model declares, with the model's parameters, so crisp rules calling them bind; calling
@@ -11,11 +25,12 @@ from __future__ import annotations
 
 import inspect
 import keyword
-from collections.abc import Callable
+from collections.abc import Callable, Iterable
 from typing import TYPE_CHECKING, Any
 
 from acordcs.runtime.component import CtxComponent
 from acordcs.runtime.errors import ConfigurationError, OperationNotImplementedError
+from acordcs.runtime.interceptors import Interceptor, Invocation
 from acordcs.runtime.ports import PortSpec
 
 if TYPE_CHECKING:
@@ -34,6 +49,50 @@ def signature(op: Operation) -> inspect.Signature:
             if p.direction in ("in", "inout")
         ]
     )
+
+
+def out_parameters(op: Operation) -> tuple[str, ...]:
+    """Names of the ``out`` and ``inout`` parameters of ``op``, in order: the values its result
+    carries after its return value (none: the result is the return value itself)."""
+    return tuple(p.name for p in op.parameters if p.direction in ("out", "inout"))
+
+
+def result_shape(op: Operation) -> str:
+    """What a call of ``op`` returns, as the mapping says (for messages and docstrings)."""
+    outs = out_parameters(op)
+    if not outs:
+        return "its return value" if op.return_type else "None"
+    return f"(return value, {', '.join(outs)})"
+
+
+class OutParameters(Interceptor):
+    """Checks the results of the operations of one component that have ``out`` or ``inout``
+    parameters: a tuple of the return value and the out values. A result of another shape raises
+    here, which the container records as a fault of this interceptor; the call goes on."""
+
+    def __init__(self, component: str, operations: Iterable[Operation]) -> None:
+        self.name = f"out-parameters:{component}"
+        self.component = component
+        # operation name -> accepted tuple lengths (overloads may differ)
+        self.lengths: dict[str, set[int]] = {}
+        self.shapes: dict[str, list[str]] = {}
+        for op in operations:
+            outs = out_parameters(op)
+            if outs:
+                self.lengths.setdefault(op.name, set()).add(1 + len(outs))
+                self.shapes.setdefault(op.name, []).append(result_shape(op))
+
+    def after(self, call: Invocation) -> None:
+        lengths = self.lengths.get(call.operation)
+        if lengths is None or call.error is not None:
+            return
+        result = call.result
+        if isinstance(result, tuple | list) and len(result) in lengths:
+            return
+        raise TypeError(
+            f"{self.component}.{call.operation}() returned {result!r}; its out parameters map to "
+            f"a tuple {' or '.join(self.shapes[call.operation])} (see acordcs.runtime.operations)"
+        )
 
 
 def generic_component(component: Component) -> type[CtxComponent]:
@@ -87,7 +146,9 @@ def _unimplemented(component: str, ops: list[Operation]) -> Callable[..., Any]:
 
     operation.__name__ = ops[0].name
     operation.__qualname__ = f"{component}.{ops[0].name}"
-    operation.__doc__ = "\n\n".join(op.documentation for op in ops if op.documentation) or None
+    docs = [op.documentation for op in ops if op.documentation]
+    docs.append(" or ".join(f"Returns {result_shape(op)}." for op in ops))
+    operation.__doc__ = "\n\n".join(docs)
     if len(signatures) == 1:
         self_param = inspect.Parameter("self", inspect.Parameter.POSITIONAL_OR_KEYWORD)
         params = [self_param, *signatures[0].parameters.values()]
