@@ -220,7 +220,14 @@ class _Assembler:
                 given if isinstance(given, ComponentFactory) else ComponentFactory(comp.name, given)
             )
             target.install_factory(factory)
-            target.create(factory.type_name, comp.name)
+            instance = target.create(factory.type_name, comp.name).instance
+            for port in comp.ports:
+                # The model's port properties are the port's (rule variables), besides those the
+                # class sets (rate, capacity, overflow: its own values win). A port the class lacks
+                # fails where it is connected, with the port's name.
+                found = instance.port_map.get(port.name)
+                for p in port.properties if found is not None else ():
+                    found.properties.setdefault(p.name, p.default)
             check = OutParameters(comp.name, comp.operations)
             if check.lengths:
                 target.add_interceptor(check, component=comp.name)

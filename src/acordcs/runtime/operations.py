@@ -29,12 +29,16 @@ from collections.abc import Callable, Iterable
 from typing import TYPE_CHECKING, Any
 
 from acordcs.runtime.component import CtxComponent
-from acordcs.runtime.errors import ConfigurationError, OperationNotImplementedError
+from acordcs.runtime.errors import (
+    ConfigurationError,
+    OperationNotImplementedError,
+    RuntimeFailure,
+)
 from acordcs.runtime.interceptors import Interceptor, Invocation
 from acordcs.runtime.ports import PortSpec
 
 if TYPE_CHECKING:
-    from acordcs.descriptor.model import Component, Operation
+    from acordcs.descriptor.model import Component, Operation, Port
 
 # Names a generic operation cannot take: the component API every component inherits.
 _RESERVED = frozenset(dir(CtxComponent))
@@ -96,10 +100,11 @@ class OutParameters(Interceptor):
 
 
 def generic_component(component: Component) -> type[CtxComponent]:
-    """A component class made from the model: its properties (with their defaults), its ports and
-    its operations (each raising OperationNotImplementedError when called)."""
+    """A component class made from the model: its properties (with their defaults), its ports (with
+    the rate, capacity and overflow the model gives them) and its operations (each raising
+    OperationNotImplementedError when called)."""
     props = {p.name: p.default for p in component.properties}
-    ports = tuple(PortSpec(p.name, p.kind, p.role) for p in component.ports)
+    ports = tuple(_port_spec(p) for p in component.ports)
     namespace: dict[str, Any] = {"properties": props, "ports": ports}
     overloads: dict[str, list[Operation]] = {}
     for op in component.operations:
@@ -118,6 +123,26 @@ def generic_component(component: Component) -> type[CtxComponent]:
     for name, ops in overloads.items():
         namespace[name] = _unimplemented(component.name, ops)
     return type(component.name, (CtxComponent,), namespace)
+
+
+def _port_spec(port: Port) -> PortSpec:
+    """A port as the model declares it; its ``rate``, ``capacity`` and ``overflow`` properties, if
+    it has them, set the port's (its other properties are added at assembly)."""
+    settings: dict[str, Any] = {}
+    for p in port.properties:
+        if p.name == "rate" and p.kind in ("int", "double"):
+            settings["rate"] = float(p.default)
+        elif p.name == "capacity" and p.kind == "int":
+            settings["capacity"] = p.default
+        elif p.name == "overflow" and p.kind == "string":
+            settings["overflow"] = p.default
+    try:
+        return PortSpec(port.name, port.kind, port.role, **settings)
+    except RuntimeFailure as exc:
+        raise ConfigurationError(
+            f"port {port.qualified_name}: {exc.message}",
+            hint="fix the port's property default in the model",
+        ) from None
 
 
 def _unimplemented(component: str, ops: list[Operation]) -> Callable[..., Any]:
