@@ -299,10 +299,13 @@ class Container(OperationCalls, Wiring):
             new.restore_state(state)
             self._stop(old)
             for port in old.port_map.values():
+                successor = new.port_map.get(port.name)
+                if successor is None:  # unconnected (checked above): it goes with the old type
+                    continue
                 for conn in port.connections:
-                    conn.replace_end(port, new.port_map[port.name])
-                new.port_map[port.name].connections = port.connections
-                new.port_map[port.name].properties.update(port.properties)
+                    conn.replace_end(port, successor)
+                successor.connections = port.connections
+                successor.properties.update(port.properties)
                 port.connections = []
             old.alive = False
             with self.guard("component", name, phase="factory destroy"):
