@@ -96,3 +96,9 @@ def test_an_operation_named_like_the_component_api_is_refused():
     clash = component("Recovery", operations=(op("set", ("value", "int", "in")),))
     with pytest.raises(ConfigurationError, match=r"operation 'set' of component 'Recovery'"):
         assemble(recovering(clash), clock=VirtualClock())
+
+
+def test_a_parameter_python_cannot_take_is_refused():
+    odd = component("Recovery", operations=(op("go", ("from", "string", "in")),))
+    with pytest.raises(ConfigurationError, match=r"parameter 'from' of operation M::go"):
+        assemble(recovering(odd), clock=VirtualClock())

@@ -45,14 +45,21 @@ _RESERVED = frozenset(dir(CtxComponent))
 
 
 def signature(op: Operation) -> inspect.Signature:
-    """The Python signature of a model operation: its ``in`` and ``inout`` parameters, in order."""
-    return inspect.Signature(
-        [
-            inspect.Parameter(p.name, inspect.Parameter.POSITIONAL_OR_KEYWORD)
-            for p in op.parameters
-            if p.direction in ("in", "inout")
-        ]
-    )
+    """The Python signature of a model operation: its ``in`` and ``inout`` parameters, in order.
+    Raises ConfigurationError for a parameter name Python cannot take (``from``, ``x y``)."""
+    params = []
+    for p in op.parameters:
+        if p.direction not in ("in", "inout"):
+            continue
+        try:
+            params.append(inspect.Parameter(p.name, inspect.Parameter.POSITIONAL_OR_KEYWORD))
+        except ValueError:
+            raise ConfigurationError(
+                f"parameter {p.name!r} of operation {op.qualified_name or op.name} is not a "
+                "Python name",
+                hint="rename the parameter in the model",
+            ) from None
+    return inspect.Signature(params)
 
 
 def out_parameters(op: Operation) -> tuple[str, ...]:
