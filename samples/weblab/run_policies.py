@@ -1,4 +1,4 @@
-"""Run the WebLab model's policies: the model file is read, checked and run in virtual time.
+"""Run the WebLab model's policies: the model file is read, checked, described and run in virtual time.
 
 The speed-limiting (fuzzy) and recovering (CLIPS) policy sets come from ``weblab.xmi`` alone; this
 script supplies only what a model cannot: the Recovery component's operations, and the control
@@ -12,9 +12,9 @@ import sys
 from pathlib import Path
 from typing import ClassVar
 
-from acordcs.model.ecore_builder import to_ecore
+from acordcs.descriptor import describe
 from acordcs.model.reading import read_model
-from acordcs.runtime.application import build_application
+from acordcs.runtime.assembly import assemble
 from acordcs.runtime.clock import VirtualClock
 from acordcs.runtime.component import CtxComponent
 from acordcs.runtime.monitor import Monitor
@@ -51,8 +51,8 @@ def main(argv: list[str]) -> int:
         control.append(Monitor(name, **kw))
         return control[-1]
 
-    run = build_application(
-        to_ecore(reading.architecture),
+    run = assemble(
+        describe(reading.architecture),
         clock=VirtualClock(seed=1),
         factories={"Recovery": Recovery},
         monitors={"Control": make_control},

@@ -8,7 +8,7 @@ import pytest
 
 from acordcs.runtime import events as ev
 from acordcs.runtime.clock import VirtualClock
-from acordcs.runtime.component import ComponentFactory
+from acordcs.runtime.component import ComponentFactory, CtxComponent
 from acordcs.runtime.container import Container
 from acordcs.runtime.errors import (
     BindingError,
@@ -280,3 +280,16 @@ def test_destroying_a_component_drops_its_connections(box):
     with pytest.raises(PortError, match=r"call\(\) on port cli.api, which is not connected"):
         client.use()
     assert box.faults.recent[-1].where == "cli.use"
+
+
+def test_replacing_by_a_type_without_an_unconnected_port(box):
+    # Only connected ports need a counterpart; an unconnected one simply goes away.
+    class Portless(CtxComponent):
+        def value(self) -> int:
+            return 7
+
+    box.install_factory(ComponentFactory("Portless", Portless))
+    ref = box.create("Counter", "a")
+    box.replace("a", "Portless")
+    assert ref.value() == 7
+    assert box.find("a").instance.port_map == {}

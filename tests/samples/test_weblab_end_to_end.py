@@ -1,4 +1,4 @@
-"""The WebLab sample runs: XMI -> checked model -> pyecore -> containers -> fuzzy and CLIPS policies.
+"""The WebLab sample runs: XMI -> checked model -> descriptor -> containers -> fuzzy and CLIPS policies.
 
 The policies come from the model file alone; the test supplies only what a model cannot (the Recovery
 component's operations) and drives the Control monitor as the locomotion interceptor would.
@@ -10,11 +10,12 @@ from typing import ClassVar
 
 import pytest
 
-from acordcs.model.ecore_builder import to_ecore
+from acordcs.descriptor import describe
 from acordcs.model.reading import read_model
-from acordcs.runtime.application import build_application
+from acordcs.runtime.assembly import assemble
 from acordcs.runtime.clock import VirtualClock
 from acordcs.runtime.component import CtxComponent
+from acordcs.runtime.events import OPERATION_CALLED, Event
 from acordcs.runtime.monitor import Monitor
 from acordcs.runtime.ports import PortSpec
 from tests.support.toolchain import WEBLAB
@@ -47,8 +48,8 @@ def weblab():
         monitors[name] = Monitor(name, **kw)
         return monitors[name]
 
-    run = build_application(
-        to_ecore(reading.architecture),
+    run = assemble(
+        describe(reading.architecture),
         clock=VirtualClock(seed=1),
         factories={"Recovery": Recovery},
         monitors={"Control": monitor},
@@ -89,3 +90,46 @@ def test_recovering_policy_retries_three_times_then_asks_the_user(weblab):
     assert [retries for _, retries in steps] == [1, 2, 3, 4, 5, 0, 1]
     assert container.get_property("Recovery", "recoveries") == 1
     assert container.faults.counts["total"] == 0
+
+
+class Locomotion(CtxComponent):
+    properties: ClassVar[dict[str, object]] = {"maxSpeed": 200.0, "wheelBase": 330.0}
+    ports = (
+        PortSpec("LocomotionPort", "synchronous", "provided"),
+        PortSpec("TelemetryPort", "asynchronous", "provided"),
+    )
+
+    def move(self, speed: float, turn: float) -> None:
+        pass
+
+
+class ControlMonitor(Monitor):
+    """The paper's control monitor: extracts speed and angle from each call to the locomotion
+    service (its source is the locomotion port); the cycle rate is given here."""
+
+    def on_event(self, event: Event) -> None:
+        if event.kind == OPERATION_CALLED and event.attribute == "move":
+            speed, turn = event.data["args"]
+            self.update(cycleRate=1.46, angle=abs(turn), speed=speed)
+
+
+def test_navigator_calls_feed_the_control_monitor_across_colocated_containers():
+    # UserSide and WebLabSide in one process: the remote LocomotionLink is in-process, and the
+    # Control monitor, sourced by Locomotion.LocomotionPort, sees the navigator's calls.
+    reading = read_model(str(WEBLAB))
+    with assemble(
+        describe(reading.architecture),
+        clock=VirtualClock(seed=1),
+        factories={"Recovery": Recovery, "Locomotion": Locomotion},
+        monitors={"Control": ControlMonitor},
+    ) as run:
+        lab = run.container("WebLabSide")
+        navigator = run.container("UserSide").find("Navigator").instance
+        navigator.port("NavLocomotionPort").call("move", 100.0, 5.0)
+        assert lab.monitor("Control").attributes == {
+            "cycleRate": 1.46,
+            "angle": 5.0,
+            "speed": 100.0,
+        }
+        assert abs(lab.get_property("Locomotion", "maxSpeed") - TABLE_1[1.46]) <= 10
+        assert lab.faults.counts["total"] == 0

@@ -3,6 +3,7 @@
 Start with :class:`Container` (the README's section on the runtime walks through an example).
 """
 
+from acordcs.runtime.assembly import RunningApplication, assemble
 from acordcs.runtime.clock import Clock, RealClock, VirtualClock
 from acordcs.runtime.component import ComponentFactory, ComponentRef, CtxComponent
 from acordcs.runtime.connectors import (
@@ -13,6 +14,7 @@ from acordcs.runtime.connectors import (
     RemoteConnector,
     RemotePort,
     ShapedConnector,
+    container_uri,
 )
 from acordcs.runtime.container import Container
 from acordcs.runtime.events import Event, Fault
@@ -43,10 +45,13 @@ __all__ = [
     "RealClock",
     "RemoteConnector",
     "RemotePort",
+    "RunningApplication",
     "ShapedConnector",
     "Variable",
     "VirtualClock",
+    "assemble",
     "async_port",
+    "container_uri",
     "register_engine",
     "stream_port",
     "sync_port",

@@ -112,7 +112,7 @@ class OperationCalls:
             )
         self.stats["calls"] += 1
         type_name = instance.factory.type_name
-        entries = [e for e in self._interceptors if e.matches(name, type_name, operation)]
+        entries = [e for e in self._interceptors if e.matches(name, type_name, operation, port)]
         call = Invocation(
             self.name, name, type_name, operation, args, kwargs, self.clock.now(), port
         )
@@ -169,9 +169,14 @@ class OperationCalls:
         component: str | None = None,
         type_name: str | None = None,
         operation: str | None = None,
+        port: str | None = None,
     ) -> None:
-        """Intercept the calls matching every given filter (none given: all calls)."""
-        self._interceptors.append(InterceptorEntry(interceptor, component, type_name, operation))
+        """Intercept the calls matching every given filter (none given: all calls); ``port``: the
+        calls arriving through that port of the component (a provided port's calls, the deliveries
+        to a port's handler, a stream source's ticks)."""
+        self._interceptors.append(
+            InterceptorEntry(interceptor, component, type_name, operation, port)
+        )
 
     def remove_interceptor(self, interceptor: Interceptor) -> None:
         self._interceptors = [e for e in self._interceptors if e.interceptor is not interceptor]

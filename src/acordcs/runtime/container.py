@@ -49,6 +49,7 @@ from acordcs.runtime.errors import (
     PortError,
 )
 from acordcs.runtime.events import Event, FaultLog
+from acordcs.runtime.monitor import PortTap
 from acordcs.runtime.wiring import Wiring
 
 if TYPE_CHECKING:
@@ -90,6 +91,7 @@ class Container(OperationCalls, Wiring):
         self._components: dict[str, Hosted] = {}
         self._destroyed: dict[int, float] = {}
         self._monitors: dict[str, Monitor] = {}
+        self._taps: dict[str, list[PortTap]] = {}  # monitor name -> interceptors on its ports
         self._policy_sets: dict[str, PolicySet] = {}
         self._where = f"container {name!r}"
         OperationCalls.__init__(self)
@@ -297,10 +299,13 @@ class Container(OperationCalls, Wiring):
             new.restore_state(state)
             self._stop(old)
             for port in old.port_map.values():
+                successor = new.port_map.get(port.name)
+                if successor is None:  # unconnected (checked above): it goes with the old type
+                    continue
                 for conn in port.connections:
-                    conn.replace_end(port, new.port_map[port.name])
-                new.port_map[port.name].connections = port.connections
-                new.port_map[port.name].properties.update(port.properties)
+                    conn.replace_end(port, successor)
+                successor.connections = port.connections
+                successor.properties.update(port.properties)
                 port.connections = []
             old.alive = False
             with self.guard("component", name, phase="factory destroy"):
@@ -372,6 +377,13 @@ class Container(OperationCalls, Wiring):
                     self._events.subscribe(
                         kind, feed, name=f"monitor:{monitor.name}", element=source
                     )
+                component, dot, port = source.rpartition(".")
+                if dot:
+                    # Calls through a port are not events of the port: an interceptor on the port's
+                    # calls hands them to the monitor (by name, so it survives a replacement).
+                    tap = PortTap(monitor.name, component, port, feed)
+                    self.add_interceptor(tap, component=component, port=port)
+                    self._taps.setdefault(monitor.name, []).append(tap)
             monitor.attach(self)
 
     def remove_monitor(self, name: str) -> None:
@@ -379,10 +391,22 @@ class Container(OperationCalls, Wiring):
         if monitor is None:
             raise ComponentNotFoundError(f"no monitor named {name!r}", where=self._where)
         self._events.unsubscribe(f"monitor:{name}")
+        for tap in self._taps.pop(name, ()):
+            self.remove_interceptor(tap)
         monitor.detach()
 
     def monitors(self) -> list[str]:
         return sorted(self._monitors)
+
+    def monitor(self, name: str) -> Monitor:
+        """The monitor ``name`` (to feed it with ``update``)."""
+        try:
+            return self._monitors[name]
+        except KeyError:
+            raise ComponentNotFoundError(
+                f"no monitor named {name!r} (monitors: {', '.join(sorted(self._monitors)) or 'none'})",
+                where=self._where,
+            ) from None
 
     def monitor_update(self, monitor: Monitor, values: dict[str, object]) -> None:
         monitor.attributes.update(values)

@@ -41,6 +41,11 @@ class ComponentError(RuntimeFailure):
     """A component's operation raised; the original exception is ``__cause__``."""
 
 
+class OperationNotImplementedError(RuntimeFailure, NotImplementedError):
+    """An operation the model declares but no code implements (a component assembled without a
+    factory): install a factory for the component. Also a NotImplementedError."""
+
+
 class CallVetoed(RuntimeFailure):
     """Raised on purpose by an interceptor (security, admission) to refuse a call; reaches the caller.
 

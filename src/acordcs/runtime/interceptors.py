@@ -1,7 +1,8 @@
 """Interceptors: hooks before and after operation calls of hosted components (paper, Figure 2).
 
 Uses: logging, security (an interceptor may refuse a call by raising :class:`CallVetoed`), resource
-accounting, and monitors that watch calls (the WebLab's control monitor). Any other exception an
+accounting, and monitors that watch calls (the WebLab's control monitor: a monitor whose source is a
+port is fed by an interceptor on that port's calls, :class:`~acordcs.runtime.monitor.PortTap`). Any other exception an
 interceptor raises is a fault: recorded, and the call goes on as if the interceptor were absent.
 """
 
@@ -46,12 +47,14 @@ class InterceptorEntry:
     component: str | None = None
     type_name: str | None = None
     operation: str | None = None
+    port: str | None = None
 
-    def matches(self, component: str, type_name: str, operation: str) -> bool:
+    def matches(self, component: str, type_name: str, operation: str, port: str | None) -> bool:
         return (
             (self.component is None or self.component == component)
             and (self.type_name is None or self.type_name == type_name)
             and (self.operation is None or self.operation == operation)
+            and (self.port is None or self.port == port)
         )
 
     @property

@@ -2,8 +2,10 @@
 
 A monitor's attributes (``cycleRate``, ``numUsers``) are rule variables. A periodic monitor
 (``frequency`` in Hz) has :meth:`Monitor.acquire` called at that rate through the container's clock;
-an event-driven one (no frequency) has :meth:`Monitor.on_event` called for the events of its sources
-(operation calls, property changes). Either publishes by :meth:`Monitor.update`, which emits one
+an event-driven one (no frequency) has :meth:`Monitor.on_event` called for the events of its sources:
+the operation calls and property changes of a component; for a port (``Component.Port``), the calls
+through that port, which an interceptor on the port (:class:`PortTap`) hands over as
+``operation.called`` events of the port, and its property changes. Either publishes by :meth:`Monitor.update`, which emits one
 ``monitor.updated`` event: the policy sets it feeds fire on it, even if the values did not change (a
 new reading is news).
 
@@ -13,14 +15,17 @@ The container attaches a monitor when it is added and detaches it when it is rem
 
 from __future__ import annotations
 
-from collections.abc import Iterable, Mapping
+from collections.abc import Callable, Iterable, Mapping
 from typing import TYPE_CHECKING, Any, Protocol
 
+from acordcs.runtime import events as ev
 from acordcs.runtime.errors import ConfigurationError
+from acordcs.runtime.events import Event
+from acordcs.runtime.interceptors import Interceptor, Invocation
 
 if TYPE_CHECKING:
     from acordcs.runtime.clock import Clock, Timer
-    from acordcs.runtime.events import Event, FaultLog
+    from acordcs.runtime.events import FaultLog
 
 
 class MonitorHost(Protocol):
@@ -98,3 +103,40 @@ class Monitor:
             self._timer.cancel()
             self._timer = None
         self.container = None
+
+
+class PortTap(Interceptor):
+    """Feeds a monitor the calls through one port: installed by the container on the port's calls
+    (``add_interceptor(tap, component=..., port=...)``) for a monitor whose source is that port.
+
+    Each call, once done, becomes an ``operation.called`` event of the port (element
+    ``Component.Port``, attribute the operation, value its result; ``data``: ``args``, ``kwargs``,
+    ``error``, ``port``, ``component``) handed to ``feed`` (the container's guarded call of the
+    monitor's ``on_event``). A call refused by another interceptor never ran and is not fed.
+    """
+
+    def __init__(
+        self, monitor: str, component: str, port: str, feed: Callable[[Event], None]
+    ) -> None:
+        self.name = f"monitor:{monitor}@{component}.{port}"
+        self.component = component
+        self.port = port
+        self._feed = feed
+
+    def after(self, call: Invocation) -> None:
+        self._feed(
+            Event(
+                ev.OPERATION_CALLED,
+                f"{self.component}.{self.port}",
+                call.operation,
+                value=call.result,
+                time=call.time,
+                data={
+                    "args": call.args,
+                    "kwargs": call.kwargs,
+                    "error": call.error,
+                    "port": self.port,
+                    "component": self.component,
+                },
+            )
+        )

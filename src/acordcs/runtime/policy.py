@@ -26,7 +26,7 @@ from collections import Counter
 from collections.abc import Iterable, Mapping, Sequence
 from typing import TYPE_CHECKING, Any, Protocol
 
-from acordcs.rules import Name, RuleSyntaxError, parse_rule, split_rules
+from acordcs.rules import Assign, Call, Name, RuleSyntaxError, names_in, parse_rule, split_rules
 from acordcs.runtime import events as ev
 from acordcs.runtime.errors import BindingError, ComponentNotFoundError, ConfigurationError
 from acordcs.runtime.registry import EngineSetup, Variable, lookup_engine
@@ -153,8 +153,14 @@ class PolicySet:
                 self.operations.setdefault(
                     call.target.text, self._resolve_op(container, scope, call.target, where)
                 )
-        # Subscriptions follow what the conditions and expressions read, not what is only written.
+        # Subscriptions follow what the conditions read, not what is only written.
         self.reads = dict(self.inputs)
+        for policy, line, rule in parsed:
+            # What an action reads (an operation's argument, an assigned expression) is an input too:
+            # the engine needs its value, though a change of it alone does not fire the set.
+            where = f"policy {self.name}.{policy}, rule {rule.label or line.line}"
+            for var in _action_reads(rule):
+                self.inputs.setdefault(var.text, self._resolve(container, scope, var, where))
         if syntax == "crisp":
             # A crisp engine keeps assigned values between firings: set outputs before firing too, so
             # it starts from the attribute's current value.
@@ -319,6 +325,18 @@ class PolicySet:
             raise BindingError(f"policy set {self.name!r} is not attached to a container")
         component, operation = self.operations.get(target) or target.rpartition(".")[::2]
         return container.invoke(component, operation, tuple(args))
+
+
+def _action_reads(rule: Any) -> list[Name]:
+    """Variables the actions of a parsed rule read (assigned expressions, operation arguments)."""
+    out: list[Name] = []
+    for action in rule.actions:
+        if isinstance(action, Assign):
+            out.extend(names_in(action.value))
+        elif isinstance(action, Call):
+            for arg in action.args:
+                out.extend(names_in(arg))
+    return out
 
 
 def _coerce(value: object, current: object) -> object:

@@ -2,7 +2,12 @@
 
 from acordcs.runtime.connectors.base import Connection, Connector
 from acordcs.runtime.connectors.inprocess import InProcessConnector
-from acordcs.runtime.connectors.remote import ContainerServer, RemoteConnector, RemotePort
+from acordcs.runtime.connectors.remote import (
+    ContainerServer,
+    RemoteConnector,
+    RemotePort,
+    container_uri,
+)
 from acordcs.runtime.connectors.shaping import ShapedConnector
 
 __all__ = [
@@ -13,4 +18,5 @@ __all__ = [
     "RemoteConnector",
     "RemotePort",
     "ShapedConnector",
+    "container_uri",
 ]

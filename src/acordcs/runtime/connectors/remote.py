@@ -36,6 +36,7 @@ from acordcs.runtime.errors import (
 )
 
 if TYPE_CHECKING:
+    from acordcs.runtime.monitor import Monitor
     from acordcs.runtime.ports import Port
 
 
@@ -52,6 +53,8 @@ class ServedContainer(Protocol):
         self, port: Port, operation: str, args: tuple[Any, ...], kwargs: dict[str, Any]
     ) -> Any: ...
 
+    def monitor(self, name: str) -> Monitor: ...
+
 
 @dataclass(frozen=True)
 class RemotePort:
@@ -66,9 +69,15 @@ class RemotePort:
         return f"{self.component}.{self.port}@{self.uri}"
 
 
-def endpoint_uri(container_name: str, host: str, port: int) -> str:
-    """The URI a :class:`ContainerServer` publishes: stable for a given name, host and port."""
-    return f"PYRO:acordcs.container.{container_name}@{host}:{port}"
+CONTAINER_OBJECT = "acordcs.container.{}"
+"""The Pyro5 object name of a container's endpoint (the application descriptor's ``Endpoint``)."""
+
+
+def container_uri(container: str, host: str, port: int) -> str:
+    """The URI of the remote endpoint of ``container``, served by a :class:`ContainerServer` on
+    ``host:port``: what ``remote={container: uri}`` gives another process (the descriptor's
+    ``Endpoint.uri(port)``). Stable for a given name, host and port."""
+    return f"PYRO:{CONTAINER_OBJECT.format(container)}@{host}:{port}"
 
 
 class RemoteConnector(Connector):
@@ -110,22 +119,45 @@ class RemoteConnector(Connector):
                 f"connection {conn.name!r}: the remote connector needs a RemotePort, not {target!r}",
                 hint="use the in-process connector between ports of one container",
             )
-        proxy = self._proxy(target.uri)
-        timeout = float(conn.qos.get("timeout", self.timeout) or self.timeout)
+        reply = self.request(
+            target.uri,
+            method,
+            target.component,
+            target.port,
+            *args,
+            timeout=float(conn.qos.get("timeout", self.timeout) or self.timeout),
+            where=f"connection {conn.name!r} to {target.qualified_name}",
+            what=f"{args[0]}()" if method == "call" else "a delivery",
+        )
+        conn.stats["sent"] += 1
+        return reply
+
+    def request(
+        self,
+        uri: str,
+        method: str,
+        *args: Any,
+        timeout: float | None = None,
+        where: str,
+        what: str = "a request",
+    ) -> Any:
+        """Call ``method`` of the container endpoint at ``uri`` (:class:`ContainerEndpoint`) with
+        ``args``; failures raise as for a port call (``where`` and ``what`` name it in them)."""
+        proxy = self._proxy(uri)
+        timeout = timeout or self.timeout
         if proxy._pyroTimeout != timeout:
             proxy._pyroTimeout = timeout
-        where = f"connection {conn.name!r} to {target.qualified_name}"
         if proxy._pyroConnection is None:
             try:
                 proxy._pyroBind()
             except Pyro5.errors.CommunicationError as exc:
                 raise RemoteUnreachableError(
-                    f"cannot reach the remote container at {target.uri}: {exc}",
+                    f"cannot reach the remote container at {uri}: {exc}",
                     where=where,
                     hint="start the remote container (or check its address); the call was not sent",
                 ) from None
         try:
-            reply = getattr(proxy, method)(target.component, target.port, *args)
+            return getattr(proxy, method)(*args)
         except RemoteFault as fault:
             kind, message, hint = fault.args
             raise RemoteCallError(
@@ -137,7 +169,7 @@ class RemoteConnector(Connector):
             # Pyro already closed the connection (a late reply must not answer the next call); the
             # next call reconnects.
             raise RemoteTimeoutError(
-                f"no reply to {f'{args[0]}()' if method == 'call' else 'a delivery'} within {timeout:g} s "
+                f"no reply to {what} within {timeout:g} s "
                 f"({type(exc).__name__}: {exc}); it may or may not have run remotely",
                 where=where,
                 hint="retry only if the operation is idempotent; check the remote container",
@@ -148,8 +180,6 @@ class RemoteConnector(Connector):
                 where=where,
                 hint="arguments and results must be serpent-serialisable (numbers, str, lists, dicts)",
             ) from None
-        conn.stats["sent"] += 1
-        return reply
 
     def call(
         self,
@@ -223,9 +253,18 @@ class ContainerEndpoint:
         except Exception as exc:
             raise _fault(exc) from None
 
+    def update_monitor(self, monitor: str, values: dict[str, Any]) -> None:
+        """A reading of a monitor of another process, for the replica of it here (which feeds
+        the policy sets of this container)."""
+        try:
+            self._container.monitor(monitor).update(**values)
+        except Exception as exc:
+            raise _fault(exc) from None
+
 
 class ContainerServer:
-    """Serves a container on ``host:port`` (port 0: any free one) with a Pyro5 daemon thread."""
+    """Serves a container on ``host:port`` (port 0: any free one) with a Pyro5 daemon thread, at
+    :func:`container_uri` (``uri``)."""
 
     def __init__(
         self, container: ServedContainer, *, host: str = "127.0.0.1", port: int = 0
@@ -235,7 +274,7 @@ class ContainerServer:
         self.host, self.port = host, int(self.daemon.locationStr.rsplit(":", 1)[1])
         self.uri = str(
             self.daemon.register(
-                ContainerEndpoint(container), f"acordcs.container.{container.name}"
+                ContainerEndpoint(container), CONTAINER_OBJECT.format(container.name)
             )
         )
         self._thread = threading.Thread(

@@ -1,0 +1,415 @@
+"""``assemble(descriptor) -> RunningApplication``: running containers built from an application
+descriptor (:mod:`acordcs.descriptor`), the one source of truth between a model and what runs.
+
+Each container of the descriptor becomes a :class:`Container` (all sharing one clock); a descriptor
+with no container gets one named after the application. Components are created from the factories
+given by component name; a component without one gets a generic class made from the model (its
+properties, ports and operations: :mod:`.operations`). Monitors are made by the makers given by name
+(default: a plain :class:`Monitor`, fed from outside with ``update``). Connections get their QoS
+properties and a connector by where their ends run: in-process between containers built here (also
+for a ``remote`` connection: co-located containers need no network), Pyro5 to an end in a container
+not built here (given as ``remote={container name: uri}``); ``shaped`` adds an emulated link.
+Policy sets get their engine, trigger, semantics and the linguistic variables of their scope. A monitor feeding a policy set of another container has a replica there, updated with its
+readings (in-process, or over Pyro5 to another process: see :class:`Feed`).
+
+The descriptor is read as plain data: this module imports neither the descriptor package nor the
+model (the caller that made or read the descriptor has them), so a deployed application does not
+load the toolchain.
+"""
+
+from __future__ import annotations
+
+import logging
+from collections.abc import Callable, Iterable, Mapping
+from dataclasses import dataclass
+from typing import TYPE_CHECKING
+
+from acordcs.runtime import events as ev
+from acordcs.runtime.clock import Clock, VirtualClock
+from acordcs.runtime.component import ComponentFactory, CtxComponent
+from acordcs.runtime.connectors import (
+    ContainerServer,
+    InProcessConnector,
+    RemoteConnector,
+    RemotePort,
+    ShapedConnector,
+)
+from acordcs.runtime.connectors.base import Connector
+from acordcs.runtime.container import Container
+from acordcs.runtime.errors import BindingError
+from acordcs.runtime.events import Event
+from acordcs.runtime.monitor import Monitor
+from acordcs.runtime.operations import OutParameters, generic_component
+from acordcs.runtime.policy import PolicySet
+from acordcs.runtime.ports import Port
+from acordcs.runtime.registry import Variable
+
+if TYPE_CHECKING:
+    from acordcs.descriptor.model import Application, Connection
+    from acordcs.descriptor.model import PolicySet as PolicySetDescriptor
+
+MonitorMaker = Callable[..., Monitor]
+log = logging.getLogger(__name__)
+
+
+@dataclass(frozen=True)
+class Feed:
+    """A monitor feeding a policy set, as assembled here: the monitor and the container it runs in
+    (``source``), the policy set and its container (``target``), and ``delivery``:
+
+    - ``local``: the same container;
+    - ``in-process``: another container of this process: a replica of the monitor there is updated
+      with each reading;
+    - ``remote``: the monitor runs here, the policy set's container in the process given by
+      ``remote=``: each reading is sent to that container's endpoint, which updates its replica;
+    - ``replica``: the policy set runs here, the monitor in another process: a replica here, fed
+      by that process (``remote``) or by ``container.monitor(name).update``;
+    - ``undelivered``: the monitor runs here, and the policy set's container is neither here nor
+      given by ``remote=``: its readings do not reach it (a warning says so at assembly).
+    """
+
+    monitor: str
+    source: str
+    policy_set: str
+    target: str
+    delivery: str
+
+
+class RunningApplication:
+    """The containers assembled from one descriptor (``descriptor``); ``close()`` stops them all,
+    and the servers :meth:`serve` started."""
+
+    def __init__(
+        self,
+        descriptor: Application,
+        clock: Clock,
+        containers: dict[str, Container],
+        *,
+        feeds: tuple[Feed, ...] = (),
+        release: Iterable[Callable[[], None]] = (),
+    ) -> None:
+        self.descriptor = descriptor
+        self.name = descriptor.name
+        self.clock = clock
+        self.containers = containers
+        self.feeds = feeds
+        self.servers: dict[str, ContainerServer] = {}
+        self._release = list(release)  # what else close() releases (the feeds' connector)
+
+    def container(self, name: str | None = None) -> Container:
+        """The container ``name`` (default: the first one built)."""
+        if name is None:
+            return next(iter(self.containers.values()))
+        try:
+            return self.containers[name]
+        except KeyError:
+            raise BindingError(
+                f"application {self.name!r} has no container {name!r} here "
+                f"(built: {', '.join(self.containers)})"
+            ) from None
+
+    def serve(self, name: str, *, host: str | None = None, port: int = 0) -> ContainerServer:
+        """Serve the container ``name`` to other processes at its endpoint,
+        ``container_uri(name, host, port)`` (``server.uri``; port 0: any free one). ``host``
+        defaults to the container's host in the descriptor."""
+        container = self.container(name)
+        if name in self.servers:
+            raise BindingError(f"container {name!r} is already served at {self.servers[name].uri}")
+        if host is None:
+            found = next((c for c in self.descriptor.containers if c.name == name), None)
+            host = (found.endpoint.host if found.endpoint else found.host) if found else "localhost"
+        self.servers[name] = server = ContainerServer(container, host=host, port=port)
+        return server
+
+    def close(self) -> None:
+        for server in self.servers.values():
+            server.close()
+        self.servers.clear()
+        for container in self.containers.values():
+            container.close()
+        for release in self._release:
+            release()
+        self._release.clear()
+        self.clock.close()
+
+    def __enter__(self) -> RunningApplication:
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self.close()
+
+
+def assemble(
+    descriptor: Application,
+    *,
+    factories: Mapping[str, type[CtxComponent] | ComponentFactory] | None = None,
+    monitors: Mapping[str, MonitorMaker] | None = None,
+    clock: Clock | None = None,
+    only: Iterable[str] | None = None,
+    remote: Mapping[str, str] | None = None,
+    remote_timeout: float = 5.0,
+) -> RunningApplication:
+    """Build the containers of ``descriptor`` (all, or those named in ``only``) on one clock
+    (default: a :class:`VirtualClock` with seed 0); see the module's docstring."""
+    return _Assembler(
+        descriptor,
+        factories=dict(factories or {}),
+        monitors=dict(monitors or {}),
+        clock=clock or VirtualClock(),
+        only=only,
+        remote=dict(remote or {}),
+        remote_timeout=remote_timeout,
+    ).run()
+
+
+class _Assembler:
+    def __init__(
+        self,
+        app: Application,
+        *,
+        factories: dict[str, type[CtxComponent] | ComponentFactory],
+        monitors: dict[str, MonitorMaker],
+        clock: Clock,
+        only: Iterable[str] | None,
+        remote: dict[str, str],
+        remote_timeout: float,
+    ) -> None:
+        self.app = app
+        self.factories = factories
+        self.monitors = monitors
+        self.clock = clock
+        self.remote = remote
+        self.remote_timeout = remote_timeout
+        wanted = set(only) if only is not None else None
+        unknown = sorted((wanted or set()) - {c.name for c in app.containers})
+        if unknown:
+            raise BindingError(
+                f"application {app.name!r} has no container {', '.join(map(repr, unknown))} "
+                f"(containers: {', '.join(c.name for c in app.containers) or 'none'})",
+                hint="name containers of the descriptor in only=[...]",
+            )
+        self.containers: dict[str, Container] = {}
+        # Where each component, monitor and policy set runs (by name; names are unique in a model).
+        self.placed: dict[str, str] = {}
+        for c in app.containers:
+            for ref in c.hosts:
+                self.placed[ref.name] = c.name
+            if wanted is None or c.name in wanted:
+                props = {p.name: p.default for p in c.properties}
+                self.containers[c.name] = Container(c.name, clock=clock, properties=props)
+        if not app.containers:
+            self.containers[app.name] = Container(app.name, clock=clock)
+        self.default = app.containers[0].name if app.containers else app.name
+        self.relay: RemoteConnector | None = None  # sends readings to other processes
+
+    def where(self, name: str) -> str:
+        """The container the element ``name`` runs in."""
+        return self.placed.get(name, self.default)
+
+    def home(self, name: str) -> Container | None:
+        """The container of ``name`` if it is built here."""
+        return self.containers.get(self.where(name))
+
+    def run(self) -> RunningApplication:
+        for comp in self.app.components:
+            target = self.home(comp.name)
+            if target is None:
+                continue
+            given = self.factories.get(comp.name) or generic_component(comp)
+            factory = (
+                given if isinstance(given, ComponentFactory) else ComponentFactory(comp.name, given)
+            )
+            target.install_factory(factory)
+            instance = target.create(factory.type_name, comp.name).instance
+            for port in comp.ports:
+                # The model's port properties are the port's (rule variables), besides those the
+                # class sets (rate, capacity, overflow: its own values win). A port the class lacks
+                # fails where it is connected, with the port's name.
+                found = instance.port_map.get(port.name)
+                for p in port.properties if found is not None else ():
+                    found.properties.setdefault(p.name, p.default)
+            check = OutParameters(comp.name, comp.operations)
+            if check.lengths:
+                target.add_interceptor(check, component=comp.name)
+        for mon in self.app.monitors:
+            target = self.home(mon.name)
+            if target is None:
+                continue
+            maker = self.monitors.get(mon.name, Monitor)
+            target.add_monitor(
+                maker(
+                    mon.name,
+                    frequency=mon.frequency,
+                    sources=[s.name for s in mon.sources],
+                    attributes={p.name: p.default for p in mon.properties},
+                )
+            )
+        for conn in self.app.connections:
+            self.connect(conn)
+        feeds = self.feeds()
+        for ps in self.app.policy_sets:
+            target = self.home(ps.name)
+            if target is not None:
+                target.add_policy_set(self.policy_set(ps, target))
+        release = [self.relay.close] if self.relay is not None else []
+        return RunningApplication(
+            self.app, self.clock, self.containers, feeds=feeds, release=release
+        )
+
+    def connect(self, conn: Connection) -> None:
+        ends = [
+            (self.where(e.component), e.component, e.port) for e in (conn.required, conn.provided)
+        ]
+        local = [e for e in ends if e[0] in self.containers]
+        if not local:
+            return
+        host = self.containers[local[0][0]]
+        caller = ends[0]
+        if caller[0] not in self.containers and caller[0] not in self.remote:
+            provided = host.port_of(conn.provided.component, conn.provided.port)
+            if provided.kind == "synchronous":
+                # Request-reply from another process: the calls arrive through this container's
+                # endpoint (serve it); nothing goes back on this connection, so nothing to declare.
+                return
+        resolved: list[Port | RemotePort] = []
+        for where, comp, port in ends:
+            if where in self.containers:
+                resolved.append(self.containers[where].port_of(comp, port))
+            elif where in self.remote:
+                resolved.append(RemotePort(self.remote[where], comp, port))
+            else:
+                raise BindingError(
+                    f"connection {conn.name!r}: {comp}.{port} is in container {where!r}, not built here",
+                    hint=f"pass remote={{{where!r}: uri}} to assemble",
+                )
+        connector = self.connector(conn, crosses=any(isinstance(e, RemotePort) for e in resolved))
+        qos = {q.name: q.default for q in conn.qos}
+        host.connect(resolved[0], resolved[1], connector=connector, name=conn.name, qos=qos)
+
+    def connector(self, conn: Connection, *, crosses: bool) -> Connector:
+        """The connector of ``conn``: the transport follows where the ends run (Pyro5 to another
+        process, direct calls within this one, whatever the model's ``remote`` says: co-located
+        containers need no network), and ``shaped`` puts an emulated link over it."""
+        if conn.connector == "inprocess" and crosses:
+            raise BindingError(
+                f"connection {conn.name!r} is in-process but joins {conn.required.component} and "
+                f"{conn.provided.component}, which run in different processes (containers "
+                f"{self.where(conn.required.component)!r} and {self.where(conn.provided.component)!r})",
+                hint="set the connection's connector to remote (or shaped) in the model, or "
+                "assemble both containers in one process",
+            )
+        transport: Connector
+        if crosses:
+            transport = RemoteConnector(timeout=self.remote_timeout)
+        else:
+            transport = InProcessConnector()
+        if conn.connector == "shaped":
+            # A lost message waits as long as a remote reply would.
+            timeout = {"timeout": self.remote_timeout} if crosses else {}
+            return ShapedConnector(self.clock, transport, **timeout)
+        return transport
+
+    def feeds(self) -> tuple[Feed, ...]:
+        """Deliver the readings of monitors to the policy sets they feed in other containers
+        (see :class:`Feed`); the feeds that involve a container built here."""
+        out: list[Feed] = []
+        done: set[tuple[str, str]] = set()  # (monitor, target container) already wired
+        for mon in self.app.monitors:
+            source = self.where(mon.name)
+            for fed in mon.feeds:
+                target = self.where(fed.name)
+                delivery = self.delivery(source, target)
+                if delivery is None:
+                    continue
+                out.append(Feed(mon.name, source, fed.name, target, delivery))
+                if delivery == "local" or (mon.name, target) in done:
+                    continue
+                done.add((mon.name, target))
+                self.wire(mon.name, {p.name: p.default for p in mon.properties}, out[-1])
+        return tuple(out)
+
+    def delivery(self, source: str, target: str) -> str | None:
+        here = self.containers
+        if source == target:
+            return "local" if source in here else None
+        if target in here:
+            return "in-process" if source in here else "replica"
+        if source in here:
+            return "remote" if target in self.remote else "undelivered"
+        return None
+
+    def wire(self, monitor: str, attributes: dict[str, object], feed: Feed) -> None:
+        """A replica of ``monitor`` in the policy set's container, and the relay of readings to it."""
+        source, target = feed.source, feed.target
+        replica: Monitor | None = None
+        if feed.delivery in ("in-process", "replica"):
+            replica = Monitor(monitor, attributes=attributes)
+            self.containers[target].add_monitor(replica)
+        if feed.delivery == "replica":
+            log.info(
+                "policy set %r of container %r reads monitor %r of container %r (another process) "
+                "through a replica here: it gets the readings that process sends to this "
+                "container's endpoint (serve it, and assemble that process with "
+                "remote={%r: uri}); until then the monitor's attributes keep their defaults",
+                feed.policy_set,
+                target,
+                monitor,
+                source,
+                target,
+            )
+            return
+        if feed.delivery == "undelivered":
+            log.warning(
+                "monitor %r feeds policy set %r of container %r, which is neither assembled in "
+                "this process nor given as remote={%r: uri}: its readings are not delivered there",
+                monitor,
+                feed.policy_set,
+                target,
+                target,
+            )
+            return
+        relay: Callable[[Event], None]
+        if replica is not None:
+
+            def relay(event: Event, replica: Monitor = replica) -> None:
+                replica.update(**event.data)
+
+        else:
+            if self.relay is None:
+                self.relay = RemoteConnector(timeout=self.remote_timeout)
+            uri, connector = self.remote[target], self.relay
+
+            def relay(event: Event) -> None:
+                # Synchronous, no retry: an unreachable container is a fault of this feed (logged
+                # once, counted) and the reading is lost for it; the monitor goes on.
+                connector.request(
+                    uri,
+                    "update_monitor",
+                    monitor,
+                    dict(event.data),
+                    where=f"feed of monitor {monitor!r} to container {target!r}",
+                    what="a reading",
+                )
+
+        self.containers[source].subscribe(
+            ev.MONITOR_UPDATED, relay, name=f"feed:{monitor}->{target}", element=monitor
+        )
+
+    def policy_set(self, ps: PolicySetDescriptor, target: Container) -> PolicySet:
+        # Every monitor feeding the set is in its container, or has a replica there (see feeds).
+        fed_by = list(self.app.fed_by(ps.name))
+        policies = {
+            p.name: [f"{r.label}: {r.text}" if r.label else r.text for r in p.rules]
+            for p in ps.policies
+        }
+        return PolicySet(
+            ps.name,
+            policies,
+            engine=ps.engine,
+            trigger=ps.trigger,
+            frequency=ps.frequency,
+            semantics=ps.semantics,
+            adapts=[a.name for a in ps.adapts],
+            fed_by=fed_by,
+            variables={v.name: Variable(v.minimum, v.maximum, v.terms_text) for v in ps.variables},
+        )
