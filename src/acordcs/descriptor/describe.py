@@ -99,7 +99,7 @@ def value_kind(type_name: str | None, *, variable: bool = False) -> str:
 
 def typed_default(kind: str, text: str | None, range_min: float | None = None) -> Value:
     """A UML default value read by its kind (see :func:`value_kind`); these are the initial values
-    ``assemble`` gives properties, as ``acordcs.runtime.assembly.assemble`` does.
+    :func:`acordcs.runtime.assembly.assemble` gives properties.
 
     Unset (None or empty): a linguistic variable gets the minimum of its range (``range_min``),
     anything else 0, 0.0, False or "". An ``int`` default may be written as a real (``10.0``: 10,
