@@ -76,7 +76,7 @@ def build(
     from acordcs.codegen import build as run_build
 
     write = not (check or dry_run or diff)
-    progress = _progress(len(_count(target_names)) + 4) if sys.stderr.isatty() else None
+    progress = _Bar(len(_count(target_names)) + 4) if sys.stderr.isatty() else None
     try:
         result = run_build(
             model,
@@ -111,16 +111,10 @@ def build(
     assert plan is not None
     if diff:
         _show_diff(plan)
-    for change in plan.changes:
-        verb = {"create": "write", "update": "write", "delete": "delete"}[change.action]
-        if dry_run or check:
-            if dry_run:
-                click.echo(f"would {verb} {os.path.join(out, change.path)}")
-        elif not diff:
-            click.echo(
-                f"{verb.replace('write', 'wrote').replace('delete', 'deleted')} "
-                f"{os.path.join(out, change.path)}"
-            )
+    elif dry_run or write:
+        verbs = _WOULD if dry_run else _DONE
+        for change in plan.changes:
+            click.echo(f"{verbs[change.action]} {os.path.join(out, change.path)}")
     for kept in plan.kept:
         click.echo(
             f"acordcs-gen: {os.path.join(out, kept)} is no longer generated but was edited since: "
@@ -144,6 +138,10 @@ def build(
     else:
         click.echo(f"{out}: up to date ({len(plan.unchanged)} files)")
     raise click.exceptions.Exit(1 if check and plan.changes else 0)
+
+
+_WOULD = {"create": "would write", "update": "would write", "delete": "would delete"}
+_DONE = {"create": "wrote", "update": "wrote", "delete": "deleted"}
 
 
 def _list(ctx: click.Context) -> None:
@@ -180,10 +178,6 @@ class _Bar:
 
     def close(self) -> None:
         self.bar.__exit__(None, None, None)
-
-
-def _progress(steps: int) -> _Bar:
-    return _Bar(steps)
 
 
 def _warn_plugins() -> None:
