@@ -102,6 +102,13 @@ CODES: dict[str, tuple[Severity, str]] = {
     "N601": (E, "name is not a valid identifier"),
     "N602": (E, "name is a reserved word in Python or Java"),
     "N603": (E, "name used twice where generated code needs it unique"),
+    # G: generating files from the model (acordcs-gen build)
+    "G701": (E, "a model name cannot become part of a generated file's path"),
+    "G702": (
+        E,
+        "two generated files would be one file (same path, or paths differing only in case)",
+    ),
+    "G703": (E, "a model name cannot be written into a generated file (not an identifier)"),
     # Z: the toolchain itself
     "Z901": (E, "internal error in a check (a bug in acordcs: please report it)"),
 }

@@ -1,0 +1,234 @@
+"""``acordcs-gen build``: generate the application's files from a model, writing only what changed."""
+
+from __future__ import annotations
+
+import os
+import sys
+
+import click
+
+
+@click.command()
+@click.argument("model", type=click.Path(dir_okay=False))
+@click.option(
+    "-o",
+    "--output",
+    required=True,
+    type=click.Path(file_okay=False),
+    help="Directory of the generated files (created if missing).",
+)
+@click.option(
+    "-t",
+    "--target",
+    "target_names",
+    multiple=True,
+    metavar="NAME",
+    help="Target to build (repeat, or separate with commas); default all. "
+    "Built in: config, rules; acordcs-gen build --list shows every installed one.",
+)
+@click.option(
+    "--check", is_flag=True, help="Write nothing; exit 1 if the output is not up to date."
+)
+@click.option(
+    "--dry-run", is_flag=True, help="Write nothing; list what would be written or deleted."
+)
+@click.option(
+    "--diff", is_flag=True, help="Write nothing; show a unified diff of what would change."
+)
+@click.option(
+    "--force",
+    is_flag=True,
+    help="Read the model and run the targets even when the manifest says nothing changed.",
+)
+@click.option(
+    "--list",
+    is_flag=True,
+    is_eager=True,
+    expose_value=False,
+    callback=lambda ctx, _param, value: _list(ctx) if value else None,
+    help="List the targets (built in and installed) and exit.",
+)
+def build(
+    model: str,
+    output: str,
+    target_names: tuple[str, ...],
+    check: bool,
+    dry_run: bool,
+    diff: bool,
+    force: bool,
+) -> int:
+    """Generate the files of MODEL's application into --output: the deployment descriptor and its
+    schema (config), one FCL or CLIPS file per policy set (rules).
+
+    The model is validated first (an error stops the build, nothing written); only files whose
+    bytes changed are written; generated files the model no longer makes are deleted (the manifest
+    .acordcs-manifest.json says which files are generated: no other file is ever touched).
+
+    Exit 0 when built (or up to date), 1 when the model has errors, a target fails, or --check finds
+    the output out of date, 2 on usage errors and unreadable or unwritable files.
+
+    \b
+    Examples:
+      acordcs-gen build samples/weblab/weblab.xmi -o build/weblab
+      acordcs-gen build model.xmi -o gen --target rules --check
+    """
+    from acordcs.codegen import BuildError
+    from acordcs.codegen import build as run_build
+
+    write = not (check or dry_run or diff)
+    progress = _Bar(len(_count(target_names)) + 4) if sys.stderr.isatty() else None
+    try:
+        result = run_build(
+            model,
+            output,
+            target_names or None,
+            write=write,
+            force=force,
+            progress=progress.step if progress else None,
+        )
+    except BuildError as err:
+        if progress:
+            progress.close()
+        _warn_plugins()
+        for note in err.notes:
+            click.echo(f"acordcs-gen: {note}", err=True)
+        _report_failure(err)
+        raise click.exceptions.Exit(err.exit_code) from None
+    if progress:
+        progress.close()
+    _warn_plugins()
+    for note in result.notes + result.messages:
+        click.echo(f"acordcs-gen: {note}", err=True)
+    for warning in result.warnings:
+        click.echo(warning.format_text())
+    out = click.format_filename(output)
+    if result.up_to_date:
+        click.echo(
+            f"{out}: up to date ({', '.join(result.targets)}; model unchanged, nothing written)"
+        )
+        raise click.exceptions.Exit(0)
+    plan = result.plan
+    assert plan is not None
+    if diff:
+        _show_diff(plan)
+    elif dry_run or write:
+        verbs = _WOULD if dry_run else _DONE
+        for change in plan.changes:
+            click.echo(f"{verbs[change.action]} {os.path.join(out, change.path)}")
+    for kept in plan.kept:
+        click.echo(
+            f"acordcs-gen: {os.path.join(out, kept)} is no longer generated but was edited since: "
+            "left in place (delete it yourself if it is not needed)",
+            err=True,
+        )
+    writes, deletes = len(plan.writes), len(plan.deletes)
+    if write:
+        if plan.changes:
+            summary = f"{writes} written, {deletes} deleted, {len(plan.unchanged)} unchanged"
+        else:
+            summary = f"nothing changed ({len(plan.unchanged)} files up to date)"
+        click.echo(f"{out}: {summary} (targets: {', '.join(result.targets)})")
+        raise click.exceptions.Exit(0)
+    if plan.changes:
+        click.echo(
+            f"{out}: not up to date: {writes} file{'s' if writes != 1 else ''} to write, "
+            f"{deletes} to delete",
+            err=check and not dry_run and not diff,
+        )
+    else:
+        click.echo(f"{out}: up to date ({len(plan.unchanged)} files)")
+    raise click.exceptions.Exit(1 if check and plan.changes else 0)
+
+
+_WOULD = {"create": "would write", "update": "would write", "delete": "would delete"}
+_DONE = {"create": "wrote", "update": "wrote", "delete": "deleted"}
+
+
+def _list(ctx: click.Context) -> None:
+    from acordcs.codegen import registry
+
+    for name, made in registry.targets().items():
+        click.echo(f"{name:12s} {made.kind:6s} {made.description} ({made.origin})")
+    _warn_plugins()
+    ctx.exit(0)
+
+
+def _count(target_names: tuple[str, ...]) -> list[str]:
+    from acordcs.codegen.registry import targets
+
+    wanted = [n for name in target_names for n in name.split(",") if n.strip()]
+    return list(targets()) if not wanted or "all" in wanted else wanted
+
+
+class _Bar:
+    """A click progress bar over the build's steps, on standard error (only on a terminal)."""
+
+    def __init__(self, steps: int) -> None:
+        self.bar = click.progressbar(length=steps, label="building", file=sys.stderr, width=24)
+        self.bar.__enter__()
+        self.started = False
+
+    def step(self, label: str) -> None:
+        self.bar.label = f"building: {label}"
+        if self.started:
+            self.bar.update(1)
+        else:
+            self.bar.render_progress()
+        self.started = True
+
+    def close(self) -> None:
+        self.bar.__exit__(None, None, None)
+
+
+def _warn_plugins() -> None:
+    from acordcs.codegen.registry import PROBLEMS
+
+    for problem in PROBLEMS:
+        click.echo(f"acordcs-gen: warning: {problem}", err=True)
+    PROBLEMS.clear()
+
+
+def _report_failure(err) -> None:
+    for d in err.diagnostics:
+        click.echo(d.format_text())
+    if err.diagnostics:
+        from collections import Counter
+
+        counts = Counter(str(d.severity) for d in err.diagnostics)
+        click.echo(
+            f"{err.diagnostics[0].file}: "
+            + ", ".join(
+                f"{counts[s]} {s}{'s' if counts[s] != 1 else ''}"
+                for s in ("error", "warning", "info")
+            )
+        )
+    from acordcs.diagnostics import printable
+
+    where = f"{err.location()}: " if err.file else ""
+    text = f"{where}error: {err.message}"
+    if err.element:
+        text += f" [{err.element}]"
+    if err.hint:
+        text += f" ({err.hint})"
+    lines = text.splitlines() or [text]
+    click.echo(f"acordcs-gen build: {printable(lines[0])}", err=True)
+    for line in lines[1:]:
+        click.echo(f"  {printable(line)}", err=True)
+
+
+def _show_diff(plan) -> None:
+    import difflib
+
+    for change in plan.changes:
+        old = _lines(change.old)
+        new = _lines(change.new)
+        before = f"a/{change.path}" if change.old is not None else "/dev/null"
+        after = f"b/{change.path}" if change.new is not None else "/dev/null"
+        for line in difflib.unified_diff(old, new, before, after):
+            click.echo(line, nl=not line.endswith("\n"))
+
+
+def _lines(data: bytes | None) -> list[str]:
+    if data is None:
+        return []
+    return data.decode("utf-8", "replace").splitlines(keepends=True)

@@ -1,0 +1,126 @@
+"""A build writes only files whose bytes change (the others keep their mtime), a rebuild of the
+same model writes nothing at all, and the same model gives the same bytes wherever and however
+it is built."""
+
+from __future__ import annotations
+
+import json
+import os
+from pathlib import Path
+
+from tests.support.codegen import FASTER, build, snapshot, weblab_variant
+from tests.support.toolchain import WEBLAB
+
+FILES = [
+    ".acordcs-manifest.json",
+    "WebLab.descriptor.xml",
+    "acordcs-descriptor.xsd",
+    "rules/BandwidthLimiting.fcl",
+    "rules/Recovering.clp",
+    "rules/SpeedLimiting.fcl",
+]
+
+
+def test_first_build_writes_every_file(tmp_path: Path):
+    result = build(WEBLAB, tmp_path / "out")
+    assert result.code == 0, result.both
+    assert sorted(snapshot(tmp_path / "out")) == FILES
+    assert "5 written, 0 deleted, 0 unchanged (targets: config, rules)" in result.out
+
+
+def test_rebuild_of_the_same_model_writes_nothing(tmp_path: Path):
+    build(WEBLAB, tmp_path)
+    before = snapshot(tmp_path)
+    result = build(WEBLAB, tmp_path)
+    assert result.code == 0
+    assert (
+        result.out == f"{tmp_path}: up to date (config, rules; model unchanged, nothing written)\n"
+    )
+    assert snapshot(tmp_path) == before  # bytes and mtime_ns
+
+
+def test_forced_rebuild_runs_the_targets_and_writes_nothing(tmp_path: Path):
+    build(WEBLAB, tmp_path)
+    before = snapshot(tmp_path)
+    result = build(WEBLAB, tmp_path, "--force")
+    assert result.code == 0
+    assert "nothing changed (5 files up to date)" in result.out
+    assert snapshot(tmp_path) == before
+
+
+def test_a_changed_rule_rewrites_only_the_files_holding_it(tmp_path: Path):
+    out = tmp_path / "out"
+    build(WEBLAB, out)
+    before = snapshot(out)
+    changed = weblab_variant(tmp_path, FASTER)
+    result = build(changed, out)
+    assert result.code == 0, result.both
+    after = snapshot(out)
+    rewritten = {p for p in after if after[p] != before[p]}
+    assert rewritten == {
+        ".acordcs-manifest.json",
+        "WebLab.descriptor.xml",  # it holds the rules too
+        "rules/SpeedLimiting.fcl",
+    }
+    assert (
+        "RULE largeNarrow : IF Control_cycleRate IS large AND Control_angle IS narrow THEN Locomotion_maxSpeed IS medium;"
+        in after["rules/SpeedLimiting.fcl"][0].decode()
+    )
+    assert result.out.splitlines()[:2] == [
+        f"wrote {out}/WebLab.descriptor.xml",
+        f"wrote {out}/rules/SpeedLimiting.fcl",
+    ]
+
+
+def test_a_deleted_or_edited_generated_file_is_restored(tmp_path: Path):
+    build(WEBLAB, tmp_path)
+    original = snapshot(tmp_path)
+    (tmp_path / "rules" / "Recovering.clp").unlink()
+    (tmp_path / "rules" / "SpeedLimiting.fcl").write_text("edited", encoding="utf-8")
+    result = build(WEBLAB, tmp_path)
+    assert result.code == 0
+    restored = snapshot(tmp_path)
+    assert {p: d for p, (d, _) in restored.items()} == {p: d for p, (d, _) in original.items()}
+    assert "2 written, 0 deleted, 3 unchanged" in result.out
+
+
+def test_same_model_same_bytes_wherever_it_is_built_from(tmp_path: Path, monkeypatch):
+    build(WEBLAB, tmp_path / "a")
+    copy = tmp_path / "elsewhere" / "weblab.xmi"
+    copy.parent.mkdir()
+    copy.write_bytes(WEBLAB.read_bytes())
+    monkeypatch.chdir(copy.parent)
+    build(Path("weblab.xmi"), tmp_path / "b")
+    a, b = snapshot(tmp_path / "a"), snapshot(tmp_path / "b")
+    assert {p: d for p, (d, _) in a.items()} == {p: d for p, (d, _) in b.items()}
+
+
+def test_manifest_traces_each_file_to_model_elements(tmp_path: Path, weblab):
+    build(WEBLAB, tmp_path)
+    manifest = json.loads((tmp_path / ".acordcs-manifest.json").read_text(encoding="utf-8"))
+    assert manifest["model"]["file"] == "weblab.xmi"
+    assert set(manifest["targets"]) == {"config", "rules"}
+    files = manifest["files"]
+    assert sorted(files) == [f for f in FILES if f != ".acordcs-manifest.json"]
+    speed = next(ps for ps in weblab.policy_sets if ps.name == "SpeedLimiting")
+    entry = files["rules/SpeedLimiting.fcl"]
+    assert entry["target"] == "rules" and entry["element"] == speed.qualified_name
+    assert entry["ids"][0] == speed.id and {p.id for p in speed.policies} <= set(entry["ids"])
+    import hashlib
+
+    for rel, entry in files.items():
+        assert entry["sha256"] == hashlib.sha256((tmp_path / rel).read_bytes()).hexdigest()
+    assert os.path.getsize(tmp_path / ".acordcs-manifest.json") > 0
+
+
+def test_the_same_model_under_another_name_is_built_again(tmp_path: Path):
+    out = tmp_path / "out"
+    build(WEBLAB, out)
+    renamed = tmp_path / "lab.xmi"
+    renamed.write_bytes(WEBLAB.read_bytes())
+    result = build(renamed, out)
+    assert result.code == 0
+    assert "5 written" in result.out  # every header names the model file
+    assert "in model file lab.xmi." in (out / "rules" / "Recovering.clp").read_text(
+        encoding="utf-8"
+    )

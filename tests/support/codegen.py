@@ -1,0 +1,64 @@
+"""Helpers of the generator tests: building a model into a directory, snapshots of a directory,
+targets registered for one test, a target context made by hand."""
+
+from __future__ import annotations
+
+import contextlib
+from collections.abc import Iterator
+from pathlib import Path
+
+from acordcs.codegen import registry
+from acordcs.codegen.context import TargetContext
+from acordcs.descriptor import Application, to_xml
+from tests.support.toolchain import WEBLAB, CliResult, replace, run_main
+
+
+def build(model: Path | str, output: Path, *args: str) -> CliResult:
+    """``acordcs-gen build MODEL -o OUTPUT ARGS...`` in-process."""
+    return run_main(["build", str(model), "-o", str(output), *args])
+
+
+def snapshot(directory: Path) -> dict[str, tuple[bytes, int]]:
+    """Every file under ``directory`` (relative path -> bytes and mtime_ns)."""
+    return {
+        p.relative_to(directory).as_posix(): (p.read_bytes(), p.stat().st_mtime_ns)
+        for p in sorted(directory.rglob("*"))
+        if p.is_file()
+    }
+
+
+def weblab_variant(tmp_path: Path, *edits: tuple, name: str = "weblab.xmi") -> Path:
+    """A copy of the WebLab model with each ``(old, new[, count])`` replaced (``old`` must occur
+    ``count`` times, default once)."""
+    text = WEBLAB.read_text(encoding="utf-8")
+    for old, new, *count in edits:
+        text = replace(text, old, new, *count)
+    path = tmp_path / name
+    path.write_text(text, encoding="utf-8")
+    return path
+
+
+@contextlib.contextmanager
+def registered(*targets: registry.Target) -> Iterator[None]:
+    """The built-in targets plus ``targets`` (made by the decorators), for the block only."""
+    registry.targets()
+    try:
+        yield
+    finally:
+        for made in targets:
+            registry.unregister(made.name)
+
+
+def context(app: Application, tmp_path: Path, target: str = "rules", source: str = "m.xmi"):
+    """A TargetContext over ``app`` (its workdir under ``tmp_path``)."""
+    workdir = tmp_path / f"work-{target}"
+    workdir.mkdir(exist_ok=True)
+    return TargetContext(target, app, to_xml(app), source, workdir)
+
+
+FASTER = (
+    "largeNarrow: if cycleRate is large and angle is narrow then Locomotion.maxSpeed is fast",
+    "largeNarrow: if cycleRate is large and angle is narrow then Locomotion.maxSpeed is medium",
+    2,
+)
+"""An edit of the WebLab model changing one rule of SpeedLimiting (in both of BOUML's places)."""
