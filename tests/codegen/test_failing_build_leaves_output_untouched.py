@@ -121,4 +121,5 @@ def test_an_unreadable_model_exits_2(tmp_path: Path):
     no_crash(result)
     assert result.code == 2
     assert "X101" in result.out
+    assert "the model could not be read; nothing was built" in result.err
     assert not (tmp_path / "out").exists()

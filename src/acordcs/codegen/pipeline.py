@@ -173,7 +173,9 @@ def _build(
     reading = read_model(source)
     if reading.unreadable or reading.worst() == Severity.ERROR:
         raise BuildError(
-            "the model has errors; nothing was built",
+            "the model could not be read; nothing was built"
+            if reading.unreadable
+            else "the model has errors; nothing was built",
             file=source,
             diagnostics=reading.diagnostics,
             exit_code=2 if reading.unreadable else 1,
