@@ -102,6 +102,9 @@ CODES: dict[str, tuple[Severity, str]] = {
     "N601": (E, "name is not a valid identifier"),
     "N602": (E, "name is a reserved word in Python or Java"),
     "N603": (E, "name used twice where generated code needs it unique"),
+    "N604": (E, "operation named like a member of the runtime's component API"),
+    "N605": (W, "operation named on_<port>: it becomes that port's notification handler"),
+    "N606": (E, "names that differ only in letter case"),
     # G: generating files from the model (acordcs-gen build)
     "G701": (E, "a model name cannot become part of a generated file's path"),
     "G702": (

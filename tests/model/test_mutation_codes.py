@@ -98,6 +98,27 @@ class Mutation:
 
 MUTATIONS = [
     Mutation(
+        "operation-named-like-the-component-api",
+        lambda t: replace(t, 'name="odometry" xmi:id=', 'name="port" xmi:id='),
+        {"N604"},
+        {"Locomotion::port"},
+        ["'port' of Locomotion is also a member of every component", "rename the operation"],
+    ),
+    Mutation(
+        "operation-named-like-a-port-handler",
+        lambda t: replace(t, 'name="grab" xmi:id=', 'name="on_VisionPort" xmi:id='),
+        {"N605"},
+        {"Vision::on_VisionPort"},
+        ["becomes the handler of port 'VisionPort'"],
+    ),
+    Mutation(
+        "element-names-differing-only-in-case",
+        lambda t: rename_class(t, "Navigator", "vision"),
+        {"N606"},
+        {"vision"},
+        ["'Vision', 'vision' differ only in letter case"],
+    ),
+    Mutation(
         "misspelt-rule-variable",
         lambda t: replace(
             t, FIRST_RULE, FIRST_RULE.replace("if cycleRate is", "if cycleRat is"), count=2

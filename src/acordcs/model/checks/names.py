@@ -8,8 +8,9 @@ from collections import defaultdict
 from collections.abc import Iterator
 
 from acordcs.diagnostics import Diagnostic
-from acordcs.model.architecture import VARIABLE, Role
+from acordcs.model.architecture import COMPONENT, PORT, VARIABLE, Role
 from acordcs.model.checks import Context, check
+from acordcs.runtime.component import ComponentRef, CtxComponent
 from acordcs.xmi.uml import Classifier, Element
 
 # ASCII only: the same name must be a Python and a Java identifier and a shell word without quoting.
@@ -113,3 +114,71 @@ def unique_names(ctx: Context) -> Iterator[Diagnostic]:
                         member,
                     )
                 seen.setdefault(member.name, member)
+
+
+# What a generated component (a CtxComponent subclass) and the handles callers hold (ComponentRef)
+# already have: an operation of the same name would hide it. Read from the runtime itself, so the
+# check follows its API.
+COMPONENT_API = frozenset(
+    name for cls in (CtxComponent, ComponentRef) for name in dir(cls) if not name.startswith("_")
+)
+
+
+@check
+def component_api_names(ctx: Context) -> Iterator[Diagnostic]:
+    for role in ctx.arch.of_kind(COMPONENT):
+        element = role.element
+        if not isinstance(element, Classifier):
+            continue
+        ports = {p.name for p in ctx.arch.related(role, "owns_port")}
+        for op in element.operations:
+            if op.name in COMPONENT_API:
+                yield ctx.diag(
+                    "N604",
+                    f"operation {op.name!r} of {role.name} is also a member of every component "
+                    f"(the runtime's CtxComponent and ComponentRef: {', '.join(sorted(COMPONENT_API))}); "
+                    "the generated code would hide it: rename the operation",
+                    op,
+                )
+            elif op.name.startswith("on_") and op.name[3:] in ports:
+                yield ctx.diag(
+                    "N605",
+                    f"operation {op.name!r} of {role.name} becomes the handler of port "
+                    f"{op.name[3:]!r}'s notifications and stream items (the runtime's convention); "
+                    "rename it unless that is what it is for",
+                    op,
+                )
+
+
+@check
+def case_insensitive_names(ctx: Context) -> Iterator[Diagnostic]:
+    """Generated files and Java classes are named after elements: on a case-insensitive file
+    system (macOS, Windows) two names that differ only in case are one file."""
+    roles = [r for r in ctx.arch.roles.values() if r.kind not in (VARIABLE, PORT) and r.name]
+    yield from _case_clashes(ctx, [(r.name, r.element) for r in roles], "ACORD-CS elements")
+    for role in ctx.arch.of_kind(COMPONENT):
+        element = role.element
+        if isinstance(element, Classifier):
+            ports = [(p.name, p.element) for p in ctx.arch.related(role, "owns_port")]
+            yield from _case_clashes(ctx, ports, f"ports of {role.name}")
+            members = [(m.name, m) for m in (*element.attributes, *element.operations)]
+            yield from _case_clashes(ctx, members, f"members of {role.name}")
+
+
+def _case_clashes(
+    ctx: Context, named: list[tuple[str, Element]], what: str
+) -> Iterator[Diagnostic]:
+    by_folded: dict[str, dict[str, Element]] = defaultdict(dict)
+    for name, element in named:
+        by_folded[name.casefold()].setdefault(name, element)
+    for spellings in by_folded.values():
+        if len(spellings) > 1:
+            names = sorted(spellings)
+            for name in names[1:]:
+                yield ctx.diag(
+                    "N606",
+                    f"{what} {', '.join(repr(n) for n in names)} differ only in letter case: "
+                    "generated files and classes named after them would collide on a "
+                    "case-insensitive file system; rename one",
+                    spellings[name],
+                )
