@@ -121,6 +121,13 @@ def build(
             "left in place (delete it yourself if it is not needed)",
             err=True,
         )
+    for orphan in plan.orphaned:
+        click.echo(
+            f"acordcs-gen: {os.path.join(out, orphan)} is your code for "
+            f"{plan.manifest.files[orphan].element or 'an element'}, no longer in the model: "
+            "kept, no longer used by the generated code (delete it yourself if it is not needed)",
+            err=True,
+        )
     writes, deletes = len(plan.writes), len(plan.deletes)
     if write:
         if plan.changes:
