@@ -45,7 +45,7 @@
   <xsl:function name="py:doc" as="xs:string">
     <xsl:param name="s" as="xs:string"/>
     <xsl:param name="indent" as="xs:string"/>
-    <xsl:variable name="lines" select="tokenize(replace(normalize-unicode($s), '\r\n?', '&#10;'), '&#10;')"/>
+    <xsl:variable name="lines" select="tokenize(replace($s, '\r\n?', '&#10;'), '&#10;')"/>
     <xsl:variable name="body" select="string-join(for $i in 1 to count($lines) return
         (if ($i gt 1 and normalize-space($lines[$i])) then $indent else '') || py:inline($lines[$i]), '&#10;')"/>
     <xsl:sequence select="'&quot;&quot;&quot;' || $body || '&quot;&quot;&quot;'"/>
