@@ -359,15 +359,13 @@ class {@name}Base(CtxComponent):
     <xsl:for-each-group select="$ops" group-by="@name">
       <xsl:variable name="overloads" select="current-group()"/>
       <xsl:variable name="first" select="$overloads[1]"/>
-      <xsl:variable name="params" select="if (count($overloads) gt 1) then '*args, **kwargs'
-          else string-join($first/d:parameter[@direction = ('in', 'inout')]/@name, ', ')"/>
       <xsl:variable name="shown" select="string-join(for $o in $overloads return py:signature($o), ' or ')"/>
       <xsl:variable name="doc" select="string-join((
           for $o in $overloads return string($o/d:documentation)[. ne ''],
           'Operation ' || $shown || '.',
           for $o in $overloads return py:returns($o)), '&#10;&#10;')"/>
       <xsl:text>
-    def {$first/@name}(self{if ($params) then ', ' || $params else ''}):
+    def {$first/@name}(self{py:parameters($overloads)}):
         {py:doc($doc, '        ')}
         raise OperationNotImplementedError(
             {py:str('component ' || ../@name || ' has no code for operation ' || $shown)},
@@ -405,9 +403,25 @@ from {$pkg}.base.{@name} import {@name}Base
 
 
 class {@name}({@name}Base):
-    pass
 </xsl:text>
+    <xsl:if test="d:operation">
+      <xsl:text>    # The model's operations, to implement here (those of {@name}Base raise
+    # OperationNotImplementedError):
+</xsl:text>
+      <xsl:for-each-group select="d:operation" group-by="@name">
+        <xsl:text>    #   def {current-grouping-key()}(self{py:parameters(current-group())})&#10;</xsl:text>
+      </xsl:for-each-group>
+    </xsl:if>
+    <xsl:text>    pass&#10;</xsl:text>
   </xsl:template>
+
+  <!-- ", a, b" for the Python parameters of an operation (its overloads: *args, **kwargs). -->
+  <xsl:function name="py:parameters" as="xs:string">
+    <xsl:param name="overloads" as="element()+"/>
+    <xsl:variable name="params" select="if (count($overloads) gt 1) then '*args, **kwargs'
+        else string-join($overloads[1]/d:parameter[@direction = ('in', 'inout')]/@name, ', ')"/>
+    <xsl:sequence select="if ($params) then ', ' || $params else ''"/>
+  </xsl:function>
 
   <!-- ================================================================= <Container>.py -->
   <xsl:template match="d:container" mode="container">
