@@ -61,7 +61,7 @@
     <xsl:param name="s" as="xs:string"/>
     <xsl:param name="regex" as="xs:string"/>
     <xsl:variable name="parts" as="xs:string*">
-      <xsl:analyze-string select="$s" regex="{$regex}">
+      <xsl:analyze-string select="if (matches($s, $regex)) then $s else ''" regex="{$regex}">
         <xsl:matching-substring>
           <xsl:sequence select="py:escape(string-to-codepoints(.))"/>
         </xsl:matching-substring>
@@ -70,7 +70,7 @@
         </xsl:non-matching-substring>
       </xsl:analyze-string>
     </xsl:variable>
-    <xsl:sequence select="string-join($parts)"/>
+    <xsl:sequence select="if (matches($s, $regex)) then string-join($parts) else $s"/>
   </xsl:function>
 
   <xsl:function name="py:escape" as="xs:string">
