@@ -12,7 +12,8 @@
 - a file emitted ``once`` (generation gap: the class a user implements) is written only when
   absent; from then on it is the user's: recorded in the manifest as such (``user``), never
   overwritten, never deleted. When the model no longer makes it, it stays, still recorded, and
-  is reported as orphaned (:attr:`Plan.orphaned`) by every build until the user removes it.
+  is reported as orphaned (:attr:`Plan.orphaned`) by every build that runs the targets, until the
+  user removes it.
 
 :func:`apply` writes each file to a temporary name beside it and renames it over the old one (a
 reader never sees half a file), deletes the stale files, removes directories left empty by that,
