@@ -11,6 +11,19 @@ from pathlib import Path
 from tests.support.codegen import FASTER, build, snapshot, weblab_variant
 from tests.support.toolchain import WEBLAB
 
+COMPONENTS = ["Access", "Locomotion", "Navigator", "PanoramicCamera", "Recovery", "Vision"]
+PACKAGE = sorted(
+    [
+        "weblab_app/UserSide.py",
+        "weblab_app/WebLabSide.py",
+        "weblab_app/__init__.py",
+        "weblab_app/base/__init__.py",
+        "weblab_app/components/__init__.py",
+        "weblab_app/descriptor.xml",
+        "weblab_app/registry.py",
+        *(f"weblab_app/{d}/{c}.py" for d in ("base", "components") for c in COMPONENTS),
+    ]
+)
 FILES = [
     ".acordcs-manifest.json",
     "WebLab.descriptor.xml",
@@ -18,6 +31,7 @@ FILES = [
     "rules/BandwidthLimiting.fcl",
     "rules/Recovering.clp",
     "rules/SpeedLimiting.fcl",
+    *PACKAGE,
 ]
 
 
@@ -25,7 +39,7 @@ def test_first_build_writes_every_file(tmp_path: Path):
     result = build(WEBLAB, tmp_path / "out")
     assert result.code == 0, result.both
     assert sorted(snapshot(tmp_path / "out")) == FILES
-    assert "5 written, 0 deleted, 0 unchanged (targets: config, rules)" in result.out
+    assert "24 written, 0 deleted, 0 unchanged (targets: config, python, rules)" in result.out
 
 
 def test_rebuild_of_the_same_model_writes_nothing(tmp_path: Path):
@@ -34,7 +48,8 @@ def test_rebuild_of_the_same_model_writes_nothing(tmp_path: Path):
     result = build(WEBLAB, tmp_path)
     assert result.code == 0
     assert (
-        result.out == f"{tmp_path}: up to date (config, rules; model unchanged, nothing written)\n"
+        result.out
+        == f"{tmp_path}: up to date (config, python, rules; model unchanged, nothing written)\n"
     )
     assert snapshot(tmp_path) == before  # bytes and mtime_ns
 
@@ -44,7 +59,7 @@ def test_forced_rebuild_runs_the_targets_and_writes_nothing(tmp_path: Path):
     before = snapshot(tmp_path)
     result = build(WEBLAB, tmp_path, "--force")
     assert result.code == 0
-    assert "nothing changed (5 files up to date)" in result.out
+    assert "nothing changed (24 files up to date)" in result.out
     assert snapshot(tmp_path) == before
 
 
@@ -61,6 +76,7 @@ def test_a_changed_rule_rewrites_only_the_files_holding_it(tmp_path: Path):
         ".acordcs-manifest.json",
         "WebLab.descriptor.xml",  # it holds the rules too
         "rules/SpeedLimiting.fcl",
+        "weblab_app/descriptor.xml",  # the package's copy of the descriptor
     }
     assert (
         "RULE largeNarrow : IF Control_cycleRate IS large AND Control_angle IS narrow THEN Locomotion_maxSpeed IS medium;"
@@ -81,7 +97,7 @@ def test_a_deleted_or_edited_generated_file_is_restored(tmp_path: Path):
     assert result.code == 0
     restored = snapshot(tmp_path)
     assert {p: d for p, (d, _) in restored.items()} == {p: d for p, (d, _) in original.items()}
-    assert "2 written, 0 deleted, 3 unchanged" in result.out
+    assert "2 written, 0 deleted, 22 unchanged" in result.out
 
 
 def test_same_model_same_bytes_wherever_it_is_built_from(tmp_path: Path, monkeypatch):
@@ -99,7 +115,7 @@ def test_manifest_traces_each_file_to_model_elements(tmp_path: Path, weblab):
     build(WEBLAB, tmp_path)
     manifest = json.loads((tmp_path / ".acordcs-manifest.json").read_text(encoding="utf-8"))
     assert manifest["model"]["file"] == "weblab.xmi"
-    assert set(manifest["targets"]) == {"config", "rules"}
+    assert set(manifest["targets"]) == {"config", "python", "rules"}
     files = manifest["files"]
     assert sorted(files) == [f for f in FILES if f != ".acordcs-manifest.json"]
     speed = next(ps for ps in weblab.policy_sets if ps.name == "SpeedLimiting")
@@ -109,6 +125,7 @@ def test_manifest_traces_each_file_to_model_elements(tmp_path: Path, weblab):
     import hashlib
 
     for rel, entry in files.items():
+        assert entry.get("user", False) == rel.startswith("weblab_app/components/")
         assert entry["sha256"] == hashlib.sha256((tmp_path / rel).read_bytes()).hexdigest()
     assert os.path.getsize(tmp_path / ".acordcs-manifest.json") > 0
 
@@ -120,7 +137,8 @@ def test_the_same_model_under_another_name_is_built_again(tmp_path: Path):
     renamed.write_bytes(WEBLAB.read_bytes())
     result = build(renamed, out)
     assert result.code == 0
-    assert "5 written" in result.out  # every header names the model file
+    # every header names the model file; the user's files (written once) are not written again
+    assert "17 written, 0 deleted, 7 unchanged" in result.out
     assert "in model file lab.xmi." in (out / "rules" / "Recovering.clp").read_text(
         encoding="utf-8"
     )

@@ -62,3 +62,33 @@ FASTER = (
     2,
 )
 """An edit of the WebLab model changing one rule of SpeedLimiting (in both of BOUML's places)."""
+
+
+@contextlib.contextmanager
+def imported(directory: Path, package: str) -> Iterator[object]:
+    """The generated package ``package`` of ``directory`` imported in this process for the block
+    (``directory`` first on sys.path); its modules are forgotten afterwards, so that the next
+    build's package of the same name is imported afresh."""
+    import importlib
+    import sys
+
+    def forget() -> None:
+        for name in [m for m in sys.modules if m == package or m.startswith(package + ".")]:
+            del sys.modules[name]
+
+    forget()
+    sys.path.insert(0, str(directory))
+    importlib.invalidate_caches()
+    try:
+        yield importlib.import_module(package)
+    finally:
+        sys.path.remove(str(directory))
+        forget()
+
+
+def python_files(directory: Path) -> dict[str, str]:
+    """Every ``.py`` file under ``directory``: relative path -> text."""
+    return {
+        p.relative_to(directory).as_posix(): p.read_text(encoding="utf-8")
+        for p in sorted(directory.rglob("*.py"))
+    }

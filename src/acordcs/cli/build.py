@@ -24,7 +24,7 @@ import click
     multiple=True,
     metavar="NAME",
     help="Target to build (repeat, or separate with commas); default all. "
-    "Built in: config, rules; acordcs-gen build --list shows every installed one.",
+    "Built in: config, python, rules; acordcs-gen build --list shows every installed one.",
 )
 @click.option(
     "--check", is_flag=True, help="Write nothing; exit 1 if the output is not up to date."
@@ -58,11 +58,13 @@ def build(
     force: bool,
 ) -> int:
     """Generate the files of MODEL's application into --output: the deployment descriptor and its
-    schema (config), one FCL or CLIPS file per policy set (rules).
+    schema (config), a Python package with the components' classes and a module per container
+    (python), one FCL or CLIPS file per policy set (rules).
 
     The model is validated first (an error stops the build, nothing written); only files whose
     bytes changed are written; generated files the model no longer makes are deleted (the manifest
-    .acordcs-manifest.json says which files are generated: no other file is ever touched).
+    .acordcs-manifest.json says which files are generated: no other file is ever touched); files
+    written once for the user to edit (python's components/*.py) are never overwritten or deleted.
 
     Exit 0 when built (or up to date), 1 when the model has errors, a target fails, or --check finds
     the output out of date, 2 on usage errors and unreadable or unwritable files.
@@ -119,6 +121,13 @@ def build(
         click.echo(
             f"acordcs-gen: {os.path.join(out, kept)} is no longer generated but was edited since: "
             "left in place (delete it yourself if it is not needed)",
+            err=True,
+        )
+    for orphan in plan.orphaned:
+        click.echo(
+            f"acordcs-gen: {os.path.join(out, orphan)} is your code for "
+            f"{plan.manifest.files[orphan].element or 'an element'}, no longer in the model: "
+            "kept, no longer used by the generated code (delete it yourself if it is not needed)",
             err=True,
         )
     writes, deletes = len(plan.writes), len(plan.deletes)

@@ -25,13 +25,16 @@ if TYPE_CHECKING:
 class GeneratedFile:
     """One generated file: its path (relative, '/'-separated), its bytes, the target that made it,
     the model element it was generated from (``element``: a qualified name, for messages) and the
-    ids of the model elements it holds (``ids``: the manifest's traceability)."""
+    ids of the model elements it holds (``ids``: the manifest's traceability). ``once``: a file
+    written only when absent, then the user's (generation gap: the class a user implements):
+    never overwritten, never deleted (see :mod:`acordcs.codegen.writer`)."""
 
     path: str
     data: bytes
     target: str
     element: str = ""
     ids: tuple[str, ...] = ()
+    once: bool = False
 
 
 @dataclass
@@ -58,13 +61,21 @@ class TargetContext:
         return os.path.basename(self.source) or self.source
 
     def emit(
-        self, path: str, content: str | bytes, *, element: str = "", ids: tuple[str, ...] = ()
+        self,
+        path: str,
+        content: str | bytes,
+        *,
+        element: str = "",
+        ids: tuple[str, ...] = (),
+        once: bool = False,
     ) -> None:
         """Produce ``path`` (relative to the output directory, '/'-separated) with ``content``
         (text is written as UTF-8 with '\\n' line ends); ``element`` names the model element it
-        comes from, ``ids`` the ids of the elements it holds."""
+        comes from, ``ids`` the ids of the elements it holds. With ``once``, the file is written
+        only if absent and belongs to the user from then on: never overwritten nor deleted; when
+        its element leaves the model, builds report it as orphaned."""
         data = content.encode("utf-8") if isinstance(content, str) else bytes(content)
-        self.files.append(GeneratedFile(path, data, self.target, element, tuple(ids)))
+        self.files.append(GeneratedFile(path, data, self.target, element, tuple(ids), once))
 
     def header(self, syntax: str, what: str, note: str = "") -> str:
         """The header comment a file of this target starts with (see :mod:`.headers`): ``what``

@@ -28,6 +28,7 @@ class Entry:
     target: str
     element: str = ""
     ids: tuple[str, ...] = ()
+    user: bool = False  # written once, then the user's: never overwritten, never deleted
 
 
 @dataclass
@@ -49,6 +50,7 @@ class Manifest:
                     "target": e.target,
                     "element": e.element,
                     "ids": list(e.ids),
+                    **({"user": True} if e.user else {}),
                 }
                 for path, e in sorted(self.files.items())
             },
@@ -84,6 +86,7 @@ def read_manifest(output: Path) -> Manifest | None:
                 str(e["target"]),
                 str(e.get("element", "")),
                 tuple(map(str, e.get("ids", ()))),
+                e.get("user", False) is True,
             )
         targets = {
             str(k): {str(a): str(b) for a, b in v.items()} for k, v in data["targets"].items()

@@ -245,6 +245,10 @@ def _intact(out: Path, old: Manifest, fingerprints: dict[str, str], model_sha: s
     for rel, entry in old.files.items():
         if entry.target not in fingerprints:
             continue
+        if entry.user:  # the user's: edited, as expected; a deleted one is written again
+            if not (out / rel).is_file():
+                return False
+            continue
         try:
             with open(out / rel, "rb") as handle:
                 if sha256(handle.read()) != entry.sha256:

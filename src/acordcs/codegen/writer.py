@@ -8,7 +8,12 @@
 - a file the manifest lists, made by a target of this build, that the build no longer makes is
   stale and deleted, unless it was edited since (its sha256 is not the manifest's): then it is
   left in place and reported;
-- a path through a symbolic link, or onto a directory, is refused.
+- a path through a symbolic link, or onto a directory, is refused;
+- a file emitted ``once`` (generation gap: the class a user implements) is written only when
+  absent; from then on it is the user's: recorded in the manifest as such (``user``), never
+  overwritten, never deleted. When the model no longer makes it, it stays, still recorded, and
+  is reported as orphaned (:attr:`Plan.orphaned`) by every build that runs the targets, until the
+  user removes it.
 
 :func:`apply` writes each file to a temporary name beside it and renames it over the old one (a
 reader never sees half a file), deletes the stale files, removes directories left empty by that,
@@ -40,6 +45,7 @@ class Plan:
     changes: list[Change] = field(default_factory=list)
     unchanged: list[str] = field(default_factory=list)
     kept: list[str] = field(default_factory=list)  # stale but edited by the user: left in place
+    orphaned: list[str] = field(default_factory=list)  # user files the model no longer makes
     manifest: Manifest = field(default_factory=Manifest)
     manifest_bytes: bytes = b""
     manifest_changed: bool = True
@@ -108,12 +114,12 @@ def plan(
     made = {f.path for f in files}
     for f in files:
         current = _existing(output, f.path)
-        new.files[f.path] = Entry(sha256(f.data), f.target, f.element, f.ids)
-        if current == f.data:
+        new.files[f.path] = Entry(sha256(f.data), f.target, f.element, f.ids, f.once)
+        if current == f.data or (f.once and current is not None):  # once: the user's, as is
             result.unchanged.append(f.path)
         elif current is None:
             result.changes.append(Change(f.path, "create", None, f.data))
-        elif f.path in previous:
+        elif f.path in previous and not previous[f.path].user:
             result.changes.append(Change(f.path, "update", current, f.data))
         else:
             raise BuildError(
@@ -130,6 +136,10 @@ def plan(
             continue
         current = _existing(output, path)
         if current is None:
+            continue
+        if entry.user:  # the user's code for an element gone from the model: never deleted
+            new.files[path] = entry
+            result.orphaned.append(path)
             continue
         if sha256(current) == entry.sha256:
             result.changes.append(Change(path, "delete", current, None))

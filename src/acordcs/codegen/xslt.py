@@ -11,7 +11,8 @@ resolved against the target's temporary directory; the principal result lists wh
     </files>
 
 ``path`` is the file's path as a relative '/'-separated path (the href, before URI encoding),
-``element`` the model element it comes from (for messages), ``ids`` the model element ids it holds.
+``element`` the model element it comes from (for messages), ``ids`` the model element ids it holds,
+``once="yes"`` a file written only when absent, the user's from then on (``TargetContext.emit``).
 A file written but not listed, or listed but not written, fails the target.
 
 Saxon prints its errors on the process's standard error itself; they are caught there (the
@@ -216,7 +217,8 @@ def _collect(target: Target, context: TargetContext, listing: str) -> None:
             ) from None
         listed.add(path)
         ids = tuple((entry.get("ids") or "").split())
-        context.emit(path, data, element=entry.get("element", ""), ids=ids)
+        once = entry.get("once", "") in ("yes", "true", "1")
+        context.emit(path, data, element=entry.get("element", ""), ids=ids, once=once)
     written = {
         p.relative_to(context.workdir).as_posix()
         for p in context.workdir.rglob("*")

@@ -1,8 +1,9 @@
-"""The built-in targets: ``config`` (XSLT 3.0) and ``rules`` (Python). Importing this package
-registers them (:func:`acordcs.codegen.registry.targets` does)."""
+"""The built-in targets: ``config`` (XSLT 3.0), ``python`` (XSLT 3.0, after a check of the names in
+Python) and ``rules`` (Python). Importing this package registers them
+(:func:`acordcs.codegen.registry.targets` does)."""
 
-from acordcs.codegen.targets import config, rules
+from acordcs.codegen.targets import config, python, rules
 
-BUILTIN = (config.TARGET, rules.rules)
+BUILTIN = (config.TARGET, python.python, rules.rules)
 
 __all__ = ["BUILTIN"]

@@ -1,0 +1,528 @@
+<?xml version="1.0" encoding="UTF-8"?>
+<!--
+  Target "python" of acordcs-gen: a Python package per application (see python.py, which checks the
+  model's names before this stylesheet runs: every name that becomes Python code is an identifier,
+  no keyword, no name of the component API; string literals come from py:str and py:doc).
+
+    <pkg>/__init__.py              the application: its name, containers, assemble_application()
+    <pkg>/descriptor.xml           the descriptor (the document the config target writes)
+    <pkg>/registry.py              FACTORIES: component name -> the user's class
+    <pkg>/base/__init__.py
+    <pkg>/base/<Component>.py      <Component>Base(CtxComponent): properties, ports, operations
+    <pkg>/components/__init__.py   created once (the user's)
+    <pkg>/components/<Component>.py  <Component>(<Component>Base): created once, never overwritten
+    <pkg>/<Container>.py           the container: assemble_container(), main() (python -m)
+
+  Files listed with once="yes" are written only when absent and never deleted (generation gap).
+-->
+<xsl:stylesheet version="3.0"
+    xmlns:xsl="http://www.w3.org/1999/XSL/Transform"
+    xmlns:xs="http://www.w3.org/2001/XMLSchema"
+    xmlns:d="http://acordcs.org/descriptor/1.0"
+    xmlns:py="http://acordcs.org/codegen/python"
+    xmlns="http://acordcs.org/codegen/1.0"
+    exclude-result-prefixes="xs d py"
+    expand-text="yes">
+
+  <xsl:param name="source-file" as="xs:string" required="yes"/>
+  <xsl:param name="generator" as="xs:string" required="yes"/>
+  <xsl:param name="target" as="xs:string" required="yes"/>
+  <xsl:param name="descriptor-schema" as="xs:string" required="yes"/>
+
+  <xsl:output method="xml" encoding="UTF-8" indent="no"/>
+
+  <!-- ===================================================================== string literals -->
+
+  <!-- A Python string literal of $s: "..." with \, ", and every control, format, unassigned,
+       private-use, line- and paragraph-separator character escaped (the source stays one line). -->
+  <xsl:function name="py:str" as="xs:string">
+    <xsl:param name="s" as="xs:string"/>
+    <xsl:sequence select="'&quot;' || py:escaped($s, '[\\&quot;\p{C}\p{Zl}\p{Zp}]') || '&quot;'"/>
+  </xsl:function>
+
+  <!-- A docstring of $s: """...""" keeping its line breaks (indented by $indent), every other
+       character py:str escapes escaped, so that no """ and no backslash sequence comes from $s. -->
+  <xsl:function name="py:doc" as="xs:string">
+    <xsl:param name="s" as="xs:string"/>
+    <xsl:param name="indent" as="xs:string"/>
+    <xsl:variable name="lines" select="tokenize(replace($s, '\r\n?', '&#10;'), '&#10;')"/>
+    <xsl:variable name="body" select="string-join(for $i in 1 to count($lines) return
+        (if ($i gt 1 and normalize-space($lines[$i])) then $indent else '') || py:inline($lines[$i]), '&#10;')"/>
+    <xsl:sequence select="'&quot;&quot;&quot;' || $body || '&quot;&quot;&quot;'"/>
+  </xsl:function>
+
+  <!-- $s inside a docstring: what py:str escapes, escaped, without quotes around it. -->
+  <xsl:function name="py:inline" as="xs:string">
+    <xsl:param name="s" as="xs:string"/>
+    <xsl:sequence select="py:escaped($s, '[\\&quot;\p{C}\p{Zl}\p{Zp}]')"/>
+  </xsl:function>
+
+  <xsl:function name="py:escaped" as="xs:string">
+    <xsl:param name="s" as="xs:string"/>
+    <xsl:param name="regex" as="xs:string"/>
+    <xsl:variable name="parts" as="xs:string*">
+      <xsl:analyze-string select="if (matches($s, $regex)) then $s else ''" regex="{$regex}">
+        <xsl:matching-substring>
+          <xsl:sequence select="py:escape(string-to-codepoints(.))"/>
+        </xsl:matching-substring>
+        <xsl:non-matching-substring>
+          <xsl:sequence select="."/>
+        </xsl:non-matching-substring>
+      </xsl:analyze-string>
+    </xsl:variable>
+    <xsl:sequence select="if (matches($s, $regex)) then string-join($parts) else $s"/>
+  </xsl:function>
+
+  <xsl:function name="py:escape" as="xs:string">
+    <xsl:param name="c" as="xs:integer"/>
+    <xsl:choose>
+      <xsl:when test="$c = 92">\\</xsl:when>
+      <xsl:when test="$c = 34">\"</xsl:when>
+      <xsl:when test="$c = 10">\n</xsl:when>
+      <xsl:when test="$c = 13">\r</xsl:when>
+      <xsl:when test="$c = 9">\t</xsl:when>
+      <xsl:when test="$c lt 256">\x{py:hex($c, 2)}</xsl:when>
+      <xsl:when test="$c lt 65536">\u{py:hex($c, 4)}</xsl:when>
+      <xsl:otherwise>\U{py:hex($c, 8)}</xsl:otherwise>
+    </xsl:choose>
+  </xsl:function>
+
+  <xsl:function name="py:hex" as="xs:string">
+    <xsl:param name="n" as="xs:integer"/>
+    <xsl:param name="width" as="xs:integer"/>
+    <xsl:variable name="digits" select="py:hex-digits($n)"/>
+    <xsl:sequence select="string-join((for $i in 1 to $width - string-length($digits) return '0', $digits))"/>
+  </xsl:function>
+
+  <xsl:function name="py:hex-digits" as="xs:string">
+    <xsl:param name="n" as="xs:integer"/>
+    <xsl:variable name="digit" select="substring('0123456789abcdef', $n mod 16 + 1, 1)"/>
+    <xsl:sequence select="if ($n lt 16) then $digit else py:hex-digits($n idiv 16) || $digit"/>
+  </xsl:function>
+
+  <!-- A tuple display of the literals $items. -->
+  <xsl:function name="py:tuple" as="xs:string">
+    <xsl:param name="items" as="xs:string*"/>
+    <xsl:sequence select="'(' || string-join($items, ', ') || (if (count($items) eq 1) then ',' else '') || ')'"/>
+  </xsl:function>
+
+  <!-- A property's default as a Python literal, typed by its kind (the descriptor's typing). -->
+  <xsl:function name="py:value" as="xs:string">
+    <xsl:param name="p" as="element()"/>
+    <xsl:variable name="v" select="string($p/@default)"/>
+    <xsl:choose>
+      <xsl:when test="$p/@kind = 'bool'">{if ($v = ('true', '1')) then 'True' else 'False'}</xsl:when>
+      <xsl:when test="$p/@kind = 'int'">
+        <xsl:if test="not(matches($v, '^-?[0-9]+$'))">
+          <xsl:message terminate="yes">property {$p/@qname}: default {$v} is not an int</xsl:message>
+        </xsl:if>
+        <xsl:sequence select="string(xs:integer($v))"/>
+      </xsl:when>
+      <xsl:when test="$p/@kind = 'double'">
+        <xsl:choose>
+          <xsl:when test="lower-case($v) = ('inf', '+inf', 'infinity')">float("inf")</xsl:when>
+          <xsl:when test="lower-case($v) = ('-inf', '-infinity')">float("-inf")</xsl:when>
+          <xsl:when test="lower-case($v) = 'nan'">float("nan")</xsl:when>
+          <xsl:when test="matches($v, '^-?[0-9]+$')">{$v}.0</xsl:when>
+          <xsl:when test="matches($v, '^-?([0-9]+\.?[0-9]*|\.[0-9]+)([eE][+\-]?[0-9]+)?$')">{$v}</xsl:when>
+          <xsl:otherwise>
+            <xsl:message terminate="yes">property {$p/@qname}: default {$v} is not a double</xsl:message>
+          </xsl:otherwise>
+        </xsl:choose>
+      </xsl:when>
+      <xsl:otherwise>{py:str($v)}</xsl:otherwise>
+    </xsl:choose>
+  </xsl:function>
+
+  <!-- The package's name: the application's name in lower case, every character other than an
+       ASCII letter, digit or _ replaced by _, "m" put before a leading digit, "_app" appended
+       (no keyword, no module of the standard library, not acordcs). python.py's package_name. -->
+  <xsl:function name="py:package" as="xs:string">
+    <xsl:param name="name" as="xs:string"/>
+    <xsl:variable name="base" select="lower-case(replace($name, '[^A-Za-z0-9_]', '_'))"/>
+    <xsl:sequence select="(if (matches($base, '^[0-9]')) then 'm' else '') || $base || '_app'"/>
+  </xsl:function>
+
+  <!-- The header, as acordcs/codegen/headers.py writes it for '#' comments (names cleaned). -->
+  <xsl:function name="py:header" as="xs:string">
+    <xsl:param name="what" as="xs:string"/>
+    <xsl:param name="note" as="xs:string"/>
+    <xsl:variable name="lines" select="('Generated by ' || $generator || ' (target ' || $target || ') from ' || $what,
+        'in model file ' || $source-file || '. ' || $note)"/>
+    <xsl:sequence select="string-join(for $l in $lines return '# ' || py:escaped($l, '[\p{C}\p{Zl}\p{Zp}]'), '&#10;') || '&#10;'"/>
+  </xsl:function>
+
+  <xsl:variable name="regenerated" select="'Do not edit: rebuild with acordcs-gen build.'"/>
+  <xsl:variable name="yours" select="'Written once: yours to edit, never overwritten by a build.'"/>
+
+  <!-- ======================================================================== the package -->
+
+  <xsl:template match="/">
+    <xsl:variable name="app" select="d:application"/>
+    <xsl:if test="not($app)">
+      <xsl:message terminate="yes">the input is not an application descriptor (no d:application element)</xsl:message>
+    </xsl:if>
+    <xsl:variable name="pkg" select="py:package($app/@name)"/>
+    <xsl:variable name="components" select="$app/d:components/d:component"/>
+    <xsl:variable name="containers" select="$app/d:containers/d:container"/>
+    <xsl:variable name="all-ids" select="string-join(distinct-values($app/*/*/@id), ' ')"/>
+
+    <xsl:result-document href="{$pkg}/__init__.py" method="text" encoding="UTF-8">
+      <xsl:call-template name="init">
+        <xsl:with-param name="app" select="$app"/>
+        <xsl:with-param name="pkg" select="$pkg"/>
+      </xsl:call-template>
+    </xsl:result-document>
+    <xsl:result-document href="{$pkg}/descriptor.xml" method="xml" encoding="UTF-8" indent="no">
+      <xsl:text>&#10;</xsl:text>
+      <xsl:comment> Generated by {$generator} (target {$target}) from the deployment descriptor of model '{$app/@name}'
+     in model file {$source-file}. {$regenerated} </xsl:comment>
+      <xsl:text>&#10;</xsl:text>
+      <xsl:copy-of select="node()"/>
+      <xsl:text>&#10;</xsl:text>
+    </xsl:result-document>
+    <xsl:result-document href="{$pkg}/registry.py" method="text" encoding="UTF-8">
+      <xsl:call-template name="registry">
+        <xsl:with-param name="app" select="$app"/>
+        <xsl:with-param name="pkg" select="$pkg"/>
+      </xsl:call-template>
+    </xsl:result-document>
+    <xsl:result-document href="{$pkg}/base/__init__.py" method="text" encoding="UTF-8">
+      <xsl:sequence select="py:header('model ''' || $app/@name || '''', $regenerated)"/>
+      <xsl:text>"""The generated base classes of the components of '{py:inline($app/@name)}': one module each."""&#10;</xsl:text>
+    </xsl:result-document>
+    <xsl:result-document href="{$pkg}/components/__init__.py" method="text" encoding="UTF-8">
+      <xsl:sequence select="py:header('model ''' || $app/@name || '''', $yours)"/>
+      <xsl:text>"""The component classes of '{py:inline($app/@name)}': one module each, yours to implement."""&#10;</xsl:text>
+    </xsl:result-document>
+    <xsl:for-each select="$components">
+      <xsl:result-document href="{$pkg}/base/{@name}.py" method="text" encoding="UTF-8">
+        <xsl:apply-templates select="." mode="base"/>
+      </xsl:result-document>
+      <xsl:result-document href="{$pkg}/components/{@name}.py" method="text" encoding="UTF-8">
+        <xsl:apply-templates select="." mode="user">
+          <xsl:with-param name="pkg" select="$pkg" tunnel="yes"/>
+        </xsl:apply-templates>
+      </xsl:result-document>
+    </xsl:for-each>
+    <xsl:for-each select="$containers">
+      <xsl:result-document href="{$pkg}/{@name}.py" method="text" encoding="UTF-8">
+        <xsl:apply-templates select="." mode="container">
+          <xsl:with-param name="pkg" select="$pkg" tunnel="yes"/>
+        </xsl:apply-templates>
+      </xsl:result-document>
+    </xsl:for-each>
+
+    <files>
+      <file path="{$pkg}/__init__.py" element="{$app/@name}" ids="{$all-ids}"/>
+      <file path="{$pkg}/descriptor.xml" element="{$app/@name}" ids="{$all-ids}"/>
+      <file path="{$pkg}/registry.py" element="{$app/@name}" ids="{string-join($components/@id, ' ')}"/>
+      <file path="{$pkg}/base/__init__.py" element="{$app/@name}" ids=""/>
+      <file path="{$pkg}/components/__init__.py" element="{$app/@name}" ids="" once="yes"/>
+      <xsl:for-each select="$components">
+        <file path="{$pkg}/base/{@name}.py" element="{@qname}" ids="{string-join((@id, .//@id), ' ')}"/>
+        <file path="{$pkg}/components/{@name}.py" element="{@qname}" ids="{@id}" once="yes"/>
+      </xsl:for-each>
+      <xsl:for-each select="$containers">
+        <file path="{$pkg}/{@name}.py" element="{@qname}" ids="{string-join((@id, d:hosts/@ref), ' ')}"/>
+      </xsl:for-each>
+    </files>
+  </xsl:template>
+
+  <!-- ================================================================== __init__.py -->
+  <xsl:template name="init">
+    <xsl:param name="app" as="element()"/>
+    <xsl:param name="pkg" as="xs:string"/>
+    <xsl:sequence select="py:header('model ''' || $app/@name || '''', $regenerated)"/>
+    <xsl:text>"""Application '{py:inline($app/@name)}': its containers, each a module run with
+``python -m {$pkg}.&lt;container&gt;``; :func:`assemble_application` builds them in one process.
+
+The component classes are in ``{$pkg}.components`` (yours: written once, never overwritten),
+derived from the generated ones in ``{$pkg}.base``; ``{$pkg}.registry`` maps each component to
+its class.
+"""
+
+from {$pkg}.registry import FACTORIES, assemble_application, descriptor
+
+APPLICATION = {py:str($app/@name)}
+CONTAINERS = {py:tuple(for $c in $app/d:containers/d:container return py:str($c/@name))}
+
+__all__ = ["APPLICATION", "CONTAINERS", "FACTORIES", "assemble_application", "descriptor"]
+</xsl:text>
+  </xsl:template>
+
+  <!-- ================================================================== registry.py -->
+  <xsl:template name="registry">
+    <xsl:param name="app" as="element()"/>
+    <xsl:param name="pkg" as="xs:string"/>
+    <xsl:variable name="components" select="$app/d:components/d:component"/>
+    <xsl:sequence select="py:header('model ''' || $app/@name || '''', $regenerated)"/>
+    <xsl:text>"""The factory registry of '{py:inline($app/@name)}': each component of the model and the class
+implementing it (``{$pkg}.components``), and the application assembled from the descriptor
+``descriptor.xml`` with them (:func:`acordcs.runtime.assembly.assemble`)."""
+
+from __future__ import annotations
+
+from collections.abc import Iterable, Mapping
+from pathlib import Path
+
+from acordcs.descriptor import Application, from_xml
+from acordcs.runtime.api import Clock, CtxComponent, Monitor, RunningApplication, assemble
+</xsl:text>
+    <xsl:for-each select="$components">
+      <xsl:text>from {$pkg}.components.{@name} import {@name}&#10;</xsl:text>
+    </xsl:for-each>
+    <xsl:text>
+FACTORIES: dict[str, type[CtxComponent]] = {{
+</xsl:text>
+    <xsl:for-each select="$components">
+      <xsl:text>    {py:str(@name)}: {@name},&#10;</xsl:text>
+    </xsl:for-each>
+    <xsl:text>}}
+"""Component name -> the class the container creates it from."""
+
+DESCRIPTOR = Path(__file__).with_name("descriptor.xml")
+
+
+def descriptor() -> Application:
+    """The application descriptor, read (and validated) from ``descriptor.xml``."""
+    return from_xml(DESCRIPTOR.read_bytes())
+
+
+def assemble_application(
+    *,
+    only: Iterable[str] | None = None,
+    clock: Clock | None = None,
+    remote: Mapping[str, str] | None = None,
+    remote_timeout: float = 5.0,
+    monitors: Mapping[str, type[Monitor]] | None = None,
+) -> RunningApplication:
+    """The containers of the application (all, or those in ``only``), with the component classes
+    of :data:`FACTORIES`; ``remote`` gives the URI of each container running elsewhere."""
+    return assemble(
+        descriptor(),
+        factories=FACTORIES,
+        monitors=monitors,
+        clock=clock,
+        only=only,
+        remote=remote,
+        remote_timeout=remote_timeout,
+    )
+</xsl:text>
+  </xsl:template>
+
+  <!-- ================================================================ base/<Component>.py -->
+  <xsl:template match="d:component" mode="base">
+    <xsl:variable name="ops" select="d:operation"/>
+    <xsl:sequence select="py:header('component ''' || @name || ''' ('|| @qname || ', id ' || @id || ')', $regenerated)"/>
+    <xsl:text>"""The generated base of component {@name}; its code is in ``components/{@name}.py``."""
+
+from __future__ import annotations
+
+from acordcs.runtime.api import CtxComponent, PortSpec
+</xsl:text>
+    <xsl:if test="$ops">
+      <xsl:text>from acordcs.runtime.errors import OperationNotImplementedError&#10;</xsl:text>
+    </xsl:if>
+    <xsl:text>
+
+class {@name}Base(CtxComponent):
+    {py:doc(string-join((if (d:documentation) then string(d:documentation) else (), 'Component ' || @name || ' (' || @qname || ').'), '&#10;&#10;'), '    ')}
+
+    properties = {{</xsl:text>
+    <xsl:choose>
+      <xsl:when test="d:property">
+        <xsl:text>&#10;</xsl:text>
+        <xsl:for-each select="d:property">
+          <xsl:text>        {py:str(@name)}: {py:value(.)},  # {py:escaped(@type, '[\p{C}\p{Zl}\p{Zp}]')}&#10;</xsl:text>
+        </xsl:for-each>
+        <xsl:text>    }}&#10;</xsl:text>
+      </xsl:when>
+      <xsl:otherwise>}}&#10;</xsl:otherwise>
+    </xsl:choose>
+    <xsl:text>    ports = (</xsl:text>
+    <xsl:choose>
+      <xsl:when test="d:port">
+        <xsl:text>&#10;</xsl:text>
+        <xsl:for-each select="d:port">
+          <xsl:variable name="settings" as="xs:string*">
+            <xsl:for-each select="d:property[@name = 'rate' and @kind = ('int', 'double')][1]">rate={number(@default)}{if (contains(string(number(@default)), '.') or contains(string(number(@default)), 'E')) then '' else '.0'}</xsl:for-each>
+            <xsl:for-each select="d:property[@name = 'capacity' and @kind = 'int'][1]">capacity={py:value(.)}</xsl:for-each>
+            <xsl:for-each select="d:property[@name = 'overflow' and @kind = 'string'][1]">overflow={py:value(.)}</xsl:for-each>
+          </xsl:variable>
+          <xsl:text>        PortSpec({string-join((py:str(@name), py:str(@kind), py:str(@role), $settings), ', ')}),&#10;</xsl:text>
+        </xsl:for-each>
+        <xsl:text>    )&#10;</xsl:text>
+      </xsl:when>
+      <xsl:otherwise>)&#10;</xsl:otherwise>
+    </xsl:choose>
+    <xsl:for-each-group select="$ops" group-by="@name">
+      <xsl:variable name="overloads" select="current-group()"/>
+      <xsl:variable name="first" select="$overloads[1]"/>
+      <xsl:variable name="shown" select="string-join(for $o in $overloads return py:signature($o), ' or ')"/>
+      <xsl:variable name="doc" select="string-join((
+          for $o in $overloads return string($o/d:documentation)[. ne ''],
+          'Operation ' || $shown || '.',
+          for $o in $overloads return py:returns($o)), '&#10;&#10;')"/>
+      <xsl:text>
+    def {$first/@name}(self{py:parameters($overloads)}):
+        {py:doc($doc, '        ')}
+        raise OperationNotImplementedError(
+            {py:str('component ' || ../@name || ' has no code for operation ' || $shown)},
+            hint={py:str('implement ' || $first/@name || '() in components/' || ../@name || '.py')},
+        )
+</xsl:text>
+    </xsl:for-each-group>
+  </xsl:template>
+
+  <!-- name(in a: T, out b: U): R, as the model declares it -->
+  <xsl:function name="py:signature" as="xs:string">
+    <xsl:param name="op" as="element()"/>
+    <xsl:sequence select="$op/@name || '(' || string-join(for $p in $op/d:parameter return
+        $p/@direction || ' ' || $p/@name || ': ' || $p/@type, ', ') || ')'
+        || (if ($op/@returns) then ': ' || $op/@returns else '')"/>
+  </xsl:function>
+
+  <!-- What a call returns, by acordcs.runtime.operations' mapping of out parameters. -->
+  <xsl:function name="py:returns" as="xs:string">
+    <xsl:param name="op" as="element()"/>
+    <xsl:variable name="outs" select="$op/d:parameter[@direction = ('out', 'inout')]/@name"/>
+    <xsl:sequence select="if ($outs) then 'Returns the tuple (return value, ' || string-join($outs, ', ') || ').'
+        else if ($op/@returns) then 'Returns a ' || $op/@returns || '.' else 'Returns None.'"/>
+  </xsl:function>
+
+  <!-- =========================================================== components/<Component>.py -->
+  <xsl:template match="d:component" mode="user">
+    <xsl:param name="pkg" tunnel="yes"/>
+    <xsl:sequence select="py:header('component ''' || @name || ''' ('|| @qname || ', id ' || @id || ')', $yours)"/>
+    <xsl:text>"""Component {@name}: implement its operations here (see {@name}Base)."""
+
+from __future__ import annotations
+
+from {$pkg}.base.{@name} import {@name}Base
+
+
+class {@name}({@name}Base):
+</xsl:text>
+    <xsl:if test="d:operation">
+      <xsl:text>    # The model's operations, to implement here (those of {@name}Base raise
+    # OperationNotImplementedError):
+</xsl:text>
+      <xsl:for-each-group select="d:operation" group-by="@name">
+        <xsl:text>    #   def {current-grouping-key()}(self{py:parameters(current-group())})&#10;</xsl:text>
+      </xsl:for-each-group>
+    </xsl:if>
+    <xsl:text>    pass&#10;</xsl:text>
+  </xsl:template>
+
+  <!-- ", a, b" for the Python parameters of an operation (its overloads: *args, **kwargs). -->
+  <xsl:function name="py:parameters" as="xs:string">
+    <xsl:param name="overloads" as="element()+"/>
+    <xsl:variable name="params" select="if (count($overloads) gt 1) then '*args, **kwargs'
+        else string-join($overloads[1]/d:parameter[@direction = ('in', 'inout')]/@name, ', ')"/>
+    <xsl:sequence select="if ($params) then ', ' || $params else ''"/>
+  </xsl:function>
+
+  <!-- ================================================================= <Container>.py -->
+  <xsl:template match="d:container" mode="container">
+    <xsl:param name="pkg" tunnel="yes"/>
+    <xsl:variable name="hosted" select="string-join(for $h in d:hosts return replace($h/@kind, '-', ' ') || ' ' || $h/@name, ', ')"/>
+    <xsl:sequence select="py:header('container ''' || @name || ''' ('|| @qname || ', id ' || @id || ')', $regenerated)"/>
+    <xsl:text>{py:doc(string-join((
+    'Container ' || @name || ' of application ' || /d:application/@name || ', on host ' || @host || '.',
+    string(d:documentation)[. ne ''],
+    'Hosts: ' || (if ($hosted) then $hosted else 'nothing') || '.',
+    'Run it: python -m ' || $pkg || '.' || @name || ' [--clock virtual|real] [--serve PORT] [--remote NAME=URI]...'), '&#10;&#10;'), '')}
+
+from __future__ import annotations
+
+import argparse
+import sys
+import time
+from collections.abc import Mapping
+
+from acordcs.runtime.api import Clock, RealClock, RunningApplication, VirtualClock
+from acordcs.runtime.errors import RuntimeFailure
+from {$pkg}.registry import assemble_application
+
+APPLICATION = {py:str(/d:application/@name)}
+CONTAINER = {py:str(@name)}
+HOST = {py:str((@host, 'localhost')[1])}
+OTHERS = {py:tuple(for $c in ../d:container[@name ne current()/@name] return py:str($c/@name))}
+
+
+def assemble_container(
+    clock: Clock | None = None,
+    remote: Mapping[str, str] | None = None,
+    remote_timeout: float = 5.0,
+) -> RunningApplication:
+    """Container {@name} assembled from the descriptor; ``remote``: the URI of each other
+    container its connections reach (``PYRO:acordcs.container.&lt;name&gt;@host:port``)."""
+    return assemble_application(
+        only=[CONTAINER], clock=clock, remote=remote, remote_timeout=remote_timeout
+    )
+
+
+def _remote(text: str) -> tuple[str, str]:
+    name, sep, uri = text.partition("=")
+    if not sep or not name or not uri:
+        raise argparse.ArgumentTypeError(f"{{text!r}} is not NAME=URI")
+    return name, uri
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(
+        prog={py:str('python -m ' || $pkg || '.' || @name)},
+        description=f"Run container {{CONTAINER}} of application {{APPLICATION}}.",
+    )
+    parser.add_argument("--clock", choices=("virtual", "real"), default="virtual",
+                        help="virtual: simulated time, as fast as it runs (default); real: wall time")
+    parser.add_argument("--seed", type=int, default=0, help="the virtual clock's seed (default 0)")
+    parser.add_argument("--duration", type=float, metavar="SECONDS",
+                        help="how long to run (default: 10 virtual seconds; real: until interrupted)")
+    parser.add_argument("--serve", type=int, metavar="PORT",
+                        help="serve the container to other processes at this TCP port (0: any)")
+    parser.add_argument("--host", default=HOST, help=f"the host to serve at (default {{HOST}})")
+    parser.add_argument("--remote", type=_remote, action="append", default=[], metavar="NAME=URI",
+                        help="the URI of another container (repeat for each)")
+    parser.add_argument("--timeout", type=float, default=5.0, help="remote call timeout, s")
+    args = parser.parse_args(argv)
+    clock: Clock = VirtualClock(args.seed) if args.clock == "virtual" else RealClock()
+    try:
+        app = assemble_container(clock, dict(args.remote), args.timeout)
+    except RuntimeFailure as err:
+        clock.close()
+        print(f"{{parser.prog}}: {{err}}", file=sys.stderr)
+        if OTHERS:
+            print(f"{{parser.prog}}: the other containers: {{', '.join(OTHERS)}}; give the "
+                  "address of each one this container reaches with --remote NAME=URI",
+                  file=sys.stderr)
+        return 2
+    with app:
+        if args.serve is not None:
+            server = app.serve(CONTAINER, host=args.host, port=args.serve)
+            print(f"{{CONTAINER}}: serving at {{server.uri}}", flush=True)
+        try:
+            if isinstance(clock, VirtualClock):
+                clock.run_for(10.0 if args.duration is None else args.duration)
+            elif args.duration is not None:
+                time.sleep(args.duration)
+            else:
+                while True:
+                    time.sleep(3600)
+        except KeyboardInterrupt:
+            pass
+        container = app.container(CONTAINER)
+        print(
+            f"{{CONTAINER}}: stopped at t={{clock.now():.3f}} s, "
+            f"faults: {{container.faults.counts['total']}}",
+            flush=True,
+        )
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
+</xsl:text>
+  </xsl:template>
+</xsl:stylesheet>
