@@ -106,3 +106,10 @@ def test_orphan_message_is_real(tmp_path: Path):
     )
     quoted = said.split("`acordcs-gen: build/weblab/", 1)[1].split("`", 1)[0]
     assert f"acordcs-gen: {out}/{quoted}" in result.err.replace("\n", " ")
+
+
+def test_java_excerpt_is_the_start_of_the_base_class(tmp_path: Path):
+    build(WEBLAB, tmp_path)
+    (excerpt,) = blocks("java")
+    real = (tmp_path / "java" / "weblab" / "AccessBase.java").read_text(encoding="ascii")
+    assert real.startswith(excerpt)

@@ -7,7 +7,7 @@ descriptor, their files written into an output directory only where they changed
 - :mod:`.pipeline`: :func:`build` (read, validate, describe, transform, write);
 - :mod:`.writer`, :mod:`.manifest`, :mod:`.paths`, :mod:`.headers`, :mod:`.xslt`: writing only what
   changed, the manifest, safe paths, file headers, running Saxon;
-- :mod:`.targets`: the built-in targets ``config``, ``python`` and ``rules``.
+- :mod:`.targets`: the built-in targets ``config``, ``java``, ``python`` and ``rules``.
 
 ::
 
