@@ -130,6 +130,14 @@ def build(
             "kept, no longer used by the generated code (delete it yourself if it is not needed)",
             err=True,
         )
+    for path, keys in plan.lost.items():
+        click.echo(
+            f"acordcs-gen: {os.path.join(out, path)}: your lines in region"
+            f"{'s' if len(keys) > 1 else ''} {', '.join(keys)}, whose model element"
+            f"{'s are' if len(keys) > 1 else ' is'} no longer in the model, moved to "
+            f"{os.path.join(out, path)}.lost",
+            err=True,
+        )
     writes, deletes = len(plan.writes), len(plan.deletes)
     if write:
         if plan.changes:
