@@ -125,9 +125,22 @@ def free_ports(count: int) -> list[int]:
             s.close()
 
 
-def test_needs_follows_what_assembly_requires(weblab) -> None:
+def test_needs_is_what_assembly_requires(weblab, smartroom) -> None:
+    from acordcs.runtime.api import VirtualClock
+    from acordcs.runtime.assembly import assemble
+    from acordcs.runtime.errors import RuntimeFailure
+
     assert needs(weblab, "UserSide") == ["WebLabSide"]
     assert needs(weblab, "WebLabSide") == ["UserSide"]
+    for app in (weblab, smartroom):
+        for c in app.containers:
+            given = needs(app, c.name)
+            uris = {n: f"PYRO:acordcs.container.{n}@127.0.0.1:9" for n in given}
+            assemble(app, only=[c.name], clock=VirtualClock(0), remote=uris).close()
+            for missing in given:
+                fewer = {n: u for n, u in uris.items() if n != missing}
+                with pytest.raises(RuntimeFailure):
+                    assemble(app, only=[c.name], clock=VirtualClock(0), remote=fewer)
 
 
 def test_the_weblab_scripts_start_check_and_stop_both_containers(tmp_path: Path) -> None:
@@ -191,3 +204,21 @@ def test_readme_excerpt_is_the_end_of_the_weblab_env_file(tmp_path: Path) -> Non
     assert build(WEBLAB, tmp_path, "-t", "shell").code == 0
     (excerpt,) = [b for b in blocks("sh") if b.startswith("# Container")]
     assert (tmp_path / "bin" / "env.sh").read_text(encoding="utf-8").endswith(excerpt)
+
+
+def test_scripts_are_executable_and_env_file_is_not(built: Path) -> None:
+    for path in scripts(built):
+        assert os.access(path, os.X_OK) == (path.name != "env.sh"), path
+
+
+def test_a_container_name_that_is_no_identifier_is_refused(weblab, tmp_path: Path) -> None:
+    from acordcs.codegen.errors import BuildError
+
+    c0 = weblab.containers[0]
+    app = dataclasses.replace(
+        weblab, containers=(dataclasses.replace(c0, name="U$(touch x)"), *weblab.containers[1:])
+    )
+    made = context(app, tmp_path, "shell")
+    with pytest.raises(BuildError) as info:
+        shell(made)
+    assert [d.code for d in info.value.diagnostics] == ["G703"] and made.files == []

@@ -29,7 +29,8 @@ class GeneratedFile:
     written only when absent, then the user's (generation gap: the class a user implements):
     never overwritten, never deleted (see :mod:`acordcs.codegen.writer`). ``regions``: the
     syntax of the file's protected regions (``"hash"``), whose text the user's copy keeps when
-    the file is regenerated (:mod:`acordcs.codegen.regions`); empty: none."""
+    the file is regenerated (:mod:`acordcs.codegen.regions`); empty: none. ``executable``: written
+    with the execute permissions (``0o777`` less the umask; others ``0o666`` less it)."""
 
     path: str
     data: bytes
@@ -38,6 +39,7 @@ class GeneratedFile:
     ids: tuple[str, ...] = ()
     once: bool = False
     regions: str = ""
+    executable: bool = False
 
 
 @dataclass
@@ -72,6 +74,7 @@ class TargetContext:
         ids: tuple[str, ...] = (),
         once: bool = False,
         regions: str = "",
+        executable: bool = False,
     ) -> None:
         """Produce ``path`` (relative to the output directory, '/'-separated) with ``content``
         (text is written as UTF-8 with '\\n' line ends); ``element`` names the model element it
@@ -79,10 +82,11 @@ class TargetContext:
         only if absent and belongs to the user from then on: never overwritten nor deleted; when
         its element leaves the model, builds report it as orphaned. With ``regions`` (a syntax of
         :data:`acordcs.codegen.regions.PREFIXES`, e.g. ``"hash"``), the text between the file's
-        ``BEGIN USER key``/``END USER key`` marker lines is the user's: a build keeps it."""
+        ``BEGIN USER key``/``END USER key`` marker lines is the user's: a build keeps it. With
+        ``executable``, the file is written executable (a script)."""
         data = content.encode("utf-8") if isinstance(content, str) else bytes(content)
         self.files.append(
-            GeneratedFile(path, data, self.target, element, tuple(ids), once, regions)
+            GeneratedFile(path, data, self.target, element, tuple(ids), once, regions, executable)
         )
 
     def header(self, syntax: str, what: str, note: str = "") -> str:

@@ -42,6 +42,7 @@ class Change:
     action: str  # "create", "update", "delete"
     old: bytes | None
     new: bytes | None
+    executable: bool = False
 
 
 @dataclass
@@ -125,9 +126,9 @@ def plan(
         if current == f.data or (f.once and current is not None):  # once: the user's, as is
             result.unchanged.append(f.path)
         elif current is None:
-            result.changes.append(Change(f.path, "create", None, f.data))
+            result.changes.append(Change(f.path, "create", None, f.data, f.executable))
         elif f.path in previous and not previous[f.path].user:
-            result.changes.append(Change(f.path, "update", current, f.data))
+            result.changes.append(Change(f.path, "update", current, f.data, f.executable))
         else:
             raise BuildError(
                 f"{output / f.path} exists and this build did not write it (it is not in "
@@ -189,10 +190,13 @@ def _merge_regions(output: Path, f: GeneratedFile, current: bytes, result: Plan)
     return replace(f, data=merged.encode("utf-8"))
 
 
-def _write(path: Path, data: bytes) -> None:
+def _write(path: Path, data: bytes, executable: bool = False) -> None:
     temporary = path.with_name(f".{path.name}.acordcs-tmp")
     try:
-        with open(temporary, "wb") as handle:
+        mode = 0o777 if executable else 0o666  # less the umask, as open() applies it
+        temporary.unlink(missing_ok=True)  # a leftover keeps its mode; a link is not followed
+        descriptor = os.open(temporary, os.O_WRONLY | os.O_CREAT | os.O_EXCL, mode)
+        with open(descriptor, "wb") as handle:
             handle.write(data)
         os.replace(temporary, path)
     except BaseException:
@@ -213,7 +217,7 @@ def apply(output: Path, result: Plan) -> None:
             else:
                 path.parent.mkdir(parents=True, exist_ok=True)
                 assert change.new is not None
-                _write(path, change.new)
+                _write(path, change.new, change.executable)
             done.append(change.path)
         if result.manifest_changed:
             _write(output / MANIFEST, result.manifest_bytes)

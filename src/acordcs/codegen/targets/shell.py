@@ -286,10 +286,20 @@ def shell(context) -> None:
             ("status", status_script),
         ):
             context.emit(
-                f"bin/{c.name}-{verb}", make(context, app, c), element=c.qualified_name, ids=(c.id,)
+                f"bin/{c.name}-{verb}",
+                make(context, app, c),
+                element=c.qualified_name,
+                ids=(c.id,),
+                executable=True,
             )
     for verb in ("start", "stop"):
-        context.emit(f"bin/{verb}-all", all_script(context, app, verb), element=app.name, ids=ids)
+        context.emit(
+            f"bin/{verb}-all",
+            all_script(context, app, verb),
+            element=app.name,
+            ids=ids,
+            executable=True,
+        )
 
 
 __all__ = ["PORT_BASE", "needs", "quote", "shell"]
