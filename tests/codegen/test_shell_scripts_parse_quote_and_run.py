@@ -191,6 +191,9 @@ def test_the_weblab_scripts_start_check_and_stop_both_containers(tmp_path: Path)
     assert stopped.returncode == 0, stopped.stderr
     assert "UserSide: stopped" in stopped.stdout and "WebLabSide: stopped" in stopped.stdout
     for name in ("UserSide", "WebLabSide"):
+        # TERM stops the container as Ctrl-C does: its last line, no fault.
+        log = (run / f"{name}.log").read_text()
+        assert f"{name}: stopped at t=" in log and "faults: 0" in log, log
         status = sh(f"{name}-status")
         assert status.returncode == 3 and f"{name}: not running" in status.stdout
         assert not (run / f"{name}.pid").exists()
