@@ -39,6 +39,16 @@ JAVA = [
         for suffix in ("", "Base")
     ),
 ]
+SHELL = [
+    "bin/env.sh",
+    "bin/start-all",
+    "bin/stop-all",
+    *(
+        f"bin/{c}-{verb}"
+        for c in ("UserSide", "WebLabSide")
+        for verb in ("start", "status", "stop")
+    ),
+]
 FILES = sorted(
     [
         ".acordcs-manifest.json",
@@ -49,6 +59,7 @@ FILES = sorted(
         "rules/SpeedLimiting.fcl",
         *JAVA,
         *PACKAGE,
+        *SHELL,
     ]
 )
 
@@ -57,7 +68,10 @@ def test_first_build_writes_every_file(tmp_path: Path):
     result = build(WEBLAB, tmp_path / "out")
     assert result.code == 0, result.both
     assert sorted(snapshot(tmp_path / "out")) == FILES
-    assert "39 written, 0 deleted, 0 unchanged (targets: config, java, python, rules)" in result.out
+    assert (
+        "48 written, 0 deleted, 0 unchanged (targets: config, java, python, rules, shell)"
+        in result.out
+    )
 
 
 def test_rebuild_of_the_same_model_writes_nothing(tmp_path: Path):
@@ -67,7 +81,7 @@ def test_rebuild_of_the_same_model_writes_nothing(tmp_path: Path):
     assert result.code == 0
     assert (
         result.out
-        == f"{tmp_path}: up to date (config, java, python, rules; model unchanged, nothing written)\n"
+        == f"{tmp_path}: up to date (config, java, python, rules, shell; model unchanged, nothing written)\n"
     )
     assert snapshot(tmp_path) == before  # bytes and mtime_ns
 
@@ -77,7 +91,7 @@ def test_forced_rebuild_runs_the_targets_and_writes_nothing(tmp_path: Path):
     before = snapshot(tmp_path)
     result = build(WEBLAB, tmp_path, "--force")
     assert result.code == 0
-    assert "nothing changed (39 files up to date)" in result.out
+    assert "nothing changed (48 files up to date)" in result.out
     assert snapshot(tmp_path) == before
 
 
@@ -115,7 +129,7 @@ def test_a_deleted_or_edited_generated_file_is_restored(tmp_path: Path):
     assert result.code == 0
     restored = snapshot(tmp_path)
     assert {p: d for p, (d, _) in restored.items()} == {p: d for p, (d, _) in original.items()}
-    assert "2 written, 0 deleted, 37 unchanged" in result.out
+    assert "2 written, 0 deleted, 46 unchanged" in result.out
 
 
 def test_same_model_same_bytes_wherever_it_is_built_from(tmp_path: Path, monkeypatch):
@@ -133,7 +147,7 @@ def test_manifest_traces_each_file_to_model_elements(tmp_path: Path, weblab):
     build(WEBLAB, tmp_path)
     manifest = json.loads((tmp_path / ".acordcs-manifest.json").read_text(encoding="utf-8"))
     assert manifest["model"]["file"] == "weblab.xmi"
-    assert set(manifest["targets"]) == {"config", "java", "python", "rules"}
+    assert set(manifest["targets"]) == {"config", "java", "python", "rules", "shell"}
     files = manifest["files"]
     assert sorted(files) == [f for f in FILES if f != ".acordcs-manifest.json"]
     speed = next(ps for ps in weblab.policy_sets if ps.name == "SpeedLimiting")
@@ -157,7 +171,7 @@ def test_the_same_model_under_another_name_is_built_again(tmp_path: Path):
     result = build(renamed, out)
     assert result.code == 0
     # every header names the model file; the user's files (written once) are not written again
-    assert "26 written, 0 deleted, 13 unchanged" in result.out
+    assert "35 written, 0 deleted, 13 unchanged" in result.out
     assert "in model file lab.xmi." in (out / "rules" / "Recovering.clp").read_text(
         encoding="utf-8"
     )

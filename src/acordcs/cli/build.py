@@ -59,12 +59,14 @@ def build(
 ) -> int:
     """Generate the files of MODEL's application into --output: the deployment descriptor and its
     schema (config), a Python package with the components' classes and a module per container
-    (python), one FCL or CLIPS file per policy set (rules).
+    (python), one FCL or CLIPS file per policy set (rules), sh scripts starting, stopping and
+    checking each container (shell).
 
     The model is validated first (an error stops the build, nothing written); only files whose
     bytes changed are written; generated files the model no longer makes are deleted (the manifest
     .acordcs-manifest.json says which files are generated: no other file is ever touched); files
-    written once for the user to edit (python's components/*.py) are never overwritten or deleted.
+    written once for the user to edit (python's components/*.py) are never overwritten or deleted,
+    nor are the lines between BEGIN USER and END USER markers (shell's bin/env.sh).
 
     Exit 0 when built (or up to date), 1 when the model has errors, a target fails, or --check finds
     the output out of date, 2 on usage errors and unreadable or unwritable files.
@@ -128,6 +130,15 @@ def build(
             f"acordcs-gen: {os.path.join(out, orphan)} is your code for "
             f"{plan.manifest.files[orphan].element or 'an element'}, no longer in the model: "
             "kept, no longer used by the generated code (delete it yourself if it is not needed)",
+            err=True,
+        )
+    for path, keys in plan.lost.items():
+        click.echo(
+            f"acordcs-gen: {os.path.join(out, path)}: your lines in region"
+            f"{'s' if len(keys) > 1 else ''} {', '.join(keys)}, whose model element"
+            f"{'s are' if len(keys) > 1 else ' is'} no longer in the model, "
+            f"{'moved' if write else 'would be moved'} to "
+            f"{os.path.join(out, path)}.lost",
             err=True,
         )
     writes, deletes = len(plan.writes), len(plan.deletes)

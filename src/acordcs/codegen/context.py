@@ -27,7 +27,10 @@ class GeneratedFile:
     the model element it was generated from (``element``: a qualified name, for messages) and the
     ids of the model elements it holds (``ids``: the manifest's traceability). ``once``: a file
     written only when absent, then the user's (generation gap: the class a user implements):
-    never overwritten, never deleted (see :mod:`acordcs.codegen.writer`)."""
+    never overwritten, never deleted (see :mod:`acordcs.codegen.writer`). ``regions``: the
+    syntax of the file's protected regions (``"hash"``), whose text the user's copy keeps when
+    the file is regenerated (:mod:`acordcs.codegen.regions`); empty: none. ``executable``: written
+    with the execute permissions (``0o777`` less the umask; others ``0o666`` less it)."""
 
     path: str
     data: bytes
@@ -35,6 +38,8 @@ class GeneratedFile:
     element: str = ""
     ids: tuple[str, ...] = ()
     once: bool = False
+    regions: str = ""
+    executable: bool = False
 
 
 @dataclass
@@ -68,14 +73,21 @@ class TargetContext:
         element: str = "",
         ids: tuple[str, ...] = (),
         once: bool = False,
+        regions: str = "",
+        executable: bool = False,
     ) -> None:
         """Produce ``path`` (relative to the output directory, '/'-separated) with ``content``
         (text is written as UTF-8 with '\\n' line ends); ``element`` names the model element it
         comes from, ``ids`` the ids of the elements it holds. With ``once``, the file is written
         only if absent and belongs to the user from then on: never overwritten nor deleted; when
-        its element leaves the model, builds report it as orphaned."""
+        its element leaves the model, builds report it as orphaned. With ``regions`` (a syntax of
+        :data:`acordcs.codegen.regions.PREFIXES`, e.g. ``"hash"``), the text between the file's
+        ``BEGIN USER key``/``END USER key`` marker lines is the user's: a build keeps it. With
+        ``executable``, the file is written executable (a script)."""
         data = content.encode("utf-8") if isinstance(content, str) else bytes(content)
-        self.files.append(GeneratedFile(path, data, self.target, element, tuple(ids), once))
+        self.files.append(
+            GeneratedFile(path, data, self.target, element, tuple(ids), once, regions, executable)
+        )
 
     def header(self, syntax: str, what: str, note: str = "") -> str:
         """The header comment a file of this target starts with (see :mod:`.headers`): ``what``

@@ -13,7 +13,11 @@
   absent; from then on it is the user's: recorded in the manifest as such (``user``), never
   overwritten, never deleted. When the model no longer makes it, it stays, still recorded, and
   is reported as orphaned (:attr:`Plan.orphaned`) by every build that runs the targets, until the
-  user removes it.
+  user removes it;
+- a file with protected regions (``regions``) gets, in each region, the text of the same region
+  of the file on disk (:func:`acordcs.codegen.regions.merge`); the regions the model no longer
+  makes are appended to ``<file>.lost`` (:attr:`Plan.lost`), a file of the user's from then on.
+  Regions that cannot be read (a key twice, a region not closed) stop the build.
 
 :func:`apply` writes each file to a temporary name beside it and renames it over the old one (a
 reader never sees half a file), deletes the stale files, removes directories left empty by that,
@@ -38,6 +42,7 @@ class Change:
     action: str  # "create", "update", "delete"
     old: bytes | None
     new: bytes | None
+    executable: bool = False
 
 
 @dataclass
@@ -46,6 +51,7 @@ class Plan:
     unchanged: list[str] = field(default_factory=list)
     kept: list[str] = field(default_factory=list)  # stale but edited by the user: left in place
     orphaned: list[str] = field(default_factory=list)  # user files the model no longer makes
+    lost: dict[str, list[str]] = field(default_factory=dict)  # file -> keys of regions moved out
     manifest: Manifest = field(default_factory=Manifest)
     manifest_bytes: bytes = b""
     manifest_changed: bool = True
@@ -114,13 +120,15 @@ def plan(
     made = {f.path for f in files}
     for f in files:
         current = _existing(output, f.path)
+        if f.regions and current is not None and not f.once:
+            f = _merge_regions(output, f, current, result)
         new.files[f.path] = Entry(sha256(f.data), f.target, f.element, f.ids, f.once)
         if current == f.data or (f.once and current is not None):  # once: the user's, as is
             result.unchanged.append(f.path)
         elif current is None:
-            result.changes.append(Change(f.path, "create", None, f.data))
+            result.changes.append(Change(f.path, "create", None, f.data, f.executable))
         elif f.path in previous and not previous[f.path].user:
-            result.changes.append(Change(f.path, "update", current, f.data))
+            result.changes.append(Change(f.path, "update", current, f.data, f.executable))
         else:
             raise BuildError(
                 f"{output / f.path} exists and this build did not write it (it is not in "
@@ -154,10 +162,41 @@ def plan(
     return result
 
 
-def _write(path: Path, data: bytes) -> None:
+def _merge_regions(output: Path, f: GeneratedFile, current: bytes, result: Plan) -> GeneratedFile:
+    """``f`` with the user's region text of ``current``; lost regions planned into ``.lost``."""
+    from dataclasses import replace
+
+    from acordcs.codegen.regions import RegionError, lost_text, merge
+
+    try:
+        merged, lost = merge(f.regions, f.data.decode("utf-8"), current.decode("utf-8"))
+    except UnicodeDecodeError:
+        raise BuildError(
+            f"{output / f.path}: not UTF-8: its protected regions cannot be read",
+            hint="save it as UTF-8, or move it away (the build writes it again)",
+        ) from None
+    except RegionError as err:
+        raise BuildError(
+            f"{output / f.path}: {err}",
+            hint="fix the BEGIN USER/END USER lines (each key once, each region closed), or move "
+            "the file away (the build writes it again, with empty regions)",
+        ) from None
+    if lost:
+        path = f.path + ".lost"
+        before = _existing(output, path)
+        text = (before or b"") + lost_text(f.regions, f.path, lost).encode("utf-8")
+        result.changes.append(Change(path, "update" if before else "create", before, text))
+        result.lost[f.path] = list(lost)
+    return replace(f, data=merged.encode("utf-8"))
+
+
+def _write(path: Path, data: bytes, executable: bool = False) -> None:
     temporary = path.with_name(f".{path.name}.acordcs-tmp")
     try:
-        with open(temporary, "wb") as handle:
+        mode = 0o777 if executable else 0o666  # less the umask, as open() applies it
+        temporary.unlink(missing_ok=True)  # a leftover keeps its mode; a link is not followed
+        descriptor = os.open(temporary, os.O_WRONLY | os.O_CREAT | os.O_EXCL, mode)
+        with open(descriptor, "wb") as handle:
             handle.write(data)
         os.replace(temporary, path)
     except BaseException:
@@ -178,7 +217,7 @@ def apply(output: Path, result: Plan) -> None:
             else:
                 path.parent.mkdir(parents=True, exist_ok=True)
                 assert change.new is not None
-                _write(path, change.new)
+                _write(path, change.new, change.executable)
             done.append(change.path)
         if result.manifest_changed:
             _write(output / MANIFEST, result.manifest_bytes)

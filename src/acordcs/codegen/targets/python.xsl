@@ -437,6 +437,7 @@ class {@name}({@name}Base):
 from __future__ import annotations
 
 import argparse
+import signal
 import sys
 import time
 from collections.abc import Mapping
@@ -468,6 +469,10 @@ def _remote(text: str) -> tuple[str, str]:
     if not sep or not name or not uri:
         raise argparse.ArgumentTypeError(f"{{text!r}} is not NAME=URI")
     return name, uri
+
+
+def _interrupt(signum, frame) -> None:
+    raise KeyboardInterrupt
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -502,6 +507,7 @@ def main(argv: list[str] | None = None) -> int:
         if args.serve is not None:
             server = app.serve(CONTAINER, host=args.host, port=args.serve)
             print(f"{{CONTAINER}}: serving at {{server.uri}}", flush=True)
+        signal.signal(signal.SIGTERM, _interrupt)  # kill, bin/*-stop: stop as on Ctrl-C
         try:
             if isinstance(clock, VirtualClock):
                 clock.run_for(10.0 if args.duration is None else args.duration)
