@@ -143,7 +143,7 @@ def _engine(variables, rules, sem) -> FuzzyEngine:
     return e
 
 
-def _check(variables, rules, values, sem, tol):
+def assert_matches_oracle(variables, rules, values, sem, tol):
     e = _engine(variables, rules, sem)
     want = oracle(variables, rules, values, "out", sem, n=sem.samples or DENSE)
     got = ours(e, "rs", values, "out")
@@ -170,13 +170,13 @@ def _check(variables, rules, values, sem, tol):
 @SETTINGS
 @given(rule_base())
 def test_random_rule_bases_mamdani(base):
-    _check(*base, Semantics(), 2e-5)  # vertical edges cost the 200,001-point oracle O(h)
+    assert_matches_oracle(*base, Semantics(), 2e-5)  # vertical edges cost the 200,001-point oracle O(h)
 
 
 @SETTINGS
 @given(rule_base())
 def test_random_rule_bases_sazonov(base):
-    _check(*base, Semantics(act="PROD", accu="SUM", samples=100), 1e-9)
+    assert_matches_oracle(*base, Semantics(act="PROD", accu="SUM", samples=100), 1e-9)
 
 
 # PROBOR is not piecewise linear: the engine integrates it on 2,001 points, which at a vertical
@@ -187,7 +187,7 @@ SAMPLED_STEP = 1 / (FALLBACK_SAMPLES - 1)
 @settings(max_examples=60, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 @given(rule_base(), OPERATORS)
 def test_random_rule_bases_every_fcl_operator(base, sem):
-    _check(*base, sem, SAMPLED_STEP if sem.accu == "PROBOR" else 2e-5)
+    assert_matches_oracle(*base, sem, SAMPLED_STEP if sem.accu == "PROBOR" else 2e-5)
 
 
 @st.composite

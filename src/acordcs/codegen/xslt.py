@@ -26,7 +26,7 @@ import contextlib
 import os
 import sys
 import tempfile
-from collections.abc import Iterator
+from collections.abc import Iterator, Mapping
 from functools import cache
 from importlib import resources
 from pathlib import Path
@@ -124,9 +124,13 @@ def _compile(target: Target):
     return executable
 
 
-def run_stylesheet(target: Target, context: TargetContext) -> None:
+def run_stylesheet(
+    target: Target, context: TargetContext, parameters: Mapping[str, str] | None = None
+) -> None:
     """Run ``target``'s stylesheet over the descriptor: its result documents are written into
-    ``context.workdir`` by Saxon, then emitted into ``context`` as listed by its principal result."""
+    ``context.workdir`` by Saxon, then emitted into ``context`` as listed by its principal result.
+    ``parameters``: string parameters besides the four every stylesheet gets, from a Python target
+    that runs a stylesheet (what is decided once in Python is not written again in XSLT)."""
     from saxonche import PySaxonApiError
 
     from acordcs.codegen.headers import clean
@@ -142,6 +146,7 @@ def run_stylesheet(target: Target, context: TargetContext) -> None:
         ("generator", context.generator),
         ("target", target.name),
         ("descriptor-schema", _schema_uri()),
+        *(parameters or {}).items(),
     ):
         executable.set_parameter(name, processor.make_string_value(value))
     with _stderr_captured() as caught:

@@ -3,7 +3,7 @@
 
 The check: every model name that becomes Python code (a class, module, method or parameter name)
 is an identifier that is no Python keyword, an operation name is no name of the component API
-(``CtxComponent``'s attributes: ``get``, ``properties``...) and does not start with ``_``, a
+(``acordcs.runtime.component.COMPONENT_API``: ``get``, ``properties``...) and does not start with ``_``, a
 parameter is not ``self``, and a container's module does not take the name of one of the
 package's own modules. Anything else is refused with G703 before the stylesheet runs: the
 stylesheet writes names as they are, and string literals (names as strings, defaults,
@@ -37,16 +37,10 @@ OWN_MODULES = frozenset({"__init__", "__main__", "registry", "base", "components
 
 
 def package_name(application: str) -> str:
-    """The generated package's name for the application ``application`` (python.xsl's
-    ``py:package``)."""
+    """The generated package's name for the application ``application`` (given to python.xsl as
+    its parameter ``package``)."""
     base = re.sub(r"[^A-Za-z0-9_]", "_", application).lower()
     return ("m" if base[:1].isdigit() else "") + base + "_app"
-
-
-def _reserved() -> frozenset[str]:
-    from acordcs.runtime.component import CtxComponent
-
-    return frozenset(dir(CtxComponent))
 
 
 def _names(app):
@@ -64,7 +58,8 @@ def check_names(app) -> None:
     """Raise :class:`NameRefused` for the first name that cannot become Python code."""
     names = list(_names(app))
     require_identifiers(names)
-    reserved = _reserved()
+    from acordcs.runtime.component import COMPONENT_API as reserved
+
     for what, name, element_id, qualified in names:
         if keyword.iskeyword(name):
             raise NameRefused(f"{what} (a Python keyword)", name, element_id, qualified)
@@ -100,7 +95,7 @@ def python(context) -> None:
         raise refused(context, err, "Python") from None
     from acordcs.codegen.xslt import run_stylesheet
 
-    run_stylesheet(_STYLESHEET_TARGET, context)
+    run_stylesheet(_STYLESHEET_TARGET, context, {"package": package_name(context.application.name)})
 
 
 __all__ = ["OWN_MODULES", "STYLESHEET", "check_names", "package_name", "python"]

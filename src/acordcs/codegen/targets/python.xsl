@@ -28,6 +28,9 @@
   <xsl:param name="generator" as="xs:string" required="yes"/>
   <xsl:param name="target" as="xs:string" required="yes"/>
   <xsl:param name="descriptor-schema" as="xs:string" required="yes"/>
+  <!-- The package's name, from python.py's package_name (an identifier, no keyword, no module of
+       the standard library, not acordcs). -->
+  <xsl:param name="package" as="xs:string" required="yes"/>
 
   <xsl:output method="xml" encoding="UTF-8" indent="no"/>
 
@@ -134,15 +137,6 @@
     </xsl:choose>
   </xsl:function>
 
-  <!-- The package's name: the application's name in lower case, every character other than an
-       ASCII letter, digit or _ replaced by _, "m" put before a leading digit, "_app" appended
-       (no keyword, no module of the standard library, not acordcs). python.py's package_name. -->
-  <xsl:function name="py:package" as="xs:string">
-    <xsl:param name="name" as="xs:string"/>
-    <xsl:variable name="base" select="lower-case(replace($name, '[^A-Za-z0-9_]', '_'))"/>
-    <xsl:sequence select="(if (matches($base, '^[0-9]')) then 'm' else '') || $base || '_app'"/>
-  </xsl:function>
-
   <!-- The header, as acordcs/codegen/headers.py writes it for '#' comments (names cleaned). -->
   <xsl:function name="py:header" as="xs:string">
     <xsl:param name="what" as="xs:string"/>
@@ -162,7 +156,7 @@
     <xsl:if test="not($app)">
       <xsl:message terminate="yes">the input is not an application descriptor (no d:application element)</xsl:message>
     </xsl:if>
-    <xsl:variable name="pkg" select="py:package($app/@name)"/>
+    <xsl:variable name="pkg" select="$package"/>
     <xsl:variable name="components" select="$app/d:components/d:component"/>
     <xsl:variable name="containers" select="$app/d:containers/d:container"/>
     <xsl:variable name="all-ids" select="string-join(distinct-values($app/*/*/@id), ' ')"/>

@@ -10,7 +10,7 @@ from collections.abc import Iterator
 from acordcs.diagnostics import Diagnostic
 from acordcs.model.architecture import COMPONENT, PORT, VARIABLE, Role
 from acordcs.model.checks import Context, check
-from acordcs.runtime.component import ComponentRef, CtxComponent
+from acordcs.runtime.component import COMPONENT_API
 from acordcs.xmi.uml import Classifier, Element
 
 # ASCII only: the same name must be a Python and a Java identifier and a shell word without quoting.
@@ -114,14 +114,6 @@ def unique_names(ctx: Context) -> Iterator[Diagnostic]:
                         member,
                     )
                 seen.setdefault(member.name, member)
-
-
-# What a generated component (a CtxComponent subclass) and the handles callers hold (ComponentRef)
-# already have: an operation of the same name would hide it. Read from the runtime itself, so the
-# check follows its API.
-COMPONENT_API = frozenset(
-    name for cls in (CtxComponent, ComponentRef) for name in dir(cls) if not name.startswith("_")
-)
 
 
 @check
