@@ -21,7 +21,6 @@ import pytest
 from tests.support.toolchain import ROOT, WEBLAB, entry_point, replace
 
 HOOKS_FILE = ROOT / ".pre-commit-hooks.yaml"
-README = (ROOT / "README.md").read_text(encoding="utf-8")
 
 
 # ----------------------------------------------------------------- a reader for the file's YAML
@@ -125,7 +124,7 @@ def run_hook(
 
 
 def _broken(text: str) -> str:
-    """The misspelt variable of the README's example, in both places BOUML writes the rule."""
+    """The misspelt variable of the documented example, in both places BOUML writes the rule."""
     return replace(
         text, "smallNarrow: if cycleRate is small", "smallNarrow: if cycleRat is small", count=2
     )
@@ -191,9 +190,10 @@ def test_build_check_hook_without_args_is_a_usage_error(project: Path):
     assert "Missing argument 'MODEL'" in done.stderr
 
 
-# ------------------------------------------------------------------------------------ the README
+# ------------------------------------------------------------------- the documentation
 def _section() -> str:
-    return README.split("### Checking models in CI\n", 1)[1].split("\n## ", 1)[0]
+    build_doc = (ROOT / "docs" / "build.md").read_text(encoding="utf-8")
+    return build_doc.split("## Checking models in CI\n", 1)[1].split("\n## ", 1)[0]
 
 
 def test_readme_check_transcript_is_what_the_command_prints(tmp_path: Path):

@@ -1,4 +1,4 @@
-"""The README's section on ``acordcs-gen build`` shows real output: its build transcript, its FCL
+"""The documentation of ``acordcs-gen build`` (docs/build.md) shows real output: its build transcript, its FCL
 header, its manifest entry and its error example are what the command writes and says, and its
 plug-in example is a working target."""
 
@@ -12,8 +12,7 @@ from pathlib import Path
 from tests.support.codegen import build, registered, weblab_variant
 from tests.support.toolchain import ROOT, WEBLAB, run_main
 
-README = (ROOT / "README.md").read_text(encoding="utf-8")
-SECTION = README.split("## `acordcs-gen build`\n", 1)[1].split("\n## ", 1)[0]
+SECTION = (ROOT / "docs" / "build.md").read_text(encoding="utf-8")
 
 
 def blocks(language: str = "") -> list[str]:
@@ -74,7 +73,7 @@ def test_plugin_example_is_a_working_target(tmp_path: Path):
         "",
     )
     namespace: dict = {"__name__": "acme_targets"}
-    exec(compile(code, "README.md", "exec"), namespace)
+    exec(compile(code, "docs/build.md", "exec"), namespace)
     with registered(namespace["summary"]):
         result = build(WEBLAB, tmp_path, "--target", "summary")
     assert result.code == 0, result.both

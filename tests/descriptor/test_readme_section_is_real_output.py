@@ -1,4 +1,4 @@
-"""The README's section on the application descriptor shows real output: its XML excerpt is made
+"""The documentation of the application descriptor (docs/descriptor.md) shows real output: its XML excerpt is made
 of runs of lines of the WebLab descriptor, its error example is what ``from_xml`` says, and its
 Python example gives the values it claims."""
 
@@ -9,8 +9,7 @@ import re
 from acordcs.descriptor import DescriptorError, from_xml, to_xml
 from tests.support.toolchain import ROOT
 
-README = (ROOT / "README.md").read_text(encoding="utf-8")
-SECTION = README.split("## The application descriptor\n", 1)[1].split("\n## ", 1)[0]
+SECTION = (ROOT / "docs" / "descriptor.md").read_text(encoding="utf-8")
 
 
 def test_xml_excerpt_is_made_of_runs_of_the_real_descriptor(weblab):

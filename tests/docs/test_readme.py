@@ -48,7 +48,8 @@ def test_make_demo_transcript_is_what_the_commands_print(monkeypatch):
 
 def test_runtime_assembly_example_prints_what_the_readme_shows(monkeypatch):
     monkeypatch.chdir(ROOT)
-    section = README.split("**From a model**", 1)[1]
+    runtime_doc = (ROOT / "docs" / "runtime.md").read_text(encoding="utf-8")
+    section = runtime_doc.split("**From a model**", 1)[1]
     code = section.split("```python\n", 1)[1].split("```", 1)[0]
     shown = section.split("```text\n", 1)[1].split("```", 1)[0]
     done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)

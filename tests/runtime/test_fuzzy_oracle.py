@@ -170,7 +170,9 @@ def assert_matches_oracle(variables, rules, values, sem, tol):
 @SETTINGS
 @given(rule_base())
 def test_random_rule_bases_mamdani(base):
-    assert_matches_oracle(*base, Semantics(), 2e-5)  # vertical edges cost the 200,001-point oracle O(h)
+    assert_matches_oracle(
+        *base, Semantics(), 2e-5
+    )  # vertical edges cost the 200,001-point oracle O(h)
 
 
 @SETTINGS
@@ -180,7 +182,7 @@ def test_random_rule_bases_sazonov(base):
 
 
 # PROBOR is not piecewise linear: the engine integrates it on 2,001 points, which at a vertical
-# edge is exact to about one step of that grid (documented in the README's fuzzy engine section).
+# edge is exact to about one step of that grid (documented in docs/fuzzy-engine.md).
 SAMPLED_STEP = 1 / (FALLBACK_SAMPLES - 1)
 
 

@@ -1,7 +1,7 @@
 """A plain-Python oracle of crisp rules, and random crisp rule sets and values to feed it.
 
 The oracle walks the rule tree of ``parse_rule`` itself and implements the documented semantics
-(the README's section on the CLIPS engine) without CLIPS: rules in definition order, each at most
+(docs/clips-engine.md) without CLIPS: rules in definition order, each at most
 once per fire, the first whose condition holds fires, unfired rules are evaluated again on the new
 values, until none fires; evaluation errors make a condition false or skip one action.
 """

@@ -58,8 +58,8 @@ def run() -> NoReturn:
     ends with ``os._exit`` once its output is flushed.
 
     Tearing the interpreter down would free the parsed tree and the tens of thousands of model
-    objects one at a time: about a quarter of ``validate``'s whole time on a large model (README,
-    "Benchmarks": the benchmark measures it on and off). Commands write files only in ``with``
+    objects one at a time: about a quarter of ``validate``'s whole time on a large model
+    (docs/benchmarks.md: the benchmark measures it on and off). Commands write files only in ``with``
     blocks, so nothing they write is still buffered here; standard output and error are flushed
     below.
     """

@@ -1,6 +1,6 @@
 """One import for the runtime API: ``from acordcs.runtime.api import Container, CtxComponent, ...``.
 
-Start with :class:`Container` (the README's section on the runtime walks through an example).
+Start with :class:`Container` (docs/runtime.md walks through an example).
 """
 
 from acordcs.runtime.assembly import RunningApplication, assemble

@@ -8,7 +8,7 @@ the same variables, terms, operators, rules and results.
 
 Defaults when a block leaves them out (jFuzzyLogic's): AND MIN (OR MAX), ACT MIN, ACCU SUM,
 METHOD COG; no DEFAULT keeps the output's last value (like NC). Deviations are listed in
-the README's section on the fuzzy engine.
+docs/fuzzy-engine.md.
 """
 
 from __future__ import annotations

@@ -1,6 +1,6 @@
 """FCL writer: an engine (or several) as FCL text that :func:`acordcs.runtime.fuzzy.fcl.read_fcl`
 reads back into the same engine, and that jFuzzyLogic reads too when names are plain identifiers
-and no hedge other than NOT is used (see the README's section on the fuzzy engine for the extensions)."""
+and no hedge other than NOT is used (see docs/fuzzy-engine.md for the extensions)."""
 
 from __future__ import annotations
 
