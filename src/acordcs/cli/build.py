@@ -59,13 +59,14 @@ def build(
 ) -> int:
     """Generate the files of MODEL's application into --output: the deployment descriptor and its
     schema (config), a Python package with the components' classes and a module per container
-    (python), one FCL or CLIPS file per policy set (rules), sh scripts starting, stopping and
-    checking each container (shell).
+    (python), Java sources with a base class and a user subclass per component (java), one FCL or
+    CLIPS file per policy set (rules), sh scripts starting, stopping and checking each container
+    (shell).
 
     The model is validated first (an error stops the build, nothing written); only files whose
     bytes changed are written; generated files the model no longer makes are deleted (the manifest
     .acordcs-manifest.json says which files are generated: no other file is ever touched); files
-    written once for the user to edit (python's components/*.py) are never overwritten or deleted,
+    written once for the user to edit (python's components/*.py, java's user subclasses) are never overwritten or deleted,
     nor are the lines between BEGIN USER and END USER markers (shell's bin/env.sh).
 
     Exit 0 when built (or up to date), 1 when the model has errors, a target fails, or --check finds
