@@ -73,6 +73,7 @@ CODES: dict[str, tuple[Severity, str]] = {
     "T310": (E, "variable range missing or empty (min must be below max)"),
     "T311": (E, "linguistic term shape invalid (points out of order, non-positive width)"),
     "T312": (E, "two terms of a variable share a name"),
+    "T313": (E, "container port outside 1-65535"),
     # L: rules
     "L401": (E, "rule syntax error"),
     "L402": (E, "rule variable is not an attribute in the policy set's scope"),
@@ -98,6 +99,8 @@ CODES: dict[str, tuple[Severity, str]] = {
     "A511": (W, "port owned by no component"),
     "A512": (E, "port owned by more than one component"),
     "A513": (W, "policy set adapts nothing and no monitor feeds it"),
+    "A514": (E, "monitor lacks what its acquisition needs (source, xpath, operation, frequency)"),
+    "A515": (W, "monitor tag that its acquisition does not read"),
     # N: names that become identifiers
     "N601": (E, "name is not a valid identifier"),
     "N602": (E, "name is a reserved word in Python or Java"),

@@ -382,7 +382,10 @@ def test_tag_from_either_place(weblab_text: str, tmp_path: Path) -> None:
 def test_a_second_root_application_that_disagrees_gives_r205(
     weblab_text: str, tmp_path: Path
 ) -> None:
-    first = '<ACORDCS:CtxMonitor xmi:id="BOUML_STELT_0x20102_4" frequency="1" base_Element="BOUML_0x20102_4"/>'
+    first = (
+        '<ACORDCS:CtxMonitor xmi:id="BOUML_STELT_0x20102_4" acquisition="poll" xpath="" '
+        'operation="countUsers" frequency="1" base_Element="BOUML_0x20102_4"/>'
+    )
     second = first.replace('frequency="1"', 'frequency="5"').replace("STELT_", "STELT2_")
     target = tmp_path / "twice.xmi"
     target.write_text(replace(weblab_text, first, first + "\n" + second))

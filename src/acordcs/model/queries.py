@@ -70,6 +70,19 @@ def rule_kind(policy_set: Role) -> RuleKind:
 _TERMS_CACHE: dict[str, list[TermDef] | RuleSyntaxError] = {}
 
 
+ACQUISITIONS = ("intercept", "subscribe", "poll", "custom")
+
+
+def monitor_acquisition(monitor: Role) -> str:
+    """How ``monitor`` acquires context: its tag ``acquisition``, or when unset (or not one of
+    :data:`ACQUISITIONS`, which the checks report) ``custom`` for a monitor with a frequency and
+    ``intercept`` for one without."""
+    tag = (monitor.tag("acquisition") or "").strip()
+    if tag in ACQUISITIONS:
+        return tag
+    return "custom" if parse_real(monitor.tag("frequency") or "") is not None else "intercept"
+
+
 def parsed_terms(text: str) -> list[TermDef] | RuleSyntaxError:
     """``parse_terms`` memoised by text: a model has far fewer distinct term lists than variables,
     and every rule atom asks for its variable's terms."""

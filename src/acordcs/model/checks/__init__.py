@@ -48,7 +48,13 @@ class Context:
 
 
 def run_checks(ctx: Context) -> list[Diagnostic]:
-    from acordcs.model.checks import names, rules, structure, tags  # noqa: F401  (registration)
+    from acordcs.model.checks import (  # noqa: F401  (registration)
+        monitors,
+        names,
+        rules,
+        structure,
+        tags,
+    )
 
     out: list[Diagnostic] = []
     for fn in _CHECKS:
