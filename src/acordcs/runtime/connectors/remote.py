@@ -232,12 +232,12 @@ def bytes_back(value: Any) -> Any:
     """``value``, unless it is how serpent sends ``bytes`` (a dict of exactly ``data`` and
     ``encoding: "base64"``): then the bytes. Only the value itself, not what it contains: a frame
     is one argument or result; a dict of that very shape sent on purpose is taken for bytes."""
-    if isinstance(value, dict) and value.keys() == {"data", "encoding"}:
-        if value.get("encoding") == "base64":
-            try:
-                return serpent.tobytes(value)
-            except (TypeError, ValueError):
-                return value
+    serpent_bytes = isinstance(value, dict) and value.keys() == {"data", "encoding"}
+    if serpent_bytes and value.get("encoding") == "base64":
+        try:
+            return serpent.tobytes(value)
+        except (TypeError, ValueError):  # not base64 after all: a dict of that shape
+            return value
     return value
 
 
