@@ -9,7 +9,7 @@ from acordcs.cli.report import render
 from acordcs.diagnostics import Severity
 
 
-@click.command()
+@click.command(short_help="Check models against the ACORD-CS profile; report every finding.")
 @click.argument("files", nargs=-1, required=True, type=click.Path(dir_okay=True, allow_dash=True))
 @click.option(
     "--format",

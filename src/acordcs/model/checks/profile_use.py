@@ -11,6 +11,9 @@ from acordcs.profile import PROFILE_NAME
 from acordcs.xmi.uml import Element
 
 
+_PACKAGES = ("Model", "Package", "Profile")
+
+
 @check
 def profile_applied(ctx: Context) -> Iterator[Diagnostic]:
     if ctx.arch.roles or any(a.profile == PROFILE_NAME for a in ctx.uml.applications.values()):
@@ -31,7 +34,8 @@ def profile_applied(ctx: Context) -> Iterator[Diagnostic]:
     if ctx.uml.applications:
         others = sorted({a.profile or a.name for a in ctx.uml.applications.values()})
         found += f" (the stereotypes applied are of: {', '.join(others[:5])})"
-    root = ctx.uml.packages[0] if ctx.uml.packages else None
+    roots = [e for e in ctx.uml.elements.values() if e.owner is None and e.kind in _PACKAGES]
+    root = min(roots, key=lambda e: e.line) if roots else None
     yield diagnostic(
         "T313",
         f"no element has an ACORD-CS stereotype, so nothing was checked; {found}",
@@ -44,7 +48,7 @@ def profile_applied(ctx: Context) -> Iterator[Diagnostic]:
 
 def _profile_definition(ctx: Context) -> Element | None:
     """The ACORDCS profile package defined in the file (BOUML exports it with the model)."""
-    for package in ctx.uml.packages:
-        if package.name == PROFILE_NAME and package.kind in ("Profile", "Package"):
-            return package
+    for element in ctx.uml.elements.values():
+        if element.name == PROFILE_NAME and element.kind in _PACKAGES:
+            return element
     return None
