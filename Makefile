@@ -14,13 +14,14 @@ $(BIN)/python:
 
 # Byte-compiled as pip does for a regular install: an editable install never is, and with
 # PYTHONDONTWRITEBYTECODE set every `acordcs-gen` run would compile the toolchain again.
+# The demo's extra: `weblab` (what the WebLab experiment needs beyond the toolchain and runtime).
 $(STAMP): pyproject.toml | $(BIN)/python
-	$(BIN)/python -m pip install -q -e .
+	$(BIN)/python -m pip install -q -e '.[weblab]'
 	$(BIN)/python -m compileall -q src > /dev/null
 	touch $@
 
 $(DEV_STAMP): pyproject.toml | $(BIN)/python
-	$(BIN)/python -m pip install -q -e '.[dev]'
+	$(BIN)/python -m pip install -q -e '.[dev,weblab]'
 	$(BIN)/python -m compileall -q src > /dev/null
 	touch $@ $(STAMP)
 

@@ -6,8 +6,8 @@ import json
 
 import click
 
-from acordcs.cli.summary import summarize, summary_text
 from acordcs.cli.inputs import read_one
+from acordcs.cli.summary import summarize, summary_text
 
 
 @click.command()

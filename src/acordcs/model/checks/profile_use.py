@@ -10,7 +10,6 @@ from acordcs.model.checks import Context, check
 from acordcs.profile import PROFILE_NAME
 from acordcs.xmi.uml import Element
 
-
 _PACKAGES = ("Model", "Package", "Profile")
 
 
