@@ -30,7 +30,11 @@ def printable(text: str) -> str:
 # line of output thousands of characters long (R205 quotes two of them).
 MAX_QUOTED = 80
 _LONG = f"{{{MAX_QUOTED + 1},}}"
-_QUOTED = re.compile(rf"'(?:[^'\\\n]|\\.){_LONG}'|\"(?:[^\"\\\n]|\\.){_LONG}\"")
+# A value quoted as repr() quotes it: the opening quote at the start or after a space, bracket or
+# '=', the closing one not inside a word ("model's" is no quote), the value on one line. Backslashes
+# are not escapes here: messages also quote single characters such as '\'.
+_OPEN = r"(?<![^\s(\[{=])"
+_QUOTED = re.compile(rf"{_OPEN}'[^'\n]{_LONG}'(?!\w)|{_OPEN}\"[^\"\n]{_LONG}\"(?!\w)")
 
 
 def shorten(message: str, limit: int = MAX_QUOTED) -> str:
