@@ -6,7 +6,7 @@ STAMP := $(VENV)/.installed
 DEV_STAMP := $(VENV)/.installed-dev
 SYSTEM_PACKAGES := shellcheck mosquitto libeclipse-emf-ecore-java libeclipse-emf-ecore-xmi-java openjdk-17-jdk-headless
 
-.PHONY: demo test lint format bench system-packages clean
+.PHONY: demo test docs lint format bench system-packages clean
 
 $(BIN)/python:
 	$(PY) -m venv $(VENV)
@@ -37,6 +37,10 @@ demo: $(STAMP)
 test: $(DEV_STAMP) system-packages
 	$(BIN)/python -m pytest -q
 
+# The documentation site (MkDocs, Material theme) into site/; strict: a broken link fails.
+docs: $(DEV_STAMP)
+	NO_MKDOCS_2_WARNING=1 $(BIN)/python -m mkdocs build --strict
+
 lint: $(DEV_STAMP)
 	$(BIN)/ruff format --check src tests benchmarks
 	$(BIN)/ruff check src tests benchmarks
@@ -49,4 +53,4 @@ bench: $(DEV_STAMP)
 	@for b in benchmarks/bench_*.py; do echo "== $$b"; $(BIN)/python $$b || exit 1; done
 
 clean:
-	rm -rf $(VENV) build src/*.egg-info .pytest_cache
+	rm -rf $(VENV) build site src/*.egg-info .pytest_cache
