@@ -15,7 +15,44 @@ import pytest
 from tests.support.toolchain import ROOT, WEBLAB, run_main
 
 DOCS = ROOT / "docs"
-TRANSCRIPTS = [ROOT / "README.md", DOCS / "getting-started.md", DOCS / "cli.md"]
+TRANSCRIPTS = [
+    ROOT / "README.md",
+    DOCS / "getting-started.md",
+    DOCS / "cli.md",
+    DOCS / "diagnostics.md",
+]
+NOTATION = """<?xml version="1.0" encoding="UTF-8"?>
+<xmi:XMI xmi:version="2.0" xmlns:xmi="http://www.omg.org/XMI" xmlns:notation="http://www.eclipse.org/gmf/runtime/1.0.2/notation" xmlns:uml="http://www.eclipse.org/uml2/5.0.0/UML">
+  <notation:Diagram xmi:id="_d" type="PapyrusUMLClassDiagram" name="Main"/>
+</xmi:XMI>
+"""
+
+
+def _edit(text: str, old: str, new: str) -> str:
+    assert old in text, old
+    return text.replace(old, new, 1)
+
+
+def _example_files(folder: Path) -> None:
+    """The files the pages' examples name, made from the samples as the pages say."""
+    (folder / "samples").symlink_to(ROOT / "samples")
+    weblab = WEBLAB.read_text(encoding="utf-8")
+    rule = "smallNarrow: if cycleRate is small and angle is narrow"
+    broken = weblab.replace(rule, "smallNarrow: if cycleRat is small and angle is narow")
+    (folder / "broken-weblab.xmi").write_text(broken, encoding="utf-8")
+    typos = _edit(
+        weblab,
+        '<ACORDCS:CtxPolicy xmi:id="BOUML_STELT_0x20302_4"',
+        '<ACORDCS:CtxPolcy xmi:id="BOUML_STELT_0x20302_4"',
+    )
+    typos = _edit(typos, 'trigger="periodic" frequency="0.5"', 'triger="periodic" frequency="0.5"')
+    typos = _edit(typos, 'engine="fuzzy" semantics', 'engine="fuzy" semantics')
+    typos = _edit(typos, 'CtxPolicySet:engine" value="fuzzy"', 'CtxPolicySet:engine" value="fuzy"')
+    (folder / "typos.xmi").write_text(typos, encoding="utf-8")
+    papyrus = (ROOT / "samples" / "papyrus" / "thermostat.uml").read_text(encoding="utf-8")
+    bare = papyrus.split("  <ACORDCS:CtxContainer", 1)[0] + "</xmi:XMI>\n"
+    (folder / "bare.uml").write_text(bare, encoding="utf-8")
+    (folder / "thermostat.notation").write_text(NOTATION, encoding="utf-8")
 
 
 def test_the_site_builds_strict(tmp_path):
@@ -68,12 +105,7 @@ def _transcripts(page: Path) -> list[tuple[str, list[str], int | None]]:
 
 @pytest.mark.parametrize("page", TRANSCRIPTS, ids=lambda p: p.name)
 def test_every_transcript_prints_what_it_shows(page, tmp_path, monkeypatch):
-    (tmp_path / "samples").symlink_to(ROOT / "samples")
-    broken = WEBLAB.read_text(encoding="utf-8").replace(
-        "smallNarrow: if cycleRate is small and angle is narrow",
-        "smallNarrow: if cycleRat is small and angle is narow",
-    )
-    (tmp_path / "broken-weblab.xmi").write_text(broken, encoding="utf-8")
+    _example_files(tmp_path)
     monkeypatch.chdir(tmp_path)
     transcripts = _transcripts(page)
     assert transcripts, f"{page.name} shows no acordcs-gen transcript"
