@@ -154,7 +154,7 @@ def test_validate_hook_fails_a_misspelt_rule_variable(project: Path):
     done = run_hook("acordcs-validate", project, ["models/app.xmi", "models/broken.xmi"])
     assert done.returncode == 1, done.stdout + done.stderr
     assert "models/app.xmi: 0 errors" in done.stdout
-    assert f"models/broken.xmi:{line}: error L402:" in done.stdout
+    assert f"models/broken.xmi:{line}:1: error: L402 " in done.stdout
     assert "variable 'cycleRat'" in done.stdout
 
 

@@ -78,5 +78,7 @@ def test_warnings_of_the_model_are_shown_and_the_build_goes_on(tmp_path: Path):
     assert result.code == 0
     text = model.read_text(encoding="utf-8")
     line = text[: text.index('colour="red"')].count("\n") + 1
-    assert result.out.startswith(f"{model}:{line}: warning T303: <<CtxPolicy>> has no tag 'colour'")
+    assert result.out.startswith(
+        f"{model}:{line}:1: warning: T303 <<CtxPolicy>> has no tag 'colour'"
+    )
     assert os.path.isfile(tmp_path / "out" / "WebLab.descriptor.xml")

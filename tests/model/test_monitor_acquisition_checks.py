@@ -1,5 +1,5 @@
 """What each monitor acquisition kind needs (A514), tags a kind does not read (A515), and container
-ports (T313): on the WebLab sample, whose Control intercepts, Telemetry subscribes and Usage polls."""
+ports (T314): on the WebLab sample, whose Control intercepts, Telemetry subscribes and Usage polls."""
 
 from __future__ import annotations
 
@@ -119,7 +119,7 @@ def test_an_unknown_kind_is_reported_once_as_a_tag_value(weblab_text, tmp_path):
     assert "permitted: intercept, subscribe, poll, custom" in result.out
 
 
-@pytest.mark.parametrize(("value", "code"), [("0", "T313"), ("70000", "T313"), ("http", "T304")])
+@pytest.mark.parametrize(("value", "code"), [("0", "T314"), ("70000", "T314"), ("http", "T304")])
 def test_a_container_port_is_a_tcp_port(weblab_text, tmp_path, value, code):
     text = set_tag(weblab_text, STELT_WEBLAB_SIDE, "port", value, kind="CtxContainer")
     result = validate(tmp_path, text)

@@ -1,7 +1,7 @@
 """The BOUML samples and the synthetic benchmark model: well-formed, BOUML-shaped, and consistent.
 
 This is an independent oracle for the reader and the validator: it reads the XMI with nothing but
-lxml and XPath, computes the ACORD-CS structure itself from the README's section on modelling (relations between
+lxml and XPath, computes the ACORD-CS structure itself from docs/modelling.md (relations between
 stereotyped classes carry deployment, ports, connections, policy membership, adapts, feeds and
 sources; a rule's scope is the attributes of the monitors feeding its set, of the elements the set
 adapts and of an adapted component's ports), and uses only the project's rule parser

@@ -34,6 +34,7 @@ class Context:
         *,
         line: int | None = None,
         column: int | None = None,
+        subject: str | None = None,
     ) -> Diagnostic:
         element = where.element if isinstance(where, Role) else where
         return diagnostic(
@@ -44,6 +45,7 @@ class Context:
             column=column,
             element=element.qualified_name(),
             xmi_id=element.id,
+            subject=subject,
         )
 
 
@@ -51,6 +53,7 @@ def run_checks(ctx: Context) -> list[Diagnostic]:
     from acordcs.model.checks import (  # noqa: F401  (registration)
         monitors,
         names,
+        profile_use,
         rules,
         structure,
         tags,

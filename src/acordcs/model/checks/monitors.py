@@ -155,7 +155,7 @@ def container_ports(ctx: Context) -> Iterator[Diagnostic]:
         port = parse_integer(text)
         if port is not None and not 1 <= port <= 65535:
             yield ctx.diag(
-                "T313",
+                "T314",
                 f"container {container.name!r} has port {port}; a TCP port is 1 to 65535",
                 container,
                 line=container.tag_line("port"),
