@@ -1,0 +1,9 @@
+"""The WebLab console (the paper's Figure 3) in a browser: the cameras, the navigation map and the
+teleoperation controls, plus what the paper's console never showed: the monitored context, each
+policy set's last firing with its rules' degrees, the speed limit and frame rate over time, and
+recoveries and user requests on a timeline.
+
+:mod:`.hub` fans the experiment's output out to viewers without ever waiting for one;
+:mod:`.commands` reads what a viewer sends, strictly; :mod:`.server` is the Starlette application
+(one page, one WebSocket) served by uvicorn.
+"""

@@ -1,0 +1,116 @@
+"""The console's hub: what the running experiment shows, fanned out to every viewer, never waiting
+for one.
+
+The experiment (any thread) calls :meth:`ConsoleHub.publish` with a channel and a payload. Each
+viewer has a :class:`Mailbox` that keeps, per *latest* channel (camera frames, the robot's state,
+the context values, each policy set's last firing), only the newest payload, and for the *event*
+channel (recoveries, user requests, stripe losses, faults) a bounded queue that drops its oldest
+entry when full. So a viewer that is slow or gone costs the experiment one dictionary store per
+publish, memory per viewer is bounded whatever the rates, and a slow viewer sees the newest frame,
+not a backlog. Drops are counted per viewer.
+"""
+
+from __future__ import annotations
+
+import threading
+from collections import deque
+from collections.abc import Callable
+from dataclasses import dataclass, field
+from typing import Any
+
+EVENT = "event"
+"""The one queued channel; every other channel keeps only its newest payload."""
+
+EVENTS_KEPT = 256
+"""Events a viewer may lag behind before the oldest are dropped."""
+
+
+@dataclass
+class Mailbox:
+    """One viewer's pending output; ``wake`` is called (from the publishing thread) when something
+    new is pending, to wake the viewer's sender."""
+
+    wake: Callable[[], None]
+    latest: dict[str, Any] = field(default_factory=dict)
+    events: deque[Any] = field(default_factory=lambda: deque(maxlen=EVENTS_KEPT))
+    replaced: int = 0  # latest payloads overwritten before they were sent
+    dropped: int = 0  # events dropped, the queue being full
+
+    def take(self) -> tuple[dict[str, Any], list[Any]]:
+        """Everything pending, emptied (called by the viewer's sender under the hub's lock)."""
+        latest, self.latest = self.latest, {}
+        events = list(self.events)
+        self.events.clear()
+        return latest, events
+
+
+class ConsoleHub:
+    """Fan-out of the experiment's output to viewers, with a cap on their number."""
+
+    def __init__(self, max_viewers: int = 32) -> None:
+        self.max_viewers = max_viewers
+        self._lock = threading.Lock()
+        self._viewers: dict[int, Mailbox] = {}
+        self._ids = 0
+        # The newest payload of each latest channel: a viewer joining now sees the current state.
+        self._current: dict[str, Any] = {}
+        self._recent_events: deque[Any] = deque(maxlen=64)
+        self.published = 0
+
+    # -------------------------------------------------------------------- the experiment's side
+    def publish(self, channel: str, payload: Any) -> None:
+        """Offer ``payload`` on ``channel`` to every viewer; never blocks on a viewer."""
+        with self._lock:
+            self.published += 1
+            if channel == EVENT:
+                self._recent_events.append(payload)
+            else:
+                self._current[channel] = payload
+            boxes = list(self._viewers.values())
+            for box in boxes:
+                if channel == EVENT:
+                    if len(box.events) == box.events.maxlen:
+                        box.dropped += 1
+                    box.events.append(payload)
+                else:
+                    if channel in box.latest:
+                        box.replaced += 1
+                    box.latest[channel] = payload
+        for box in boxes:
+            box.wake()
+
+    # ---------------------------------------------------------------------- the viewers' side
+    def join(self, wake: Callable[[], None]) -> tuple[int, Mailbox] | None:
+        """A new viewer's id and mailbox, primed with the current state; None when full."""
+        with self._lock:
+            if len(self._viewers) >= self.max_viewers:
+                return None
+            self._ids += 1
+            box = Mailbox(wake)
+            box.latest.update(self._current)
+            box.events.extend(self._recent_events)
+            self._viewers[self._ids] = box
+            return self._ids, box
+
+    def leave(self, viewer: int) -> None:
+        with self._lock:
+            self._viewers.pop(viewer, None)
+
+    def take(self, box: Mailbox) -> tuple[dict[str, Any], list[Any]]:
+        with self._lock:
+            return box.take()
+
+    @property
+    def viewers(self) -> int:
+        with self._lock:
+            return len(self._viewers)
+
+    def stats(self) -> dict[str, int]:
+        """Viewers, payloads published, and what slow viewers missed (for the console's footer)."""
+        with self._lock:
+            return {
+                "viewers": len(self._viewers),
+                "published": self.published,
+                "replaced": sum(b.replaced for b in self._viewers.values()),
+                "dropped": sum(b.dropped for b in self._viewers.values()),
+            }

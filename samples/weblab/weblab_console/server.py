@@ -1,0 +1,214 @@
+"""The console's web server: one page and one WebSocket, on Starlette (served by uvicorn).
+
+``GET /`` is the page (``static/index.html``, an ES module and a style sheet, no build step);
+``/ws`` streams what the :class:`~weblab_console.hub.ConsoleHub` publishes: camera frames as binary
+messages (one byte naming the camera, then the JPEG), everything else as JSON text. A viewer sends
+commands (:mod:`weblab_console.commands`); those that change the experiment need the session's token,
+which the application's access service checks (:class:`Session.authorize`).
+
+What it promises, and its limits:
+
+- it authenticates nothing but the token of a control command, and trusts no viewer message:
+  each is parsed strictly, at most 4 KB (uvicorn refuses frames over 64 KB before we see them);
+- at most ``max_viewers`` connections at once (the hub's cap): one more is told so and closed
+  (code 1013, try again later); 20 refused messages close a viewer (1008); manual driving is
+  taken at most 30 times a second per viewer;
+- a viewer never slows the experiment: the experiment only stores into the viewer's mailbox
+  (see the hub), and each viewer's sender awaits its own socket;
+- the experiment stopping, or raising in a command, is a message to the page, never a crash.
+"""
+
+from __future__ import annotations
+
+import asyncio
+import contextlib
+import json
+import logging
+import time
+from collections.abc import Callable
+from importlib import resources
+from typing import Any, Protocol
+
+from starlette.applications import Starlette
+from starlette.responses import FileResponse, JSONResponse
+from starlette.routing import Mount, Route, WebSocketRoute
+from starlette.staticfiles import StaticFiles
+from starlette.websockets import WebSocket, WebSocketDisconnect
+
+from weblab_console.commands import CommandError, parse
+from weblab_console.hub import ConsoleHub
+
+log = logging.getLogger("weblab.console")
+
+STATIC = resources.files("weblab_console") / "static"
+FRAME_CHANNELS = {"frame:onboard": 1, "frame:panoramic": 2}
+"""Binary channels: the byte that starts each message."""
+
+STRIKES = 20
+DRIVES_PER_SECOND = 30
+
+
+class Session(Protocol):
+    """What the console drives: the running experiment."""
+
+    profiles: tuple[str, ...]
+
+    def authorize(self, token: str) -> bool: ...
+
+    def start(self, profile: str, seed: int) -> None: ...
+
+    def stop(self) -> None: ...
+
+    def drive(self, speed: float, turn: float) -> None: ...
+
+    def release(self) -> None: ...
+
+
+class _Viewer:
+    """One connection's state: whether it holds the token, its strikes and drive budget."""
+
+    def __init__(self) -> None:
+        self.authorized = False
+        self.strikes = 0
+        self.window = 0.0
+        self.drives = 0
+
+    def may_drive(self) -> bool:
+        now = time.monotonic()
+        if now - self.window >= 1.0:
+            self.window, self.drives = now, 0
+        self.drives += 1
+        return self.drives <= DRIVES_PER_SECOND
+
+
+def create_app(hub: ConsoleHub, session: Session) -> Starlette:
+    """The console's ASGI application over ``hub`` and ``session``."""
+
+    async def page(request) -> FileResponse:
+        return FileResponse(str(STATIC / "index.html"), media_type="text/html")
+
+    async def status(request) -> JSONResponse:
+        return JSONResponse({"profiles": list(session.profiles), **hub.stats()})
+
+    async def socket(websocket: WebSocket) -> None:
+        await websocket.accept()
+        loop = asyncio.get_running_loop()
+        pending = asyncio.Event()
+
+        def wake() -> None:  # from the experiment's thread
+            with contextlib.suppress(RuntimeError):  # the loop is closing
+                loop.call_soon_threadsafe(pending.set)
+
+        joined = hub.join(wake)
+        if joined is None:
+            await websocket.send_text(
+                json.dumps(
+                    {
+                        "type": "refused",
+                        "why": f"the console has its maximum of {hub.max_viewers} viewers",
+                        "todo": "close another console tab, or try again later",
+                    }
+                )
+            )
+            await websocket.close(code=1013)
+            return
+        viewer_id, box = joined
+        pending.set()  # the current state first
+        await websocket.send_text(json.dumps({"type": "hello", "profiles": list(session.profiles)}))
+        sender = asyncio.create_task(_send(websocket, hub, box, pending))
+        try:
+            await _receive(websocket, session, _Viewer())
+        finally:
+            hub.leave(viewer_id)
+            sender.cancel()
+            with contextlib.suppress(asyncio.CancelledError, Exception):
+                await sender
+
+    return Starlette(
+        routes=[
+            Route("/", page),
+            Route("/status", status),
+            WebSocketRoute("/ws", socket),
+            Mount("/static", StaticFiles(directory=str(STATIC)), name="static"),
+        ]
+    )
+
+
+async def _send(websocket: WebSocket, hub: ConsoleHub, box, pending: asyncio.Event) -> None:
+    while True:
+        await pending.wait()
+        pending.clear()
+        latest, events = hub.take(box)
+        for channel, payload in latest.items():
+            tag = FRAME_CHANNELS.get(channel)
+            if tag is not None:
+                await websocket.send_bytes(bytes([tag]) + payload)
+            else:
+                await websocket.send_text(json.dumps({"type": channel, "data": payload}))
+        for event in events:
+            await websocket.send_text(json.dumps({"type": "event", "data": event}))
+
+
+async def _receive(websocket: WebSocket, session: Session, viewer: _Viewer) -> None:
+    while True:
+        try:
+            message = await websocket.receive()
+        except (WebSocketDisconnect, RuntimeError):
+            return
+        if message["type"] == "websocket.disconnect":
+            return
+        raw = message.get("text") if message.get("text") is not None else message.get("bytes")
+        reply = _handle(raw or "", session, viewer)
+        if reply is not None:
+            try:
+                await websocket.send_text(json.dumps(reply))
+            except (WebSocketDisconnect, RuntimeError):
+                return
+        if viewer.strikes >= STRIKES:
+            with contextlib.suppress(Exception):
+                await websocket.close(code=1008)
+            return
+
+
+def _handle(raw: str | bytes, session: Session, viewer: _Viewer) -> dict[str, Any] | None:
+    try:
+        command = parse(raw, session.profiles)
+    except CommandError as err:
+        viewer.strikes += 1
+        return {"type": "refused", "why": str(err), "todo": "see the console's command list"}
+    if command.name == "ping":
+        return {"type": "pong"}
+    if command.name == "auth":
+        viewer.authorized = _call(session.authorize, command.args["token"]) is True
+        if not viewer.authorized:
+            viewer.strikes += 1
+            return {
+                "type": "refused",
+                "why": "the access service does not know this token",
+                "todo": "open the console with the link the experiment printed (it holds the token)",
+            }
+        return {"type": "authorized"}
+    if not viewer.authorized:
+        viewer.strikes += 1
+        return {
+            "type": "refused",
+            "why": f"'{command.name}' changes the experiment and needs the session's token",
+            "todo": "open the console with the link the experiment printed (it holds the token)",
+        }
+    if command.name == "drive" and not viewer.may_drive():
+        return None  # over the rate: dropped quietly, the next tick carries the newest values
+    action: Callable[..., Any] = getattr(session, command.name)
+    try:
+        action(**command.args)
+    except Exception as err:  # the experiment's refusal or failure: told, not fatal
+        log.warning("console command %s failed: %s", command.name, err)
+        return {"type": "error", "cmd": command.name, "why": f"{type(err).__name__}: {err}"}
+    return {"type": "done", "cmd": command.name}
+
+
+def _call(fn: Callable[[str], bool], token: str) -> bool:
+    try:
+        return bool(fn(token))
+    except Exception as err:  # an access service that fails refuses
+        log.warning("authorize failed: %s", err)
+        return False

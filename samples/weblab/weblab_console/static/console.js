@@ -1,0 +1,241 @@
+// The WebLab console's page: one WebSocket, camera frames as binary messages (first byte: 1 on-board,
+// 2 panoramic), everything else as JSON {type, data}. Commands go back as JSON (see commands.py);
+// those that change the experiment carry the session's token, given in the page's URL (?token=...).
+
+const $ = (id) => document.getElementById(id);
+const token = new URLSearchParams(location.search).get("token");
+const state = { path: null, last: null, manual: false, driveTimer: null, socket: null, frames: 0 };
+const imageUrls = { 1: null, 2: null };
+
+function say(text, kind = "") {
+  const el = $("message");
+  el.textContent = text;
+  el.className = kind;
+}
+
+function send(command) {
+  if (state.socket && state.socket.readyState === WebSocket.OPEN) {
+    state.socket.send(JSON.stringify(command));
+  }
+}
+
+function connect() {
+  const socket = new WebSocket(`${location.protocol === "https:" ? "wss" : "ws"}://${location.host}/ws`);
+  socket.binaryType = "arraybuffer";
+  state.socket = socket;
+  socket.onopen = () => {
+    $("connection").textContent = "live";
+    $("connection").className = "badge on";
+    if (token) send({ cmd: "auth", token });
+    else say("watching only: open the link with the session's token to drive", "refused");
+  };
+  socket.onclose = (event) => {
+    $("connection").textContent = event.code === 1013 ? "full" : "disconnected";
+    $("connection").className = "badge off";
+    stopDriving();
+    if (event.code !== 1013 && event.code !== 1008) setTimeout(connect, 2000);
+  };
+  socket.onmessage = (event) => {
+    if (event.data instanceof ArrayBuffer) return showFrame(new Uint8Array(event.data));
+    let message;
+    try { message = JSON.parse(event.data); } catch { return; }
+    handle(message);
+  };
+}
+
+function showFrame(bytes) {
+  const camera = bytes[0];
+  const img = camera === 1 ? $("onboard") : camera === 2 ? $("panoramic") : null;
+  if (!img) return;
+  const url = URL.createObjectURL(new Blob([bytes.subarray(1)], { type: "image/jpeg" }));
+  if (imageUrls[camera]) URL.revokeObjectURL(imageUrls[camera]);
+  imageUrls[camera] = url;
+  img.src = url;
+  img.dataset.frames = String(Number(img.dataset.frames || 0) + 1);
+}
+
+function handle(message) {
+  const { type, data } = message;
+  if (type === "hello") return fillProfiles(message.profiles);
+  if (type === "authorized") return say("you hold the session: you may drive");
+  if (type === "refused") return say(`refused: ${message.why}${message.todo ? ` (${message.todo})` : ""}`, "refused");
+  if (type === "error") return say(`${message.cmd}: ${message.why}`, "refused");
+  if (type === "done") return say(`${message.cmd}: done`);
+  if (type === "path") { state.path = data; return drawMap(); }
+  if (type === "state") return showState(data);
+  if (type === "context") return showContext(data);
+  if (type === "series") return drawSeries(data);
+  if (type === "event") return addEvent(data);
+  if (type === "stats") return ($("footer").textContent = `viewers ${data.viewers} · frames dropped for slow viewers ${data.replaced}`);
+  if (type.startsWith("policy:")) return showPolicy(data);
+}
+
+function fillProfiles(profiles) {
+  const select = $("profile");
+  if (select.options.length) return;
+  for (const name of profiles) select.add(new Option(name, name));
+}
+
+function showState(s) {
+  state.last = s;
+  $("clock").textContent = `t = ${s.t.toFixed(1)} s`;
+  $("profile-shown").textContent = s.profile ? `${s.profile}, seed ${s.seed}${s.running ? "" : " (stopped)"}` : "";
+  $("fps-shown").textContent = `${s.fps} fps`;
+  $("driver").textContent = s.driver === "manual" ? "You drive (manual control)." : "Navigator drives.";
+  $("map").dataset.points = String(s.trajectory.length);
+  drawMap();
+}
+
+function showContext(values) {
+  const body = $("context").tBodies[0];
+  body.replaceChildren(...Object.entries(values).map(([name, value]) => {
+    const row = document.createElement("tr");
+    const label = document.createElement("td");
+    const cell = document.createElement("td");
+    label.textContent = name;
+    cell.className = "value";
+    cell.textContent = typeof value === "number" ? value.toFixed(2) : String(value);
+    row.append(label, cell);
+    return row;
+  }));
+}
+
+function showPolicy(p) {
+  const id = `policy-${p.set}`;
+  let box = document.getElementById(id);
+  if (!box) {
+    box = document.createElement("div");
+    box.id = id;
+    box.className = "policy";
+    $("policies").append(box);
+  }
+  const head = document.createElement("div");
+  head.className = "head";
+  head.textContent = `${p.set} (${p.engine}) · t = ${p.t.toFixed(1)} s · fired ${p.fires}×`;
+  const outs = document.createElement("div");
+  outs.className = "out";
+  outs.textContent = Object.entries(p.outputs).map(([k, v]) => `${k} = ${typeof v === "number" ? v.toFixed(1) : v}`).join(", ") || "no output";
+  const rules = p.rules.filter((r) => r.degree > 0).slice(0, 6).map((r) => {
+    const row = document.createElement("div");
+    row.className = `rule ${p.engine === "clips" ? "crisp" : ""}`;
+    const name = document.createElement("span");
+    const bar = document.createElement("div");
+    const value = document.createElement("span");
+    name.textContent = r.label;
+    bar.className = "bar";
+    bar.style.width = `${Math.round(100 * r.degree)}%`;
+    value.textContent = r.degree.toFixed(2);
+    row.append(name, bar, value);
+    return row;
+  });
+  box.replaceChildren(head, outs, ...rules);
+  box.dataset.fires = String(p.fires);
+}
+
+function addEvent(e) {
+  const item = document.createElement("li");
+  item.className = e.kind;
+  item.textContent = `${e.t.toFixed(1)} s  ${e.text}`;
+  const list = $("timeline");
+  list.prepend(item);
+  while (list.children.length > 200) list.lastChild.remove();
+}
+
+function drawMap() {
+  const canvas = $("map");
+  const ctx = canvas.getContext("2d");
+  ctx.clearRect(0, 0, canvas.width, canvas.height);
+  const path = state.path;
+  if (!path) return;
+  const [w, h] = path.floor;
+  const scale = Math.min(canvas.width / w, canvas.height / h);
+  const X = (x) => x * scale;
+  const Y = (y) => canvas.height - y * scale;
+  const line = (points, color, width) => {
+    if (!points.length) return;
+    ctx.strokeStyle = color;
+    ctx.lineWidth = width;
+    ctx.beginPath();
+    points.forEach(([x, y], i) => (i ? ctx.lineTo(X(x), Y(y)) : ctx.moveTo(X(x), Y(y))));
+    ctx.stroke();
+  };
+  line(path.points, "#c0392b", Math.max(2, 50 * scale));
+  const [fx, fy] = path.finish;
+  ctx.fillStyle = "#3fb950";
+  ctx.fillRect(X(fx) - 4, Y(fy) - 4, 8, 8);
+  const s = state.last;
+  if (!s) return;
+  line(s.trajectory, "#4fb3ff", 2);
+  const [x, y, heading] = s.pose;
+  const a = (heading * Math.PI) / 180;
+  ctx.strokeStyle = "rgba(210, 153, 34, .7)";
+  ctx.lineWidth = 1;
+  for (const [angle, range] of s.sonar) {
+    const b = a + (angle * Math.PI) / 180;
+    ctx.beginPath();
+    ctx.moveTo(X(x), Y(y));
+    ctx.lineTo(X(x + range * Math.cos(b)), Y(y + range * Math.sin(b)));
+    ctx.stroke();
+  }
+  ctx.fillStyle = "#e6edf3";
+  ctx.beginPath();
+  ctx.moveTo(X(x + 120 * Math.cos(a)), Y(y + 120 * Math.sin(a)));
+  ctx.lineTo(X(x + 70 * Math.cos(a + 2.5)), Y(y + 70 * Math.sin(a + 2.5)));
+  ctx.lineTo(X(x + 70 * Math.cos(a - 2.5)), Y(y + 70 * Math.sin(a - 2.5)));
+  ctx.closePath();
+  ctx.fill();
+}
+
+function drawSeries(series) {
+  plot($("plot-speed"), series.t, series.max_speed, "speed limit, mm/s", "#4fb3ff");
+  plot($("plot-fps"), series.t, series.fps, "panoramic frame rate, fps", "#d29922");
+}
+
+function plot(canvas, t, values, label, color) {
+  const ctx = canvas.getContext("2d");
+  const { width, height } = canvas;
+  ctx.clearRect(0, 0, width, height);
+  ctx.fillStyle = "#8b98a5";
+  ctx.font = "12px system-ui";
+  ctx.fillText(label, 6, 14);
+  if (!t.length) return;
+  const t0 = t[0], t1 = Math.max(t[t.length - 1], t0 + 1);
+  const top = Math.max(...values, 1) * 1.1;
+  ctx.fillText(top.toFixed(0), width - 34, 14);
+  ctx.strokeStyle = color;
+  ctx.lineWidth = 2;
+  ctx.beginPath();
+  t.forEach((ti, i) => {
+    const x = ((ti - t0) / (t1 - t0)) * (width - 10) + 5;
+    const y = height - 6 - (values[i] / top) * (height - 24);
+    if (i) ctx.lineTo(x, y); else ctx.moveTo(x, y);
+  });
+  ctx.stroke();
+  canvas.dataset.points = String(t.length);
+}
+
+function startDriving() {
+  state.manual = true;
+  const tick = () => send({ cmd: "drive", speed: Number($("speed").value), turn: Number($("turn").value) });
+  tick();
+  state.driveTimer = setInterval(tick, 100);
+}
+
+function stopDriving() {
+  state.manual = false;
+  if (state.driveTimer) clearInterval(state.driveTimer);
+  state.driveTimer = null;
+}
+
+$("experiment").addEventListener("submit", (event) => {
+  event.preventDefault();
+  send({ cmd: "start", profile: $("profile").value, seed: Number($("seed").value) });
+});
+$("stop").addEventListener("click", () => send({ cmd: "stop" }));
+$("take").addEventListener("click", () => { if (!state.manual) startDriving(); });
+$("release").addEventListener("click", () => { stopDriving(); send({ cmd: "release" }); });
+for (const id of ["speed", "turn"]) {
+  $(id).addEventListener("input", () => ($(`${id}-out`).textContent = $(id).value));
+}
+setInterval(() => send({ cmd: "ping" }), 15000);
+connect();
