@@ -1,4 +1,4 @@
-"""Generation gap in the ``python`` target: the user's component classes (``components/*.py``)
+"""Generation gap in the ``python`` target: the user's component and monitor classes (``components/*.py``, ``monitors/*.py``)
 are written once and never overwritten; the manifest records them as the user's. When their
 component leaves the model (renamed here), the file stays with every line the user wrote, is
 reported as orphaned by the build, and is no longer imported by the registry; the generated
@@ -108,3 +108,35 @@ def test_a_file_where_a_user_file_goes_is_adopted_not_overwritten(tmp_path: Path
     result = build(WEBLAB, tmp_path)
     assert result.code == 0, result.both
     assert mine.read_text(encoding="utf-8") == "# written before the first build\n"
+
+
+def test_user_monitor_code_runs_survives_and_is_reported_when_its_monitor_goes(tmp_path: Path):
+    out = tmp_path / "out"
+    assert build(WEBLAB, out, "-t", "python").code == 0
+    telemetry = out / "weblab_app" / "monitors" / "Telemetry.py"
+    telemetry.write_text(
+        "# my telemetry monitor\nfrom weblab_app.base.Telemetry import TelemetryBase\n\n\n"
+        "class Telemetry(TelemetryBase):\n"
+        "    def on_document(self, note):\n"
+        "        return {'batteryVoltage': float(note.document.getroot().get('volts'))}\n",
+        encoding="utf-8",
+    )
+    mine = telemetry.read_text(encoding="utf-8")
+    # the user's class is the monitor the container runs, and its hook reads the documents
+    with imported(out, "weblab_app") as package, package.assemble_application() as app:
+        lab = app.container("WebLabSide")
+        assert type(lab.monitor("Telemetry")).__module__ == "weblab_app.monitors.Telemetry"
+        lab.publish_context("Locomotion", '<telemetry volts="11.8"/>')
+        assert lab.monitor("Telemetry").attributes["batteryVoltage"] == 11.8
+    # the monitor is renamed in the model: the user's file stays, is reported, is not imported
+    renamed = weblab_variant(tmp_path, ('name="Telemetry" ', 'name="Odometry" '))
+    result = build(renamed, out, "-t", "python")
+    assert result.code == 0, result.both
+    assert f"deleted {out}/weblab_app/base/Telemetry.py" in result.out
+    assert (
+        f"acordcs-gen: {out}/weblab_app/monitors/Telemetry.py is your code for "
+        "WebLab::ContextAwareNavigation::Adaptation::Telemetry, no longer in the model: kept"
+    ) in result.err
+    assert telemetry.read_text(encoding="utf-8") == mine
+    registry = (out / "weblab_app" / "registry.py").read_text(encoding="utf-8")
+    assert "monitors.Telemetry " not in registry and "monitors.Odometry import Odometry" in registry
