@@ -58,7 +58,22 @@ def hostile(app: Application) -> Application:
         r(c, host='h"o\\st\n', documentation=TEXT, qualified_name=c.qualified_name + "\n#x")
         for c in app.containers
     )
-    return r(app, name='We"b\\Lab """', components=components, containers=containers)
+    monitors = tuple(
+        r(
+            m,
+            documentation=TEXT,
+            xpath=TEXT if m.acquisition == "subscribe" else m.xpath,
+            properties=(*m.properties, Property("im", "note", "q::note", "string", "string", TEXT)),
+        )
+        for m in app.monitors
+    )
+    return r(
+        app,
+        name='We"b\\Lab """',
+        components=components,
+        containers=containers,
+        monitors=monitors,
+    )
 
 
 def generate(app: Application, tmp_path: Path) -> Path:
@@ -103,6 +118,10 @@ def test_hostile_text_parses_and_reads_back(tmp_path: Path, weblab):
         assert list(inspect.signature(base.move).parameters) == ["self", "args", "kwargs"]
         with pytest.raises(OperationNotImplementedError):
             base.move(None, 1.0)
+        telemetry = pkg.MONITORS["Telemetry"].__bases__[0]
+        assert contains(doc_lines(telemetry.__doc__), doc_lines(TEXT))  # documentation
+        assert telemetry.attribute_defaults["note"] == TEXT
+        assert TEXT.splitlines()[0] in telemetry.__doc__  # the xpath, in its description
         module = __import__(f"{package}.UserSide", fromlist=["HOST"])
         assert module.HOST == 'h"o\\st\n'
         assert contains(doc_lines(module.__doc__), doc_lines(TEXT))
@@ -120,6 +139,8 @@ def test_hostile_text_parses_and_reads_back(tmp_path: Path, weblab):
         ("parameter", "lambda", "a Python keyword"),
         ("container", "registry", "a module of the generated package"),
         ("container", "Base", "a module of the generated package"),
+        ("monitor", "def", "a Python keyword"),
+        ("monitor", "x y", "not an identifier"),
     ],
 )
 def test_names_that_cannot_be_python_are_refused(tmp_path: Path, weblab, where, name, why):
@@ -134,6 +155,8 @@ def test_names_that_cannot_be_python_are_refused(tmp_path: Path, weblab, where, 
         changed = r(loco, operations=(r(op, parameters=(r(op.parameters[0], name=name),)),))
     if where == "container":
         app = r(app, containers=(r(app.containers[0], name=name), *app.containers[1:]))
+    elif where == "monitor":
+        app = r(app, monitors=(r(app.monitors[0], name=name), *app.monitors[1:]))
     else:
         app = r(app, components=tuple(changed if c is loco else c for c in app.components))
     ctx = context(app, tmp_path, target="python")
