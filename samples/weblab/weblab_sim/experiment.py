@@ -4,7 +4,7 @@ Assembles the application generated from ``samples/weblab/weblab.xmi`` (``weblab
 ``samples/weblab/app``) in one process on a :class:`~acordcs.runtime.clock.VirtualClock` seeded
 with ``seed``: both containers, the user<->WebLab connections put on one :class:`AccessLink` with
 the profile's QoS. The Navigator runs until the robot crosses the finish line or ``time_cap``
-simulated seconds pass. A person at the lab (:func:`_person`) puts the robot back on the stripe
+simulated seconds pass. A person at the lab (:class:`_Person`) puts the robot back on the stripe
 when the control has found no stripe :data:`PATIENCE` cycles in a row: with the Recovering policy
 on, the policy asks first (after 4); without it, the person is the only help (a user request).
 
@@ -19,7 +19,8 @@ control found the stripe again after the Recovery component acted), ``recovery_a
 ``stripe_losses`` (cycles without stripe after one with it), ``user_requests``, ``fps`` (the
 panoramic camera's rate, time-weighted mean), ``mm_per_cycle``, ``faults`` (runtime faults
 recorded by both containers), ``frames_dropped`` (panorama frames the link could not carry),
-``sim_s``, ``wall_s`` and ``sim_per_wall``.
+``cycles`` (all control cycles), ``users_max`` (the most users the Usage monitor saw),
+``progress_mm`` (along the stripe), ``sim_s``, ``wall_s`` and ``sim_per_wall``.
 """
 
 from __future__ import annotations
@@ -108,7 +109,7 @@ def run(
             navigator = user.find("Navigator")
             navigator.set("forwardSpeed", cond.forward_speed)
             recovery = weblab.find("Recovery")
-            record: list[tuple[float, float, float, float]] = []
+            record: list[tuple[float, float, float, float, int]] = []
 
             def sample() -> None:
                 record.append(
@@ -117,11 +118,12 @@ def run(
                         float(weblab.get_property("PanoramicCamera", "fps")),
                         float(weblab.get_property("Locomotion", "maxSpeed")),
                         float(weblab.get_property("Control", "cycleRate")),
+                        int(weblab.get_property("Usage", "numUsers")),
                     )
                 )
 
             clock.call_every(RECORD_PERIOD, sample, start=0.0)
-            clock.call_every(1.0, lambda: _person(navigator, recovery))
+            clock.call_every(1.0, _Person(navigator, recovery).look)
             clock.call_at(time_cap, lambda: setattr(lab, "done", True))
             navigator.run()
             metrics = _metrics(lab, navigator.instance, recovery, record, time_cap)
@@ -138,10 +140,26 @@ def run(
     return metrics
 
 
-def _person(navigator: Any, recovery: Any) -> None:
-    """The person at the lab: steps in after PATIENCE cycles in a row without stripe."""
-    if navigator.instance.misses_in_row >= PATIENCE:
-        recovery.askUser()
+class _Person:
+    """The person at the lab: steps in (``Recovery.askUser``) after PATIENCE control cycles in a
+    row without stripe, once per PATIENCE such cycles (not again while busy or just done)."""
+
+    def __init__(self, navigator: Any, recovery: Any) -> None:
+        self.navigator = navigator
+        self.recovery = recovery
+        self.busy = False
+        self.after_cycle = -1  # no help before this cycle count
+
+    def look(self) -> None:
+        nav = self.navigator.instance
+        if self.busy or nav.misses_in_row < PATIENCE or len(nav.cycles) < self.after_cycle:
+            return
+        self.busy = True
+        try:
+            self.recovery.askUser()
+        finally:
+            self.busy = False
+            self.after_cycle = len(nav.cycles) + PATIENCE
 
 
 def _metrics(lab: World, nav: Any, recovery: Any, record: list, cap: float) -> dict[str, Any]:
@@ -174,6 +192,7 @@ def _metrics(lab: World, nav: Any, recovery: Any, record: list, cap: float) -> d
         "fps": fps,
         "mm_per_cycle": speed / rate if rate > 0 else 0.0,
         "cycles": len(cycles),
+        "users_max": max((r[4] for r in record), default=0),
         "progress_mm": lab.progress,
     }
 
@@ -185,4 +204,5 @@ def _series(lab: World, record: list) -> dict[str, list]:
         "fps": [(r[0], r[1]) for r in record],
         "max_speed": [(r[0], r[2]) for r in record],
         "cycle_rate": [(r[0], r[3]) for r in record],
+        "users": [(r[0], r[4]) for r in record],
     }
