@@ -18,8 +18,8 @@ RING_MM = 20.0
 HSV_LOW = np.array([0, 110, 90], dtype=np.uint8)
 HSV_HIGH = np.array([25, 255, 255], dtype=np.uint8)
 
-_GW = int(round(2 * camera.FAR_HALF_MM / GRID_MM))
-_GH = int(round((camera.FAR_MM - camera.NEAR_MM) / GRID_MM))
+_GW = round(2 * camera.FAR_HALF_MM / GRID_MM)
+_GH = round((camera.FAR_MM - camera.NEAR_MM) / GRID_MM)
 # Image -> floor grid (row 0 at the far edge, column 0 at the left edge).
 _GRID_CORNERS = np.array([(0, 0), (_GW, 0), (_GW, _GH), (0, _GH)], dtype=np.float32)
 _FOOT_GRID = np.array(
@@ -34,9 +34,12 @@ _rows, _cols = np.mgrid[0:_GH, 0:_GW]
 _X = camera.FAR_MM - (_rows + 0.5) * GRID_MM  # robot frame, forward
 _Y = camera.FAR_HALF_MM - (_cols + 0.5) * GRID_MM  # robot frame, left
 _R = np.hypot(_X, _Y)
-_VISIBLE = cv2.warpPerspective(
-    np.full((camera.IMAGE_H, camera.IMAGE_W), 255, np.uint8), _IMAGE_TO_GRID, (_GW, _GH)
-) > 127
+_VISIBLE = (
+    cv2.warpPerspective(
+        np.full((camera.IMAGE_H, camera.IMAGE_W), 255, np.uint8), _IMAGE_TO_GRID, (_GW, _GH)
+    )
+    > 127
+)
 
 
 def stripe_mask(img: np.ndarray) -> np.ndarray:

@@ -25,6 +25,7 @@ recorded by both containers), ``frames_dropped`` (panorama frames the link could
 
 from __future__ import annotations
 
+import itertools
 import sys
 import time
 from dataclasses import dataclass
@@ -179,7 +180,7 @@ def _metrics(lab: World, nav: Any, recovery: Any, record: list, cap: float) -> d
     fps = 0.0
     if len(record) >= 2:
         total = record[-1][0] - record[0][0]
-        fps = sum((b[0] - a[0]) * a[1] for a, b in zip(record, record[1:], strict=False)) / total
+        fps = sum((b[0] - a[0]) * a[1] for a, b in itertools.pairwise(record)) / total
     return {
         "cycles_per_s": rate,
         "speed_mm_s": speed,

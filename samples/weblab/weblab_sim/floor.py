@@ -125,9 +125,7 @@ def floor_image() -> np.ndarray:
     drawn = np.vstack([path.points, run_out])
     pts = np.array([to_px(*p) for p in drawn]) * 16  # 4 fractional bits
     thickness = max(1, round(STRIPE_WIDTH_MM / MM_PER_PX))
-    cv2.polylines(
-        img, [pts.astype(np.int32)], False, STRIPE_BGR, thickness, cv2.LINE_AA, shift=4
-    )
+    cv2.polylines(img, [pts.astype(np.int32)], False, STRIPE_BGR, thickness, cv2.LINE_AA, shift=4)
     # Round joints, so the stripe has no notch at the corners.
     for p in pts[1:-2]:
         cv2.circle(img, tuple(int(v) for v in p), thickness * 8, STRIPE_BGR, -1, cv2.LINE_AA, 4)

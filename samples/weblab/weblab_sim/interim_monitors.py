@@ -68,7 +68,9 @@ class TelemetryMonitor(Monitor):
                 raise ValueError("a telemetry field is not a finite number")
         except (KeyError, TypeError, ValueError) as exc:
             container.faults.record(
-                "monitor", self.name, ValueError(f"malformed telemetry {reading!r}: {exc}"),
+                "monitor",
+                self.name,
+                ValueError(f"malformed telemetry {reading!r}: {exc}"),
                 container.clock.now(),
             )
             return

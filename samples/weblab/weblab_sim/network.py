@@ -57,9 +57,7 @@ def profile(name: str) -> Profile:
     try:
         return PROFILES[name]
     except KeyError:
-        raise ValueError(
-            f"no network profile {name!r} (profiles: {', '.join(PROFILES)})"
-        ) from None
+        raise ValueError(f"no network profile {name!r} (profiles: {', '.join(PROFILES)})") from None
 
 
 class AccessLink(Connector):
@@ -80,7 +78,9 @@ class AccessLink(Connector):
         self.dropped_frames = 0
         self.bytes = {"up": 0, "down": 0}
 
-    def _arrival(self, conn: Connection, direction: str, size: int, droppable: bool) -> float | None:
+    def _arrival(
+        self, conn: Connection, direction: str, size: int, droppable: bool
+    ) -> float | None:
         q = conn.qos
         now = self.clock.now()
         bandwidth = float(q.get("bandwidth", 0.0) or 0.0)
@@ -120,7 +120,9 @@ class AccessLink(Connector):
         self._wait_until(self._arrival(conn, "down", size_of(result), False) or 0.0)
         return result
 
-    def _later(self, conn: Connection, target: object, payload: Any, size: int | None, how: str) -> None:
+    def _later(
+        self, conn: Connection, target: object, payload: Any, size: int | None, how: str
+    ) -> None:
         size = size if size is not None else size_of(payload)
         arrival = self._arrival(conn, "down", size, how == "stream")
         if arrival is None:

@@ -64,6 +64,7 @@ class World:
         heading = floor.START_HEADING + math.radians(float(rng.uniform(-3.0, 3.0)))
         self.robot = Robot(x, y, heading)
         self.samples: list[Sample] = []
+        self._arrays: tuple[np.ndarray, np.ndarray] | None = None  # samples' times, distances
         self.commanded = 0.0
         self.last_turn = 0.0
         self.progress = 0.0  # arc length along the stripe reached so far, mm
@@ -158,8 +159,12 @@ class World:
         """Distance travelled by time ``t`` (interpolated between samples)."""
         if not self.samples:
             return 0.0
-        ts = [s.t for s in self.samples]
-        return float(np.interp(t, ts, [s.distance for s in self.samples]))
+        if self._arrays is None or len(self._arrays[0]) != len(self.samples):
+            self._arrays = (
+                np.array([s.t for s in self.samples]),
+                np.array([s.distance for s in self.samples]),
+            )
+        return float(np.interp(t, *self._arrays))
 
     def close(self) -> None:
         self._timer.cancel()

@@ -5,8 +5,9 @@ sessions plus any spike the simulator's script adds (:class:`weblab_sim.world.Sc
 
 from __future__ import annotations
 
-from weblab_app.base.Access import AccessBase
 from weblab_sim import world
+
+from weblab_app.base.Access import AccessBase
 
 
 class Access(AccessBase):

@@ -17,8 +17,9 @@ from __future__ import annotations
 
 import json
 
-from weblab_app.base.Locomotion import LocomotionBase
 from weblab_sim import steering, world
+
+from weblab_app.base.Locomotion import LocomotionBase
 
 TELEMETRY_PERIOD = 0.5  # s
 

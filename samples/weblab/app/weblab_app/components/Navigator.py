@@ -13,9 +13,9 @@ The cycles are recorded in ``cycles``: (start, end, turn or None) for the experi
 from __future__ import annotations
 
 import serpent
+from weblab_sim import detector, world
 
 from weblab_app.base.Navigator import NavigatorBase
-from weblab_sim import detector, world
 
 USER = "navigator"
 
