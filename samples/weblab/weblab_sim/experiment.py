@@ -25,6 +25,7 @@ recorded by both containers), ``frames_dropped`` (panorama frames the link could
 
 from __future__ import annotations
 
+import importlib
 import itertools
 import sys
 import time
@@ -64,10 +65,16 @@ CONDITIONS: dict[str, Condition] = {
 
 
 def _registry() -> Any:
-    if str(APP_DIR) not in sys.path:
+    """``weblab_app.registry`` of :data:`APP_DIR` (a package of that name imported from elsewhere,
+    such as another build, is forgotten first)."""
+    if not sys.path or sys.path[0] != str(APP_DIR):
         sys.path.insert(0, str(APP_DIR))
+    loaded = sys.modules.get("weblab_app")
+    if loaded is not None and APP_DIR not in Path(loaded.__file__ or "").resolve().parents:
+        for name in [m for m in sys.modules if m == "weblab_app" or m.startswith("weblab_app.")]:
+            del sys.modules[name]
     try:
-        from weblab_app import registry
+        registry = importlib.import_module("weblab_app.registry")
     except ImportError as exc:
         raise RuntimeError(
             f"the generated WebLab application is not in {APP_DIR} ({exc}): build it with "
