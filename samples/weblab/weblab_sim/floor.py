@@ -74,6 +74,11 @@ class Path:
         d = self.points[-1] - self.points[-2]
         return float(self.points[-1][0]), float(self.points[-1][1]), math.atan2(d[1], d[0])
 
+    def corners(self) -> list[float]:
+        """The arc length of each inner vertex (where the stripe turns)."""
+        lengths = np.linalg.norm(np.diff(self.points, axis=0), axis=1)
+        return [float(v) for v in np.cumsum(lengths)[:-1]]
+
     def crossed_finish(self, x: float, y: float) -> bool:
         """True once (x, y) is past the end of the last segment, within the finish line's width."""
         a, b = self.points[-2], self.points[-1]

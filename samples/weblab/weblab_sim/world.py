@@ -24,6 +24,7 @@ SONAR_BEARINGS = (0.0, 45.0, -45.0, 90.0, -90.0, 180.0)
 SONAR_RANGE_MM = 3000.0
 BATTERY_FULL_V = 12.6
 SAMPLE_PERIOD = 0.1  # s between trajectory samples (and finish-line checks)
+PLACE_AHEAD_MM = 50.0  # how far past the farthest point reached the person puts the robot
 HUMAN_DELAY = 10.0  # s a person takes to walk over and put the robot back on the stripe
 MOTOR_SPEED_SIGMA = 0.03  # relative error of the speed the wheels give
 MOTOR_TURN_SIGMA = 0.02  # rad/s error of the turn rate
@@ -66,7 +67,6 @@ class World:
         self.samples: list[Sample] = []
         self._arrays: tuple[np.ndarray, np.ndarray] | None = None  # samples' times, distances
         self.commanded = 0.0
-        self.last_turn = 0.0
         self.progress = 0.0  # arc length along the stripe reached so far, mm
         self.done = False
         self.finish_time: float | None = None
@@ -97,8 +97,12 @@ class World:
 
     def place_on_stripe(self) -> None:
         """A person puts the robot back on the stripe, a little past the farthest point it reached,
-        facing along it."""
-        x, y, heading = self.path.pose_at(self.progress + 50.0)
+        facing along it; just past the next corner if that is nearer than the camera sees."""
+        s = self.progress + PLACE_AHEAD_MM
+        corner = next((c for c in self.path.corners() if c >= s), None)
+        if corner is not None and corner - s < camera.NEAR_MM + PLACE_AHEAD_MM:
+            s = corner + PLACE_AHEAD_MM
+        x, y, heading = self.path.pose_at(s)
         self.robot.place(self.clock.now(), x, y, heading)
         self.commanded = 0.0
         self.placements += 1

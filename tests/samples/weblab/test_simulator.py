@@ -5,7 +5,7 @@ from __future__ import annotations
 import math
 
 import pytest
-from weblab_sim import world
+from weblab_sim import camera, detector, world
 from weblab_sim.robot import Robot
 
 from acordcs.runtime.clock import VirtualClock
@@ -79,3 +79,18 @@ def test_the_same_seed_gives_the_same_trajectory() -> None:
 def test_different_seeds_give_different_trajectories() -> None:
     a, b = drive_world(3), drive_world(4)
     assert len(a) == len(b) and a != b
+
+
+@pytest.mark.parametrize("before", [400.0, 100.0, 10.0])
+def test_a_person_puts_the_robot_where_its_camera_sees_the_stripe(before: float) -> None:
+    # Lost just before the sharp (-100 degree) corner, or well before it: once put back, the
+    # camera sees the stripe ahead.
+    clock = VirtualClock(0)
+    lab = world.World(clock)
+    lab.progress = lab.path.corners()[3] - before
+    lab.place_on_stripe()
+    x, y, _ = lab.pose()
+    assert lab.path.closest(x, y)[0] < 1.0
+    frame = camera.encode(lab.grab_frame(), 75)
+    assert detector.find_stripe(frame) is not None
+    lab.close()

@@ -36,16 +36,15 @@ class Locomotion(LocomotionBase):
         speed, turn = float(speed), float(turn)
         if speed > 0:
             speed = min(speed, float(self.get("maxSpeed")))
-        self._turn = turn
-        lab = world.current(self.clock)
-        lab.last_turn = turn
-        lab.drive(speed, steering.angular_velocity(speed, turn))
+            self._turn = turn  # the control's last turn (a recovery's backing up is not one)
+        world.current(self.clock).drive(speed, steering.angular_velocity(speed, turn))
 
     def stop(self):
         world.current(self.clock).drive(0.0, 0.0)
 
     def odometry(self):
-        """JSON: x, y (mm), heading (degrees), distance travelled (mm), the last turn (degrees)."""
+        """JSON: x, y (mm), heading (degrees), distance travelled (mm), and the turn (degrees) of
+        the last forward move."""
         lab = world.current(self.clock)
         reading = lab.telemetry()
         return json.dumps(
