@@ -9,6 +9,7 @@ in the clock's time; randomness comes from ``clock.rng(purpose)``, one stream pe
 
 from __future__ import annotations
 
+import copy
 import math
 from collections.abc import Callable
 from dataclasses import dataclass, field
@@ -42,11 +43,13 @@ class Sample:
 
 @dataclass
 class Script:
-    """Scripted disturbances: user-count spikes ``(start, end, extra users)`` and times at which a
-    malformed telemetry reading is published."""
+    """Scripted disturbances: user-count spikes ``(start, end, extra users)``, times at which a
+    malformed telemetry reading is published, and times from which the next recovery action
+    fails (raises: a faulty policy action)."""
 
     user_spikes: list[tuple[float, float, int]] = field(default_factory=list)
     malformed_telemetry: list[float] = field(default_factory=list)
+    failing_recoveries: list[float] = field(default_factory=list)
 
 
 class World:
@@ -57,7 +60,7 @@ class World:
     ) -> None:
         self.clock = clock
         self.profile = net or profile("LAN")
-        self.script = script or Script()
+        self.script = copy.deepcopy(script) if script is not None else Script()  # consumed
         self.path = floor.make_path()
         rng = clock.rng("start")
         x, y = floor.START
@@ -138,6 +141,14 @@ class World:
         """True when the script has a malformed telemetry reading due now (within 0.25 s)."""
         now = self.clock.now()
         return any(abs(now - t) < 0.25 for t in self.script.malformed_telemetry)
+
+    def recovery_fails(self) -> bool:
+        """True (once per scripted time already reached) when a recovery action should fail now."""
+        now = self.clock.now()
+        due = [t for t in self.script.failing_recoveries if t <= now]
+        if due:
+            self.script.failing_recoveries.remove(due[0])
+        return bool(due)
 
     def users(self) -> int:
         """Users of the experiment now: the authenticated sessions plus any scripted spike."""

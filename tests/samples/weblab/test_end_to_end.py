@@ -70,6 +70,18 @@ def test_a_user_spike_and_malformed_telemetry_are_survived(weblab_app: None) -> 
     assert m["cycles"] >= 20 and m["user_requests"] == 0
 
 
+def test_a_failing_recovery_action_is_a_counted_fault_and_the_run_goes_on(
+    weblab_app: None,
+) -> None:
+    clean = experiment.run("LAN", 0, "no_speed_policy", time_cap=40.0)
+    script = Script(failing_recoveries=[0.0])
+    m = experiment.run("LAN", 0, "no_speed_policy", time_cap=40.0, script=script)
+    assert clean["faults"] == 0 and m["faults"] == 1
+    # The failed action did nothing; the next one recovered, and the robot went on.
+    assert m["recovery_actions"] >= 1 and m["recoveries"] >= 1
+    assert m["progress_mm"] > 2500.0
+
+
 def test_an_unknown_condition_is_refused_with_the_known_ones() -> None:
     with pytest.raises(ValueError, match="fixed_slow"):
         experiment.run("LAN", 0, "turbo")

@@ -30,6 +30,8 @@ class Recovery(RecoveryBase):
     actions = 0
 
     def recover(self):
+        if world.current(self.clock).recovery_fails():
+            raise RuntimeError("the recovery's motor driver did not answer (scripted fault)")
         loco = self.port("RecoveryLocomotionPort")
         odometry = json.loads(loco.call("odometry"))
         side = 1.0 if float(odometry.get("turn", 0.0)) >= 0 else -1.0
