@@ -98,7 +98,6 @@ class AccessLink(Connector):
         latency = float(q.get("latency", 0.0) or 0.0) + float(q.get("jitter", 0.0) or 0.0) * u
         arrival = max(start + tx + latency, self._last[direction])
         self._last[direction] = arrival
-        conn.stats["sent"] += 1
         return arrival
 
     def _wait_until(self, t: float) -> None:
@@ -115,6 +114,7 @@ class AccessLink(Connector):
         kwargs: dict[str, Any],
     ) -> Any:
         request = size_of([operation, list(args), kwargs])
+        conn.stats["sent"] += 1  # (the inner connector counts notifications and stream items)
         self._wait_until(self._arrival(conn, "up", request, False) or 0.0)
         result = self.inner.call(conn, target, operation, args, kwargs)
         self._wait_until(self._arrival(conn, "down", size_of(result), False) or 0.0)
