@@ -1,0 +1,206 @@
+"""The simulated lab: floor, robot, cameras, sensors and users, on the runtime's clock.
+
+Components reach the simulator through one explicit hook: :func:`current` returns the installed
+:class:`World` (the experiment installs one per run with :func:`install`); a component started
+without one (a container run on its own) gets a default world on its own clock. Everything happens
+in the clock's time; randomness comes from ``clock.rng(purpose)``, one stream per purpose
+(start pose, motors, camera noise), so a run is deterministic for the clock's seed.
+"""
+
+from __future__ import annotations
+
+import copy
+import math
+from collections.abc import Callable
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from acordcs.runtime.api import Clock
+from weblab_sim import camera, floor
+from weblab_sim.network import Profile, profile
+from weblab_sim.robot import Robot
+
+SONAR_BEARINGS = (0.0, 45.0, -45.0, 90.0, -90.0, 180.0)
+SONAR_RANGE_MM = 3000.0
+BATTERY_FULL_V = 12.6
+SAMPLE_PERIOD = 0.1  # s between trajectory samples (and finish-line checks)
+PLACE_AHEAD_MM = 50.0  # how far past the farthest point reached the person puts the robot
+HUMAN_DELAY = 10.0  # s a person takes to walk over and put the robot back on the stripe
+MOTOR_SPEED_SIGMA = 0.03  # relative error of the speed the wheels give
+MOTOR_TURN_SIGMA = 0.02  # rad/s error of the turn rate
+
+
+@dataclass
+class Sample:
+    t: float
+    x: float
+    y: float
+    heading: float
+    distance: float
+    speed: float  # the commanded forward speed, mm/s
+
+
+@dataclass
+class Script:
+    """Scripted disturbances: user-count spikes ``(start, end, extra users)``, times at which a
+    malformed telemetry reading is published, and times from which the next recovery action
+    fails (raises: a faulty policy action)."""
+
+    user_spikes: list[tuple[float, float, int]] = field(default_factory=list)
+    malformed_telemetry: list[float] = field(default_factory=list)
+    failing_recoveries: list[float] = field(default_factory=list)
+
+
+class World:
+    """One run's lab. ``profile``: the user's network (its grab and CPU times are used here)."""
+
+    def __init__(
+        self, clock: Clock, net: Profile | None = None, script: Script | None = None
+    ) -> None:
+        self.clock = clock
+        self.profile = net or profile("LAN")
+        self.script = copy.deepcopy(script) if script is not None else Script()  # consumed
+        self.path = floor.make_path()
+        rng = clock.rng("start")
+        x, y = floor.START
+        y += float(rng.uniform(-15.0, 15.0))
+        heading = floor.START_HEADING + math.radians(float(rng.uniform(-3.0, 3.0)))
+        self.robot = Robot(x, y, heading)
+        self.samples: list[Sample] = []
+        self._arrays: tuple[np.ndarray, np.ndarray] | None = None  # samples' times, distances
+        self.commanded = 0.0
+        self.progress = 0.0  # arc length along the stripe reached so far, mm
+        self.done = False
+        self.finish_time: float | None = None
+        self.sessions: set[str] = set()
+        self.placements = 0
+        self._telemetry_subs: list[Callable[[dict], None]] = []
+        self._timer = clock.call_every(SAMPLE_PERIOD, self._sample, start=clock.now())
+
+    # ------------------------------------------------------------------------------ robot
+    def drive(self, speed: float, turn_rate: float) -> None:
+        """Command the wheels: forward ``speed`` mm/s and ``turn_rate`` rad/s, from now."""
+        rng = self.clock.rng("motor")
+        err_v, err_w = rng.normal(0.0, MOTOR_SPEED_SIGMA), rng.normal(0.0, MOTOR_TURN_SIGMA)
+        moving = speed != 0.0 or turn_rate != 0.0
+        self.robot.command(
+            self.clock.now(),
+            speed * (1.0 + err_v),
+            turn_rate + (err_w if moving else 0.0),
+        )
+        self.commanded = speed
+
+    def pose(self) -> tuple[float, float, float]:
+        return self.robot.pose(self.clock.now())
+
+    def grab_frame(self) -> np.ndarray:
+        """The on-board camera's frame now."""
+        return camera.render(*self.pose(), noise=self.clock.rng("camera"))
+
+    def place_on_stripe(self) -> None:
+        """A person puts the robot back on the stripe, a little past the farthest point it reached,
+        facing along it; just past the next corner if that is nearer than the camera sees."""
+        s = self.progress + PLACE_AHEAD_MM
+        corner = next((c for c in self.path.corners() if c >= s), None)
+        if corner is not None and corner - s < camera.NEAR_MM + PLACE_AHEAD_MM:
+            s = corner + PLACE_AHEAD_MM
+        x, y, heading = self.path.pose_at(s)
+        self.robot.place(self.clock.now(), x, y, heading)
+        self.commanded = 0.0
+        self.placements += 1
+
+    # --------------------------------------------------------------------------- sensors
+    def telemetry(self) -> dict[str, float]:
+        """Position, heading, sonar ranges and battery voltage now (the Telemetry monitor's fields)."""
+        now = self.clock.now()
+        x, y, heading = self.robot.pose(now)
+        ranges = self.robot.sonar(now, SONAR_BEARINGS, SONAR_RANGE_MM)
+        volts = BATTERY_FULL_V - 0.002 * now - 0.05 * self.robot.distance / 1000.0
+        noise = self.clock.rng("telemetry").normal(0.0, 0.01)
+        return {
+            "positionX": x,
+            "positionY": y,
+            "heading": math.degrees(heading),
+            "sonarRange": min(ranges),
+            "batteryVoltage": volts + noise,
+        }
+
+    def subscribe_telemetry(self, callback: Callable[[dict], None]) -> None:
+        self._telemetry_subs.append(callback)
+
+    def publish_telemetry(self, reading: dict) -> None:
+        """Hand a reading to the subscribers (the Telemetry monitor); a malformed one instead when
+        the script says so."""
+        if self.malformed_due():
+            reading = {"positionX": "n/a", "batteryVoltage": None}
+        for callback in list(self._telemetry_subs):
+            callback(dict(reading))
+
+    def malformed_due(self) -> bool:
+        """True when the script has a malformed telemetry reading due now (within 0.25 s)."""
+        now = self.clock.now()
+        return any(abs(now - t) < 0.25 for t in self.script.malformed_telemetry)
+
+    def recovery_fails(self) -> bool:
+        """True (once per scripted time already reached) when a recovery action should fail now."""
+        now = self.clock.now()
+        due = [t for t in self.script.failing_recoveries if t <= now]
+        if due:
+            self.script.failing_recoveries.remove(due[0])
+        return bool(due)
+
+    def users(self) -> int:
+        """Users of the experiment now: the authenticated sessions plus any scripted spike."""
+        now = self.clock.now()
+        extra = sum(n for start, end, n in self.script.user_spikes if start <= now < end)
+        return len(self.sessions) + extra
+
+    # ---------------------------------------------------------------------------- progress
+    def _sample(self) -> None:
+        now = self.clock.now()
+        x, y, heading = self.robot.pose(now)
+        dist, s = self.path.closest(x, y)
+        # Progress only along the stripe near where the robot is: a nearby other segment must
+        # not count as reached.
+        if dist < 150.0 and s <= self.progress + 400.0:
+            self.progress = max(self.progress, s)
+        self.samples.append(Sample(now, x, y, heading, self.robot.distance, self.commanded))
+        if not self.done and self.path.crossed_finish(x, y):
+            self.done = True
+            self.finish_time = now
+
+    def distance_at(self, t: float) -> float:
+        """Distance travelled by time ``t`` (interpolated between samples)."""
+        if not self.samples:
+            return 0.0
+        if self._arrays is None or len(self._arrays[0]) != len(self.samples):
+            self._arrays = (
+                np.array([s.t for s in self.samples]),
+                np.array([s.distance for s in self.samples]),
+            )
+        return float(np.interp(t, *self._arrays))
+
+    def close(self) -> None:
+        self._timer.cancel()
+
+
+_current: World | None = None
+
+
+def install(world: World | None) -> None:
+    """Make ``world`` the one components find (None: none)."""
+    global _current
+    _current = world
+
+
+def current(clock: Clock | None = None) -> World:
+    """The installed world; without one, a default world on ``clock`` is installed and returned."""
+    global _current
+    if _current is None:
+        if clock is None:
+            raise RuntimeError(
+                "no simulated WebLab is installed: call weblab_sim.world.install(World(clock))"
+            )
+        _current = World(clock)
+    return _current
