@@ -13,7 +13,6 @@ control program (the Navigator) runs over the user's network. The modules, one j
   components find it by (:func:`weblab_sim.world.current`);
 - :mod:`.experiment`: ``run(profile, seed, condition) -> metrics``, the generated application
   assembled on a :class:`~acordcs.runtime.clock.VirtualClock`;
-- :mod:`.interim_monitors`: hand-written monitors until the generator makes them.
 
 Everything happens in the clock's time (``now``, ``sleep``, ``call_later``, ``call_every``) and
 draws from ``clock.rng(purpose)``, one stream per purpose: a run is deterministic for its seed.

@@ -34,7 +34,7 @@ from pathlib import Path
 from typing import Any
 
 from acordcs.runtime.api import VirtualClock
-from weblab_sim import interim_monitors, world
+from weblab_sim import world
 from weblab_sim.network import AccessLink, profile
 from weblab_sim.world import Script, World
 
@@ -104,7 +104,7 @@ def run(
     lab = World(clock, net, script)
     world.install(lab)
     try:
-        app = registry.assemble_application(clock=clock, monitors=interim_monitors.MONITORS)
+        app = registry.assemble_application(clock=clock)
         with app:
             user, weblab = app.container("UserSide"), app.container("WebLabSide")
             link = AccessLink(clock)

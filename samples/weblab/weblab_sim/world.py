@@ -11,7 +11,6 @@ from __future__ import annotations
 
 import copy
 import math
-from collections.abc import Callable
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -75,7 +74,6 @@ class World:
         self.finish_time: float | None = None
         self.sessions: set[str] = set()
         self.placements = 0
-        self._telemetry_subs: list[Callable[[dict], None]] = []
         self._timer = clock.call_every(SAMPLE_PERIOD, self._sample, start=clock.now())
 
     # ------------------------------------------------------------------------------ robot
@@ -126,16 +124,12 @@ class World:
             "batteryVoltage": volts + noise,
         }
 
-    def subscribe_telemetry(self, callback: Callable[[dict], None]) -> None:
-        self._telemetry_subs.append(callback)
-
-    def publish_telemetry(self, reading: dict) -> None:
-        """Hand a reading to the subscribers (the Telemetry monitor); a malformed one instead when
-        the script says so."""
+    def telemetry_reading(self) -> dict[str, object]:
+        """The reading the Locomotion publishes now: :meth:`telemetry`, or a malformed one (a
+        sensor's garbage) when the script has one due."""
         if self.malformed_due():
-            reading = {"positionX": "n/a", "batteryVoltage": None}
-        for callback in list(self._telemetry_subs):
-            callback(dict(reading))
+            return {"positionX": "n/a", "batteryVoltage": "", "heading": "NaN"}
+        return dict(self.telemetry())
 
     def malformed_due(self) -> bool:
         """True when the script has a malformed telemetry reading due now (within 0.25 s)."""

@@ -36,7 +36,9 @@ if TYPE_CHECKING:
 @dataclass(frozen=True, slots=True)
 class ObservedCall:
     """One call an intercepting monitor saw, once done: ``element`` is the component or
-    ``Component.Port`` it went through, ``result`` its result (None when it raised: ``error``)."""
+    ``Component.Port`` it went through, ``result`` its result (None when it raised: ``error``),
+    ``origin`` the policy set whose action made it (None for a component's own call): a monitor of
+    the control loop may ignore the adaptation's own calls."""
 
     element: str
     operation: str
@@ -45,6 +47,7 @@ class ObservedCall:
     result: Any
     error: BaseException | None
     time: float
+    origin: str | None = None
 
 
 class InterceptingMonitor(Monitor):
@@ -70,6 +73,7 @@ class InterceptingMonitor(Monitor):
                     event.value,
                     data.get("error"),  # type: ignore[arg-type]
                     event.time,
+                    event.origin,
                 )
             )
         elif event.kind == ev.PROPERTY_CHANGED and event.attribute is not None:

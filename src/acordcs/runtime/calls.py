@@ -114,7 +114,15 @@ class OperationCalls:
         type_name = instance.factory.type_name
         entries = [e for e in self._interceptors if e.matches(name, type_name, operation, port)]
         call = Invocation(
-            self.name, name, type_name, operation, args, kwargs, self.clock.now(), port
+            self.name,
+            name,
+            type_name,
+            operation,
+            args,
+            kwargs,
+            self.clock.now(),
+            port,
+            origin=self.origin,  # type: ignore[attr-defined]  (the container's, see Container)
         )
         for entry in entries:
             try:

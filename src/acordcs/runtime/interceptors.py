@@ -27,6 +27,7 @@ class Invocation:
     result: Any = None
     error: BaseException | None = None
     notes: dict[str, Any] = field(default_factory=dict)
+    origin: str | None = None  # the policy set (or monitor) acting when the call was made, if any
 
 
 class Interceptor:

@@ -154,6 +154,7 @@ class PortTap(Interceptor):
                 call.operation,
                 value=call.result,
                 time=call.time,
+                origin=call.origin,
                 data={
                     "args": call.args,
                     "kwargs": call.kwargs,

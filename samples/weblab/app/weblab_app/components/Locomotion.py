@@ -5,9 +5,10 @@
 ``move(speed, turn)``: forward speed in mm/s, capped at ``maxSpeed`` (which SpeedLimiting adapts;
 backing up, a negative speed, is the lab's own recovery and is not capped), and the turn in degrees
 (+ left): the bearing of the point the robot should head for (pure pursuit, :mod:`weblab_sim.steering`).
-Telemetry (position, sonar, battery) goes out on ``TelemetryPort`` and to the simulator's
-subscribers every :data:`TELEMETRY_PERIOD` seconds while the robot drives forward under the
-user's control, and not while it stands or the lab backs it up. This matters: the model's
+Telemetry (position, sonar, battery) goes out on ``TelemetryPort`` and to the context provider
+(``<telemetry>`` with one child per reading, which the Telemetry monitor subscribes to) every
+:data:`TELEMETRY_PERIOD` seconds while the robot drives forward under the user's control, and not
+while it stands or the lab backs it up. This matters: the model's
 Telemetry monitor feeds the Recovering policy set, whose rules count a retry (and recover) at
 every firing while the control's last speed is 0, so a reading of a stopped robot would start
 recoveries nobody asked for.
@@ -61,8 +62,12 @@ class Locomotion(LocomotionBase):
         lab = world.current(self.clock)
         if lab.commanded <= 0 and not lab.malformed_due():
             return
-        reading = lab.telemetry()
-        lab.publish_telemetry(reading)
+        reading = lab.telemetry_reading()
+        self.publish_context(
+            "<telemetry>"
+            + "".join(f"<{name}>{value}</{name}>" for name, value in reading.items())
+            + "</telemetry>"
+        )
         port = self.port("TelemetryPort")
         if port.connections:
             port.notify(reading)
