@@ -61,6 +61,8 @@ from acordcs.rules import (
     Not,
     Rule,
     VarRef,
+    depth_message,
+    rule_too_deep,
 )
 from acordcs.runtime.clips.records import Sites, python_constant
 from acordcs.runtime.rule_engine import RuleError
@@ -422,6 +424,8 @@ def compile_rule(
 ) -> CompiledRule:
     """The CLIPS constructs of one crisp rule. Raises RuleError naming the set, the rule and the column."""
     c = _Compiler(ruleset, label, rule_id, variables, operations, sites)
+    if rule_too_deep(rule):  # a tree built in Python: the parser refuses these in text
+        raise c.error(depth_message(), None)
     condition = c.condition(rule.condition)
     reads = sorted(c.seen)
     patterns = "".join(f" (acord-var (i {i}))" for i in reads)

@@ -14,7 +14,7 @@ import math
 from collections.abc import Callable
 from dataclasses import dataclass, field
 
-from acordcs.rules import BoolOp, Consequent, Is, Name, Not, Rule
+from acordcs.rules import BoolOp, Consequent, Is, Name, Not, Rule, depth_message, rule_too_deep
 from acordcs.runtime.fuzzy.defuzz import OutputShape, make_defuzzifier
 from acordcs.runtime.fuzzy.semantics import Semantics, collapses
 from acordcs.runtime.fuzzy.variable import LinguisticVariable
@@ -126,6 +126,8 @@ def resolve_rule(
             file=file,
             line=line,
         )
+    if rule_too_deep(rule):  # a tree built in Python: the parser refuses these in text
+        raise RuleError(depth_message(), ruleset=ruleset, rule=label, file=file, line=line)
     condition = walk(rule.condition)
     consequents = []
     for action in rule.actions:

@@ -22,7 +22,8 @@ from lark import Lark, Token, Tree
 from lark.exceptions import UnexpectedCharacters, UnexpectedInput, UnexpectedToken
 
 from acordcs.cachedir import lark_cache
-from acordcs.rules import BoolOp, Consequent, Is, Name, Not, Rule
+from acordcs.rules import BoolOp, Consequent, Is, Name, Not, Rule, depth_message
+from acordcs.rules.tree import deepest
 from acordcs.runtime.fuzzy.fcl_writer import format_condition, format_rule, write_fcl
 from acordcs.runtime.fuzzy.fuzzy_engine import FuzzyEngine
 from acordcs.runtime.fuzzy.membership import make_membership
@@ -318,6 +319,8 @@ class _Block:
     def _rule(self, node: Tree) -> Rule:
         label = str(node.children[1])
         cond = _condition(node.children[3])
+        if deepest(cond):
+            raise self.error(f"rule {label}: {depth_message()}", node.children[3])
         actions = []
         weight = 1.0
         for child in node.children[5:]:
@@ -334,11 +337,25 @@ def _name(tok: Token) -> Name:
     return Name(str(tok), tok.column or 0)
 
 
-def _condition(node) -> object:
-    if node.data == "c_is":
-        var, _is, *mods, term = node.children
-        return Is(_name(var), tuple(str(m).lower() for m in mods), _name(term))
-    if node.data == "c_not":
-        return Not(_condition(node.children[1]))
-    op = "and" if node.data == "c_and" else "or"
-    return BoolOp(op, _condition(node.children[0]), _condition(node.children[2]))
+def _condition(node: Tree) -> object:
+    """The condition tree of a lark ``cond``, built without recursion (a chain of 10,000 ANDs
+    nests 10,000 deep); the caller checks the depth against the rule language's limit."""
+    out: list[object] = []
+    stack: list[tuple[Tree, bool]] = [(node, False)]
+    while stack:
+        n, built = stack.pop()
+        if n.data == "c_is":
+            var, _is, *mods, term = n.children
+            out.append(Is(_name(var), tuple(str(m).lower() for m in mods), _name(term)))
+        elif not built:  # children first, then this node from their results
+            stack.append((n, True))
+            if n.data == "c_not":
+                stack.append((n.children[1], False))
+            else:
+                stack.extend(((n.children[2], False), (n.children[0], False)))
+        elif n.data == "c_not":
+            out.append(Not(out.pop()))
+        else:
+            right, left = out.pop(), out.pop()
+            out.append(BoolOp("and" if n.data == "c_and" else "or", left, right))
+    return out[0]
