@@ -17,6 +17,7 @@ import logging
 import math
 import re
 from collections.abc import Mapping
+from numbers import Real
 
 import numpy as np
 
@@ -166,12 +167,27 @@ class FuzzyEngine:
         self._compiled.pop(ruleset, None)
 
     def set(self, variable: str, value: object) -> None:
-        """Give a variable a value (NaN/inf: RuleError; outside the range: clamped, warned once)."""
+        """Give a variable a value: a number (text, or a number too large for a float, NaN or
+        infinity: RuleError and the variable keeps its value; outside the range: clamped, warned
+        once)."""
         name = self._alias.get(variable) or self._canonical(variable)
-        try:
-            x = float(value)  # type: ignore[arg-type]
-        except (TypeError, ValueError):
-            raise RuleError(f"value for {variable!r} must be a number, got {value!r}") from None
+        if type(value) is float:  # the hot path: monitors and policy sets feed floats
+            x = value
+        elif isinstance(value, Real):  # int, bool, numpy numbers, Fraction; never text
+            try:
+                x = float(value)
+            except OverflowError:
+                raise RuleError(
+                    f"value for {variable!r} is beyond a float's range (about 1.8e308); "
+                    f"the variable keeps {self._values[name]!r}"
+                ) from None
+        else:
+            shown = repr(value)
+            shown = shown if len(shown) <= 40 else shown[:37] + "..."
+            raise RuleError(
+                f"value for {variable!r} must be a number, got {type(value).__name__} {shown}; "
+                f"the variable keeps {self._values[name]!r}"
+            )
         var = self._vars[name]
         if not var.lo <= x <= var.hi:
             if not math.isfinite(x):
@@ -189,9 +205,14 @@ class FuzzyEngine:
         self._defaulted[ruleset] = compiled.run(self._values)
 
     def get(self, variable: str) -> float:
-        """The current value of a variable (RuleError if it never had one)."""
+        """The current value of a variable: its DEFAULT if it never had one and has a DEFAULT, else
+        RuleError if it never had one."""
         name = self._alias.get(variable) or self._canonical(variable)
         value = self._values[name]
+        if value is None and self._vars[name].default is not None:
+            # an output no fire has concluded yet reads as its DEFAULT (jFuzzyLogic's value for
+            # an output no rule concludes)
+            return self._vars[name].default  # type: ignore[return-value]
         if value is None:
             raise RuleError(
                 f"variable {variable!r} has no value yet; set it, or fire a rule set that concludes it"
