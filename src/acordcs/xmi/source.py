@@ -141,8 +141,8 @@ def parse_bytes(data: bytes, path: str = "<input>") -> XmlInput:
     try:
         # Only a prefix is scanned: a 4 MB export is not searched twice; the tree check sees the rest.
         root = safexml.parse(data, strict, scan_end=_SCAN_BYTES)
-    except safexml.Refused as refused:
-        return _refused(path, refused)
+    except safexml.Refused as refused:  # found in the tree: past the prefix, where?
+        return _refused(path, safexml.find_declaration(data) or refused)
     except etree.XMLSyntaxError as err:
         return _after_strict_failure(data, path, err, strict)
     except (ValueError, LookupError) as err:  # e.g. an unknown encoding name in the declaration
@@ -196,6 +196,12 @@ def _at_end(data: bytes, line: int, col: int) -> bool:
 def _after_strict_failure(
     data: bytes, path: str, err: etree.XMLSyntaxError, parser: etree.XMLParser
 ) -> XmlInput:
+    # The strict parse scanned only a prefix for declarations, and failed before checking the tree.
+    # A file that failed is rare: scan all of it, so that a declaration past the prefix is refused
+    # (X102) whatever else is wrong, and recovery, which drops a misplaced one, never hides it.
+    found = safexml.find_declaration(data)
+    if found is not None:
+        return _refused(path, found)
     first = parser.error_log[0] if len(parser.error_log) else None
     kind = first.type_name if first is not None else ""
     line = first.line if first is not None else (err.lineno or 0)
@@ -216,8 +222,8 @@ def _after_strict_failure(
         )
     recovering = safexml.parser(recover=True, remove_blank_text=True)
     try:
-        root = safexml.parse(data, recovering, scan_end=_SCAN_BYTES)
-    except safexml.Refused as refused:  # past the prefix: the strict parse failed before the check
+        root = safexml.parse(data, recovering)  # scanned whole again: cheap beside a recovery
+    except safexml.Refused as refused:
         return _refused(path, refused)
     except etree.XMLSyntaxError:
         root = None
