@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import os
 import re
+import stat
 
 from lxml import etree
 
@@ -24,6 +25,13 @@ _WIDE_DECLARATION = re.compile(
     rb"""^\s*<\?xml[^>]*encoding\s*=\s*["'](utf-?16|utf-?32|ucs)""", re.IGNORECASE
 )
 _SCAN_BYTES = 64 * 1024
+_KINDS = {
+    stat.S_IFIFO: "a named pipe",
+    stat.S_IFCHR: "a character device",
+    stat.S_IFBLK: "a block device",
+    stat.S_IFSOCK: "a socket",
+    stat.S_IFDIR: "a directory",
+}
 
 
 class XmlInput:
@@ -105,10 +113,18 @@ _RECOVERABLE = frozenset(
 
 
 def read_xml(path: str) -> XmlInput:
-    """Parse ``path``; never raises for bad input."""
+    """Parse ``path``; never raises for bad input. Only a regular file is read: a named pipe
+    would block (no writer) or never end, a device (``/dev/zero``) never ends."""
     try:
-        with open(path, "rb") as handle:
-            size = os.fstat(handle.fileno()).st_size
+        # O_NONBLOCK: opening a named pipe without a writer returns at once instead of waiting
+        fd = os.open(path, os.O_RDONLY | getattr(os, "O_NONBLOCK", 0))
+        with open(fd, "rb") as handle:
+            status = os.fstat(handle.fileno())
+            if not stat.S_ISREG(status.st_mode):
+                what = _KINDS.get(stat.S_IFMT(status.st_mode), "not a regular file")
+                msg = f"cannot read file: it is {what}, not a regular file; give the path of a model file"
+                return XmlInput(path, None, [diagnostic("X101", msg, file=path)])
+            size = status.st_size
             if size > MAX_BYTES:
                 msg = f"file is {size // 2**20} MiB, over the {MAX_BYTES // 2**20} MiB limit; split the model"
                 return XmlInput(path, None, [diagnostic("X103", msg, file=path)])
