@@ -270,8 +270,10 @@ def test_bad_subscribe_arguments(provider: ContextProvider) -> None:
 
 
 def test_costly_fallback_expression_is_suspended() -> None:
-    # every evaluation overruns a 1 ns budget: three strikes, then the subscription stops costing anything
-    with ContextProvider(Limits(max_eval_seconds=1e-9, max_strikes=3)) as prov:
+    # every evaluation overruns a 1 ns budget: three strikes, then the subscription stops costing
+    # anything (a trusted subscriber: an untrusted one may not use this quadratic expression)
+    limits = Limits(max_eval_seconds=1e-9, max_strikes=3, trusted_subscribers=True)
+    with ContextProvider(limits) as prov:
         inbox, cheap = Inbox(), Inbox()
         handle = prov.subscribe(inbox, "//*[count(//*) > 0]")
         prov.subscribe(cheap, "/a/b[. > 1]")  # indexed: not timed, never suspended

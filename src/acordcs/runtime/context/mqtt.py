@@ -230,10 +230,11 @@ class MqttContextProvider(ProviderCore):
             tree = parse_document(publisher, body, self.limits)
         except PublishError as err:
             self.malformed += 1
-            self.rejected += 1
+            self._count_rejected(publisher)
             log.warning("ignoring a refused document from the broker: %s", err)
             return
-        self._dispatch(publisher, seq, tree)
+        with self._publisher_lock(publisher):
+            self._dispatch(publisher, seq, tree)
 
     # -- topics ---------------------------------------------------------------------------------------
     def _wanted(self) -> set[str]:
