@@ -3,6 +3,7 @@ and component descriptions each refuse hostile documents through it, and share i
 
 from __future__ import annotations
 
+import os
 import threading
 from collections.abc import Callable
 from pathlib import Path
@@ -229,3 +230,29 @@ def test_limits_in_words() -> None:
         safexml.parse(too_deep().encode())
     assert safexml.exceeded_limit(str(info.value)) == "elements nested deeper than 256 levels"
     assert safexml.exceeded_limit("Opening and ending tag mismatch") is None
+
+
+def test_past_the_scan_libxml2_never_opens_an_external_entity(tmp_path: Path) -> None:
+    # scan_end=0: the declaration gets past the byte scan, as one past a caller's prefix would; the
+    # target is a FIFO, so opening it would block until a writer appears
+    fifo = tmp_path / "fifo"
+    os.mkfifo(fifo)
+    doc = f'<!DOCTYPE r [<!ENTITY x SYSTEM "file://{fifo}">]><r>&x;</r>'.encode("utf-16")
+    outcome: list[object] = []
+
+    def attempt() -> None:
+        try:
+            outcome.append(safexml.parse(doc, safexml.parser(), scan_end=0))
+        except BaseException as err:
+            outcome.append(err)
+
+    worker = threading.Thread(target=attempt)
+    worker.start()
+    worker.join(10)
+    if worker.is_alive():
+        os.close(os.open(fifo, os.O_WRONLY | os.O_NONBLOCK))
+        worker.join(5)
+        pytest.fail("libxml2 opened the external entity's target")
+    assert isinstance(
+        outcome[0], safexml.Refused
+    )  # the tree check, after a parse that read nothing
