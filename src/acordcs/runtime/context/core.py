@@ -6,7 +6,8 @@ import logging
 import math
 import threading
 from collections import Counter
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
+from contextlib import contextmanager
 
 from lxml import etree
 
@@ -63,7 +64,7 @@ class ProviderCore:
         # One lock per publisher, held while one of its documents is matched and dispatched (its
         # notifications keep their order); the provider lock is held only for the index and the
         # bookkeeping, not while a fallback XPath runs.
-        self._publisher_locks: dict[str, threading.Lock] = {}
+        self._publisher_locks: dict[str, list] = {}  # publisher -> [lock, users]: see _publishing
         self._on_suspend: dict[Subscription, Callable[[Subscription, str], object]] = {}
         self._subs: dict[int, tuple[Subscription, object]] = {}
         self._latest: dict[str, tuple[int, etree._ElementTree]] = {}
@@ -213,17 +214,28 @@ class ProviderCore:
         if publisher in self.rejected_by or len(self.rejected_by) < 4096:
             self.rejected_by[publisher] += 1
 
-    def _publisher_lock(self, publisher: str) -> threading.Lock:
-        found = self._publisher_locks.get(publisher)
-        if found is None:
+    @contextmanager
+    def _publishing(self, publisher: str) -> Iterator[None]:
+        """Hold ``publisher``'s lock: its documents are numbered and dispatched one at a time, in
+        order. A lock lives while someone uses it, so hostile publisher names leave nothing behind."""
+        with self._lock:
+            entry = self._publisher_locks.get(publisher)
+            if entry is None:
+                entry = self._publisher_locks[publisher] = [threading.Lock(), 0]
+            entry[1] += 1
+        try:
+            with entry[0]:
+                yield
+        finally:
             with self._lock:
-                found = self._publisher_locks.setdefault(publisher, threading.Lock())
-        return found
+                entry[1] -= 1
+                if not entry[1]:
+                    del self._publisher_locks[publisher]
 
     def _dispatch(self, publisher: str, seq: int, tree: etree._ElementTree) -> int:
         """Match and hand notifications to the subscribers' mailboxes. Returns how many were queued.
 
-        The caller holds :meth:`_publisher_lock` (documents of one publisher in order)."""
+        The caller is inside :meth:`_publishing` (documents of one publisher in order)."""
         with self._lock:
             self._latest[publisher] = (seq, tree)
             matches = self._index.match_indexed(tree, publisher)

@@ -27,7 +27,7 @@ class ContextProvider(ProviderCore):
         self._check_open()
         check_publisher(publisher)
         _, tree = self._parse(publisher, document)
-        with self._publisher_lock(publisher):  # not the provider lock: see _dispatch
+        with self._publishing(publisher):  # not the provider lock: see _dispatch
             seq = self._seq.get(publisher, 0) + 1
             self._seq[publisher] = seq
             self._dispatch(publisher, seq, tree)

@@ -233,7 +233,7 @@ class MqttContextProvider(ProviderCore):
             self._count_rejected(publisher)
             log.warning("ignoring a refused document from the broker: %s", err)
             return
-        with self._publisher_lock(publisher):
+        with self._publishing(publisher):
             self._dispatch(publisher, seq, tree)
 
     # -- topics ---------------------------------------------------------------------------------------
