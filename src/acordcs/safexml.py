@@ -22,9 +22,11 @@ The options (:data:`OPTIONS`):
   of the real error in the parser's log.
 
 Before libxml2 sees the bytes, :func:`parse` refuses any ``<!DOCTYPE`` or ``<!ENTITY`` (in any letter
-case): none of these documents needs one, and refusing it closes XXE and entity bombs (billion laughs)
-whatever libxml2 would do with them. The byte scan cannot see a declaration in UTF-16 or UTF-32 text (nor
-past ``scan_end``), so the parsed tree is checked for a document type as well.
+case, also in UTF-16 and UTF-32 text): none of these documents needs one, and refusing it closes XXE
+and entity bombs (billion laughs) whatever libxml2 would do with them. The byte scan stops at
+``scan_end`` when a caller gives one, so the parsed tree is checked for a document type as well; a
+caller that then parses again in recover mode (which drops a misplaced declaration) scans all the
+bytes first (:func:`find_declaration`).
 """
 
 from __future__ import annotations
@@ -47,6 +49,26 @@ OPTIONS = {
 }
 
 _DECLARATION = re.compile(rb"<!(?:DOCTYPE|ENTITY)", re.IGNORECASE)
+
+
+def _wide(width: int, big_endian: bool) -> re.Pattern[bytes]:
+    """:data:`_DECLARATION` for text in UTF-16 or UTF-32 (ASCII characters padded with NULs)."""
+
+    def char(c: str) -> bytes:
+        pad = b"\x00" * (width - 1)
+        options = {c.lower(), c.upper()}
+        alts = b"|".join(
+            re.escape(pad + o.encode() if big_endian else o.encode() + pad) for o in sorted(options)
+        )
+        return b"(?:" + alts + b")"
+
+    def word(w: str) -> bytes:
+        return b"".join(char(c) for c in w)
+
+    return re.compile(word("<!") + b"(?:" + word("DOCTYPE") + b"|" + word("ENTITY") + b")")
+
+
+_WIDE_DECLARATIONS = [_wide(w, be) for w in (2, 4) for be in (False, True)]
 
 
 class Refused(Exception):
@@ -115,12 +137,9 @@ def parse(
     unusable encoding declaration) through for the caller to word. None only from a recovering parser
     that found nothing to keep.
     """
-    end = len(data) if scan_end is None else scan_end
-    start = data.find(b"<!", 0, end)  # a fast no for documents without comments or CDATA
-    if start >= 0:
-        found = _DECLARATION.search(data, start, end)
-        if found:
-            raise Refused(found.start(), *line_column(data, found.start()))
+    found = find_declaration(data, scan_end)
+    if found is not None:
+        raise found
     if parser is None:
         parser = getattr(_local, "parser", None)
         if parser is None:
@@ -130,6 +149,23 @@ def parse(
     if root is not None and root.getroottree().docinfo.internalDTD is not None:
         raise Refused()  # set for internal subsets and external identifiers alike
     return root
+
+
+def find_declaration(data: bytes, scan_end: int | None = None) -> Refused | None:
+    """The :class:`Refused` for the first ``<!DOCTYPE`` or ``<!ENTITY`` in ``data[:scan_end]``
+    (any letter case; by default all of it), or None."""
+    end = len(data) if scan_end is None else scan_end
+    start = data.find(b"<!", 0, end)  # a fast no for documents without comments or CDATA
+    if start >= 0:
+        found = _DECLARATION.search(data, start, end)
+        if found:
+            return Refused(found.start(), *line_column(data, found.start()))
+    if b"\x00" in data[:4]:  # UTF-16 or UTF-32: '<' (or a BOM) is padded with NULs
+        for pattern in _WIDE_DECLARATIONS:
+            found = pattern.search(data, 0, end)
+            if found:
+                return Refused(found.start())  # no line: the bytes are not the text's lines
+    return None
 
 
 def exceeded_limit(message: str) -> str | None:

@@ -505,3 +505,15 @@ def test_a_native_assignment_wakes_the_crisp_rules_that_read_it():
     assert engine.get("A.x") == 5
     assert engine.get("A.seen") is True
     assert [e.message for e in engine.errors] == ["acord-assign: unknown variable A.nope"]
+
+
+@pytest.mark.parametrize("declared", [None, "int", "string"])
+def test_a_huge_integer_or_long_text_is_a_short_rule_error(declared):
+    engine = ClipsEngine()
+    engine.declare("A.x", 0 if declared != "string" else "", type=declared)
+    for value in (10**5000, -(10**30), "9" * 5000):
+        if declared != "int" and isinstance(value, str):
+            continue  # an untyped or a string variable takes text
+        with pytest.raises(RuleError) as caught:
+            engine.set("A.x", value)
+        assert len(str(caught.value)) < 300, str(caught.value)[:300]

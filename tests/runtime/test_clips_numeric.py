@@ -46,13 +46,14 @@ def clips_errors(engine: ClipsEngine) -> list[str]:
 def test_conditions_on_numeric_variables_compile_with_an_unchecked_branch():
     engine = typed()
     engine.declare("B.any", 0)  # untyped
-    engine.defrule("r: if A.x < 3 and -A.n * 2 >= A.x + 1 then A.out = 1", "s")
+    engine.defrule("r: if A.x < 3 and A.n >= A.x then A.out = 1", "s")
     text = engine.construct("s", "r")
-    unchecked = "(if ?*acord-num* then (and (not (>= ?*A.x* 3)) (not (< (* (* -1 ?*A.n*) 2)"
+    unchecked = "(if ?*acord-num* then (and (not (>= ?*A.x* 3)) (not (< ?*A.n* ?*A.x*))"
     assert unchecked in text
     for other in (
         "if B.any < 3 then A.out = 1",  # untyped: could hold anything
         "if A.x / 2 < 3 then A.out = 1",  # division: by zero would be a CLIPS error
+        "if -A.n * 2 >= A.x + 1 then A.out = 1",  # integer arithmetic may overflow: checked
         "if A.s < 'b' then A.out = 1",  # text
         "if A.x == true then A.out = 1",  # a boolean literal in a comparison
     ):

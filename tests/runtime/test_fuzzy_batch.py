@@ -109,3 +109,14 @@ def test_non_linear_outputs_are_sampled_the_same_way_in_batch():
     np.testing.assert_allclose(
         e.batch("g", {"x": xs})["y"], _row_by_row(e, "g", {"x": xs}, "y"), atol=1e-9
     )
+
+
+@pytest.mark.parametrize(
+    "column",
+    ["5", ["5", 3], [1, "a"], np.array(["1", "2"]), [10**400]],
+    ids=["text", "text in a list", "mixed", "numpy text", "beyond a float"],
+)
+def test_text_and_huge_numbers_are_a_rule_error_as_in_set(column) -> None:
+    engine = speed_engine()
+    with pytest.raises(RuleError, match="must be numbers: text"):
+        engine.batch("speed", {"cycleRate": column, "angle": 5.0})

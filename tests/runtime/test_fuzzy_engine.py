@@ -167,6 +167,27 @@ def test_nan_and_inf_are_rejected_and_the_value_kept():
         e.set("level", "high")
 
 
+@pytest.mark.parametrize(
+    ("bad", "words"),
+    [
+        (10**400, "beyond a float's range"),
+        (-(10**5000), "beyond a float's range"),
+        ("5", "must be a number, got str '5'"),
+        (b"5", "must be a number, got bytes"),
+        (None, "must be a number, got NoneType"),
+        ("9" * 100, "got str '99999"),
+    ],
+    ids=["1e400", "-1e5000", "text 5", "bytes", "None", "long text"],
+)
+def test_huge_numbers_and_text_are_one_rule_error_and_the_value_kept(bad, words):
+    e = tiny()
+    e.set("level", 3)
+    with pytest.raises(RuleError, match=words) as caught:
+        e.set("level", bad)
+    assert len(str(caught.value)) < 200
+    assert e.get("level") == 3
+
+
 def test_out_of_range_is_clamped_and_said_once(caplog):
     e = tiny()
     e.defrule("if level is high then flow is high", "p")

@@ -187,11 +187,11 @@ def _block(
         (_block(rules="RULE 1 : IF x IS c THEN y IS b;"), "variable 'x' has no term 'c'", 12, 20),
         (
             _block(rules="RULE 1 : IF x IS a THEN y IS b WITH 2;"),
-            "weight 2.0 is outside 0..1",
+            "rule 1: weight 2.0 is outside 0..1",
             12,
-            None,
+            39,
         ),
-        (_block(end=False), "missing END_FUNCTION_BLOCK", 14, None),
+        (_block(end=False), "missing END_FUNCTION_BLOCK", 13, 14),
         (
             _block().replace("END_FUZZIFY\n", ""),
             "missing END_FUZZIFY: the FUZZIFY block \\(opened at line 4\\)",
@@ -224,10 +224,10 @@ def test_bad_fcl_is_an_error_with_file_line_column(text, words, line, column):
     with pytest.raises(RuleError, match=words) as info:
         read_fcl(text, filename="bad.fcl")
     err = info.value
-    assert (err.file, err.line) == ("bad.fcl", line)
-    if column is not None:
-        assert err.column == column
-    assert str(err).startswith(f"bad.fcl:{line}")
+    assert (err.file, err.line, err.column) == ("bad.fcl", line, column)
+    # the location once, in front (no second "bad.fcl:9:" inside the message)
+    assert str(err).startswith(f"bad.fcl:{line}:{column}: error: ")
+    assert str(err).count("bad.fcl") == 1, str(err)
 
 
 def test_missing_file_is_an_error():

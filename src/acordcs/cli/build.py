@@ -7,6 +7,8 @@ import sys
 
 import click
 
+from acordcs.diagnostics import printable
+
 
 @click.command()
 @click.argument("model", type=click.Path(dir_okay=False))
@@ -106,7 +108,8 @@ def build(
         click.echo(f"acordcs-gen: {note}", err=True)
     for warning in result.warnings:
         click.echo(warning.format_text())
-    out = click.format_filename(output)
+    # paths as given: a newline in one must not start a forged line of output
+    out = printable(click.format_filename(output))
     if result.up_to_date:
         click.echo(
             f"{out}: up to date ({', '.join(result.targets)}; model unchanged, nothing written)"
@@ -119,27 +122,27 @@ def build(
     elif dry_run or write:
         verbs = _WOULD if dry_run else _DONE
         for change in plan.changes:
-            click.echo(f"{verbs[change.action]} {os.path.join(out, change.path)}")
+            click.echo(f"{verbs[change.action]} {os.path.join(out, printable(change.path))}")
     for kept in plan.kept:
         click.echo(
-            f"acordcs-gen: {os.path.join(out, kept)} is no longer generated but was edited since: "
+            f"acordcs-gen: {os.path.join(out, printable(kept))} is no longer generated but was edited since: "
             "left in place (delete it yourself if it is not needed)",
             err=True,
         )
     for orphan in plan.orphaned:
         click.echo(
-            f"acordcs-gen: {os.path.join(out, orphan)} is your code for "
-            f"{plan.manifest.files[orphan].element or 'an element'}, no longer in the model: "
+            f"acordcs-gen: {os.path.join(out, printable(orphan))} is your code for "
+            f"{printable(plan.manifest.files[orphan].element or 'an element')}, no longer in the model: "
             "kept, no longer used by the generated code (delete it yourself if it is not needed)",
             err=True,
         )
     for path, keys in plan.lost.items():
         click.echo(
-            f"acordcs-gen: {os.path.join(out, path)}: your lines in region"
-            f"{'s' if len(keys) > 1 else ''} {', '.join(keys)}, whose model element"
+            f"acordcs-gen: {os.path.join(out, printable(path))}: your lines in region"
+            f"{'s' if len(keys) > 1 else ''} {printable(', '.join(keys))}, whose model element"
             f"{'s are' if len(keys) > 1 else ' is'} no longer in the model, "
             f"{'moved' if write else 'would be moved'} to "
-            f"{os.path.join(out, path)}.lost",
+            f"{os.path.join(out, printable(path))}.lost",
             err=True,
         )
     writes, deletes = len(plan.writes), len(plan.deletes)
@@ -217,15 +220,13 @@ def _report_failure(err) -> None:
 
         counts = Counter(str(d.severity) for d in err.diagnostics)
         click.echo(
-            f"{err.diagnostics[0].file}: "
+            f"{printable(err.diagnostics[0].file)}: "
             + ", ".join(
                 f"{counts[s]} {s}{'s' if counts[s] != 1 else ''}"
                 for s in ("error", "warning", "info")
             )
         )
-    from acordcs.diagnostics import printable
-
-    where = f"{err.location()}: " if err.file else ""
+    where = f"{printable(err.location())}: " if err.file else ""  # a newline in a name: escaped
     text = f"{where}error: {err.message}"
     if err.element:
         text += f" [{err.element}]"

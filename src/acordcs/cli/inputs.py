@@ -10,6 +10,7 @@ from __future__ import annotations
 import os
 import re
 import shutil
+import stat
 import sys
 import tempfile
 from pathlib import Path
@@ -52,6 +53,12 @@ def read_one(path: str, *, check: bool = True) -> ModelReading:
 def _not_a_model(path: str) -> str | None:
     """Why ``path`` is not a model file, or None."""
     what = _DIAGRAM_SUFFIXES.get(Path(path).suffix.lower())
+    try:
+        regular = stat.S_ISREG(os.stat(path).st_mode)
+    except OSError:
+        return None  # the reader says why it cannot be read (X101)
+    if what is None and not regular:
+        return None  # a pipe or a device: never opened here (it could block); the reader refuses it
     if what is None:
         try:
             with open(path, "rb") as handle:

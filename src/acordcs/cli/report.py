@@ -6,7 +6,7 @@ import json
 from collections import Counter
 
 from acordcs import __version__
-from acordcs.diagnostics import CODES, Severity, help_uri
+from acordcs.diagnostics import CODES, Severity, help_uri, printable
 from acordcs.model.reading import ModelReading
 
 _SARIF_LEVEL = {Severity.ERROR: "error", Severity.WARNING: "warning", Severity.INFO: "note"}
@@ -44,7 +44,8 @@ def as_text(readings: list[ModelReading]) -> str:
     lines = []
     for reading in readings:
         lines += [d.format_text() for d in reading.diagnostics]
-        lines.append(f"{reading.file}: {_summary(reading.diagnostics)}")
+        # the file name as given: a newline in it must not start a forged diagnostic line
+        lines.append(f"{printable(reading.file)}: {_summary(reading.diagnostics)}")
     return "\n".join(lines) + "\n"
 
 

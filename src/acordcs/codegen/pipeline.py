@@ -148,6 +148,8 @@ def _build(
         )
         old = None
     try:
+        if not os.path.isfile(source):  # a named pipe would block here: read_model reports it
+            raise FileNotFoundError(source)
         with open(source, "rb") as handle:
             model_sha = sha256(handle.read())
     except OSError:

@@ -22,6 +22,7 @@ from functools import cache
 from acordcs.errors import AcordError
 from acordcs.rules.lalr import Node, Tables, Tok, Unexpected
 from acordcs.rules.tree import (
+    MAX_DEPTH,
     Arith,
     Assign,
     BoolOp,
@@ -38,13 +39,17 @@ from acordcs.rules.tree import (
     RuleLine,
     TermDef,
     VarRef,
+    column_of,
+    depth_message,
     names_in,
+    rule_too_deep,
 )
 
 # The tree (tree.py) is part of this interface: the package re-exports it with the parser.
 __all__ = [
     "HEDGES",
     "KEYWORDS",
+    "MAX_DEPTH",
     "Arith",
     "Assign",
     "BoolOp",
@@ -62,9 +67,11 @@ __all__ = [
     "RuleSyntaxError",
     "TermDef",
     "VarRef",
+    "depth_message",
     "names_in",
     "parse_rule",
     "parse_terms",
+    "rule_too_deep",
     "split_rules",
     "syntax_error",
 ]
@@ -256,6 +263,10 @@ def _parse_rule(text: str, kind: str) -> Rule:
     if kind not in ("fuzzy", "crisp"):
         raise ValueError(f"rule kind must be 'fuzzy' or 'crisp', not {kind!r}")
     rule = _assemble(kind, _parse(f"start_{kind}", text), text)
+    # Each level of nesting takes an operator, at least one character: a short rule cannot be
+    # too deep, and most rules are short (the walk would cost a sixth of their parse).
+    if len(text) > MAX_DEPTH and (found := rule_too_deep(rule)):
+        raise RuleSyntaxError(depth_message(), column=column_of(found[1]))
     if kind == "fuzzy" and not 0.0 <= rule.weight <= 1.0:
         col = text.lower().rfind("with") + 1
         raise RuleSyntaxError(f"weight {rule.weight:g} is outside 0..1", column=col or None)

@@ -339,3 +339,68 @@ def names_in(node: object) -> list[Name]:
         elif isinstance(n, Not | Neg):
             stack.append(n.operand)
     return out
+
+
+# ------------------------------------------------------------------------------- nesting limit
+# Every consumer of the tree (the fuzzy and CLIPS compilers, CLIPS's own C parser, repr and
+# equality) walks it recursively: a condition nested (or chained: ``a and b and c`` nests to the
+# left) thousands deep would exhaust Python's stack at run time. The parser refuses such rules,
+# so the validator reports them, and the engines check trees they are given directly.
+MAX_DEPTH = 200
+_NESTING = (BoolOp, Compare, Arith, Not, Neg)
+
+
+def deepest(node: object, limit: int = MAX_DEPTH) -> tuple[int, object] | None:
+    """``(depth, node)`` for the first operator found deeper than ``limit`` levels of and, or, not,
+    comparison and arithmetic below ``node``, or None when the whole tree is within the limit."""
+    stack = [(node, 1)]
+    while stack:
+        n, depth = stack.pop()
+        if not isinstance(n, _NESTING):
+            continue
+        if depth > limit:
+            return depth, n
+        if isinstance(n, Not | Neg):
+            stack.append((n.operand, depth + 1))
+        else:
+            stack.extend(((n.right, depth + 1), (n.left, depth + 1)))
+    return None
+
+
+def rule_too_deep(rule: Rule, limit: int = MAX_DEPTH) -> tuple[int, object] | None:
+    """:func:`deepest` over a rule's condition and the values of its actions."""
+    roots: list[object] = [rule.condition]
+    for action in rule.actions:
+        if isinstance(action, Assign):
+            roots.append(action.value)
+        elif isinstance(action, Call):
+            roots.extend(action.args)
+    for root in roots:
+        found = deepest(root, limit)
+        if found:
+            return found
+    return None
+
+
+def column_of(node: object) -> int | None:
+    """The column of the leftmost name or literal in ``node`` (only those carry one)."""
+    stack = [node]
+    while stack:
+        n = stack.pop()
+        if isinstance(n, Is | VarRef):
+            return n.var.column
+        if isinstance(n, Const) and n.column:
+            return n.column
+        if isinstance(n, BoolOp | Compare | Arith):
+            stack.extend((n.right, n.left))
+        elif isinstance(n, Not | Neg):
+            stack.append(n.operand)
+    return None
+
+
+def depth_message(limit: int = MAX_DEPTH) -> str:
+    """What a rule nested too deep is told (the parser, the validator and the engines say the same)."""
+    return (
+        f"the rule nests deeper than the limit of {limit} levels (each and, or, not, comparison "
+        "or arithmetic operator of a chain counts one); split it into several rules"
+    )

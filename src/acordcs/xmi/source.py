@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import os
 import re
+import stat
 
 from lxml import etree
 
@@ -24,6 +25,13 @@ _WIDE_DECLARATION = re.compile(
     rb"""^\s*<\?xml[^>]*encoding\s*=\s*["'](utf-?16|utf-?32|ucs)""", re.IGNORECASE
 )
 _SCAN_BYTES = 64 * 1024
+_KINDS = {
+    stat.S_IFIFO: "a named pipe",
+    stat.S_IFCHR: "a character device",
+    stat.S_IFBLK: "a block device",
+    stat.S_IFSOCK: "a socket",
+    stat.S_IFDIR: "a directory",
+}
 
 
 class XmlInput:
@@ -105,10 +113,18 @@ _RECOVERABLE = frozenset(
 
 
 def read_xml(path: str) -> XmlInput:
-    """Parse ``path``; never raises for bad input."""
+    """Parse ``path``; never raises for bad input. Only a regular file is read: a named pipe
+    would block (no writer) or never end, a device (``/dev/zero``) never ends."""
     try:
-        with open(path, "rb") as handle:
-            size = os.fstat(handle.fileno()).st_size
+        # O_NONBLOCK: opening a named pipe without a writer returns at once instead of waiting
+        fd = os.open(path, os.O_RDONLY | getattr(os, "O_NONBLOCK", 0))
+        with open(fd, "rb") as handle:
+            status = os.fstat(handle.fileno())
+            if not stat.S_ISREG(status.st_mode):
+                what = _KINDS.get(stat.S_IFMT(status.st_mode), "not a regular file")
+                msg = f"cannot read file: it is {what}, not a regular file; give the path of a model file"
+                return XmlInput(path, None, [diagnostic("X101", msg, file=path)])
+            size = status.st_size
             if size > MAX_BYTES:
                 msg = f"file is {size // 2**20} MiB, over the {MAX_BYTES // 2**20} MiB limit; split the model"
                 return XmlInput(path, None, [diagnostic("X103", msg, file=path)])
@@ -141,8 +157,8 @@ def parse_bytes(data: bytes, path: str = "<input>") -> XmlInput:
     try:
         # Only a prefix is scanned: a 4 MB export is not searched twice; the tree check sees the rest.
         root = safexml.parse(data, strict, scan_end=_SCAN_BYTES)
-    except safexml.Refused as refused:
-        return _refused(path, refused)
+    except safexml.Refused as refused:  # found in the tree: past the prefix, where?
+        return _refused(path, safexml.find_declaration(data) or refused)
     except etree.XMLSyntaxError as err:
         return _after_strict_failure(data, path, err, strict)
     except (ValueError, LookupError) as err:  # e.g. an unknown encoding name in the declaration
@@ -196,6 +212,12 @@ def _at_end(data: bytes, line: int, col: int) -> bool:
 def _after_strict_failure(
     data: bytes, path: str, err: etree.XMLSyntaxError, parser: etree.XMLParser
 ) -> XmlInput:
+    # The strict parse scanned only a prefix for declarations, and failed before checking the tree.
+    # A file that failed is rare: scan all of it, so that a declaration past the prefix is refused
+    # (X102) whatever else is wrong, and recovery, which drops a misplaced one, never hides it.
+    found = safexml.find_declaration(data)
+    if found is not None:
+        return _refused(path, found)
     first = parser.error_log[0] if len(parser.error_log) else None
     kind = first.type_name if first is not None else ""
     line = first.line if first is not None else (err.lineno or 0)
@@ -216,8 +238,8 @@ def _after_strict_failure(
         )
     recovering = safexml.parser(recover=True, remove_blank_text=True)
     try:
-        root = safexml.parse(data, recovering, scan_end=_SCAN_BYTES)
-    except safexml.Refused as refused:  # past the prefix: the strict parse failed before the check
+        root = safexml.parse(data, recovering)  # scanned whole again: cheap beside a recovery
+    except safexml.Refused as refused:
         return _refused(path, refused)
     except etree.XMLSyntaxError:
         root = None

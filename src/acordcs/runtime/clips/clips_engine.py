@@ -48,7 +48,7 @@ from acordcs.runtime.clips.prelude import (
 )
 from acordcs.runtime.clips.records import decode
 from acordcs.runtime.clips.rulesets import RuleSet, RuleSets
-from acordcs.runtime.clips.values import Value, kind_of_type, normalise
+from acordcs.runtime.clips.values import Value, kind_of_type, normalise, shown
 from acordcs.runtime.rule_engine import RuleError
 
 __all__ = ["ClipsEngine", "FireError"]
@@ -218,7 +218,7 @@ class ClipsEngine:
         try:
             clean = normalise(value, var.kind)
         except ValueError as err:
-            raise RuleError(f"cannot set {var.name} to {value!r}: {err}") from None
+            raise RuleError(f"cannot set {var.name} to {shown(value)}: {err}") from None
         self._values[var.index] = clean
         self._dirty[var.index] = clean
         if var.index in self._numeric:

@@ -20,12 +20,13 @@ second of rule set ``recovery``, both variables declared as numbers, becomes (on
       (bind ?*acord-out* (create$ ?*acord-out* -1)))
 
 Every operator is checked (deffunctions of the prelude, with the number case inline), so a bad value
-(a string where a number is needed, a division by zero) is an evaluation error reported back to
+(a string where a number is needed, a division by zero, an integer result past 64 bits, which
+CLIPS itself would wrap) is an evaluation error reported back to
 Python, not a CLIPS error that halts the run. Every literal that reaches CLIPS text is escaped by
 :func:`quote` or checked finite; values themselves never appear in CLIPS text at all.
 
 The first branch is numeric mode (:data:`NUMERIC_FLAG`): while every variable declared as a number
-holds a number, a condition on such variables and number literals cannot fail, and computes what
+holds a number, a comparison of such variables and number literals (no arithmetic) cannot fail, and computes what
 the checked branch computes, without a check. ``(acord-eval ...)`` comes last: asserting it at
 each fire then joins it with one stored partial match per rule, not with each ``acord-var``.
 
@@ -61,6 +62,8 @@ from acordcs.rules import (
     Not,
     Rule,
     VarRef,
+    depth_message,
+    rule_too_deep,
 )
 from acordcs.runtime.clips.records import Sites, python_constant
 from acordcs.runtime.rule_engine import RuleError
@@ -76,6 +79,7 @@ _COMPARE = {
 _ARITH = {"+": "acord-add", "-": "acord-sub", "*": "acord-mul", "/": "acord-div"}
 
 _INLINE = {"==": "=", "!=": "<>"}
+_OVERFLOWS = frozenset("+-*")  # integer results past 2**63 wrap in CLIPS: see prelude
 # TRUE only while every variable declared as a number holds one (the engine keeps it so, and a
 # rule assigning something else to such a variable clears it): see compile_rule.
 NUMERIC_FLAG = "?*acord-num*"
@@ -223,8 +227,8 @@ class _Compiler:
         """
         left, right = self.value(node.left), self.value(node.right)
         checked = f"({function} {left} {right})"
-        if not (_plain(node.left) and _plain(node.right)):
-            return checked
+        if node.op in _OVERFLOWS or not (_plain(node.left) and _plain(node.right)):
+            return checked  # + - * on integers may overflow: only the deffunction checks that
         variables = [
             t for t, n in ((left, node.left), (right, node.right)) if isinstance(n, VarRef)
         ]
@@ -242,20 +246,15 @@ class _Compiler:
         return f"(if {_all(guard)} then {fast} else {checked})"
 
     def fast_value(self, node: object) -> str | None:
-        """CLIPS text of a number computed without any check, or None: every variable in it is
-        numeric, every literal a number, no division (by zero would be a CLIPS error). Exactly what
-        the checked form computes when its operands are numbers."""
+        """CLIPS text of a number computed without any check, or None: a numeric variable or a
+        number literal; arithmetic is never unchecked (division by zero, integer overflow)."""
         if isinstance(node, Const):
             return self.constant(node) if _numeric(node) else None
         if isinstance(node, VarRef):
             target = self.variable(node.var)
             return target.global_name if target.numeric else None
-        if isinstance(node, Arith) and node.op != "/":
-            left, right = self.fast_value(node.left), self.fast_value(node.right)
-            return f"({node.op} {left} {right})" if left and right else None
-        if isinstance(node, Neg):
-            operand = self.fast_value(node.operand)
-            return f"(* -1 {operand})" if operand else None  # as acord-neg: -0.0 stays -0.0
+        # No arithmetic: + - * and negation of integers may overflow, which only the checked
+        # deffunctions detect (and report, which this branch cannot)
         return None
 
     def fast_condition(self, node: object) -> str | None:
@@ -422,6 +421,8 @@ def compile_rule(
 ) -> CompiledRule:
     """The CLIPS constructs of one crisp rule. Raises RuleError naming the set, the rule and the column."""
     c = _Compiler(ruleset, label, rule_id, variables, operations, sites)
+    if rule_too_deep(rule):  # a tree built in Python: the parser refuses these in text
+        raise c.error(depth_message(), None)
     condition = c.condition(rule.condition)
     reads = sorted(c.seen)
     patterns = "".join(f" (acord-var (i {i}))" for i in reads)

@@ -44,12 +44,24 @@ _ORDER_TEMPLATE = """
                                    (acord-kind ?a) " and " (acord-kind ?b))))))
 """
 
+# CLIPS integers are C long longs and wrap silently past 2**63: integer results are checked.
+# Sums and differences exactly (by sign); products through their float value, which is within
+# 2048 of the exact one below 2**64, so the bound 2**63 - 4096 misses no overflow (it also
+# refuses the products within 4096 of the limit). No division is used: LLONG_MIN / -1 traps in C.
+_OVERFLOW = "(acord-fail \"integer overflow: '{sym}' leaves the 64-bit range; use a float\") 0"
+_INT_CHECK = {
+    "+": "(and (eq (>= ?a 0) (>= ?b 0)) (neq (>= ?r 0) (>= ?a 0)))",
+    "-": "(and (neq (>= ?a 0) (>= ?b 0)) (neq (>= ?r 0) (>= ?a 0)))",
+    "*": "(>= (abs (* (float ?a) (float ?b))) 9223372036854771712.0)",
+}
 _ARITH_TEMPLATE = """
 (deffunction MAIN::acord-{name} (?a ?b)
-  (if (and (numberp ?a) (numberp ?b))
-   then ({op} ?a ?b)
-   else (acord-fail (str-cat "'{sym}' needs two numbers, not " (acord-kind ?a) " and " (acord-kind ?b)))
-        0))
+  (if (and (integerp ?a) (integerp ?b))
+   then (bind ?r ({op} ?a ?b)) (if {check} then {overflow} else ?r)
+   else (if (and (numberp ?a) (numberp ?b))
+         then ({op} ?a ?b)
+         else (acord-fail (str-cat "'{sym}' needs two numbers, not " (acord-kind ?a) " and " (acord-kind ?b)))
+              0)))
 """
 
 # NUMERIC_FLAG (compiler.py) is pushed by the engine as variable number 0.
@@ -100,8 +112,10 @@ _FIXED = [
          else (acord-fail (str-cat "'/' needs two numbers, not " (acord-kind ?a) " and " (acord-kind ?b)))
               0))""",
     """(deffunction MAIN::acord-neg (?a)
-        (if (numberp ?a) then (* -1 ?a)
-         else (acord-fail (str-cat "'-' needs a number, not " (acord-kind ?a))) 0))""",
+        (if (and (integerp ?a) (< ?a -9223372036854775807))
+         then (acord-fail "integer overflow: '-' leaves the 64-bit range; use a float") 0
+         else (if (numberp ?a) then (* -1 ?a)
+         else (acord-fail (str-cat "'-' needs a number, not " (acord-kind ?a))) 0)))""",
     """(deffunction MAIN::acord-op (?name $?args)
         (bind ?*acord-out* (create$ ?*acord-out* op ?name (length$ ?args) ?args)))""",
     # Leftovers of a fire interrupted by a CLIPS error must not leak into the next fire; returns
@@ -151,7 +165,9 @@ def fixed_constructs() -> list[str]:
         )
     ]
     ops += [
-        _ARITH_TEMPLATE.format(name=name, op=op, sym=op)
+        _ARITH_TEMPLATE.format(
+            name=name, op=op, sym=op, check=_INT_CHECK[op], overflow=_OVERFLOW.format(sym=op)
+        )
         for name, op in (("add", "+"), ("sub", "-"), ("mul", "*"))
     ]
     return _FIXED + ops

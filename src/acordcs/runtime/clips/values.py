@@ -65,6 +65,16 @@ def kind_of(value: Value) -> str:
     return "number"
 
 
+def shown(value: object, limit: int = 60) -> str:
+    """``repr(value)`` for a message, cut to about ``limit`` characters; an integer too long to
+    print (past 4,300 digits Python refuses) is described by its size."""
+    if isinstance(value, int) and not isinstance(value, bool) and value.bit_length() > 200:
+        digits = int(value.bit_length() * 0.30103) + 1
+        return f"{'-' if value < 0 else ''}<an integer of about {digits} digits>"
+    text = repr(value)
+    return text if len(text) <= limit else text[: limit - 3] + "..."
+
+
 def normalise(value: object, kind: str | None) -> Value:
     """``value`` as one of the exact types CLIPS receives. Raises ValueError saying what is wrong."""
     exact = type(value)
@@ -75,7 +85,9 @@ def normalise(value: object, kind: str | None) -> Value:
     elif isinstance(value, numbers.Integral):
         out = int(value)
         if not _INT_MIN <= out <= _INT_MAX:
-            raise ValueError(f"the integer {out} does not fit in 64 bits; pass it as a float")
+            raise ValueError(
+                f"the integer {shown(out)} does not fit in 64 bits; pass it as a float"
+            )
     elif isinstance(value, numbers.Real):
         out = float(value)
     elif isinstance(value, str):
@@ -98,7 +110,7 @@ def normalise(value: object, kind: str | None) -> Value:
         )
     if kind is not None and kind_of(out) != kind:
         raise ValueError(
-            f"the variable is declared {kind}, and {out!r} is {kind_of(out)}; pass a {kind}"
+            f"the variable is declared {kind}, and {shown(out)} is {kind_of(out)}; pass a {kind}"
         )
     return out
 
@@ -122,6 +134,6 @@ def parse_default(text: str, kind: str | None) -> Value:
         except ValueError:
             if kind is None:
                 return text
-            raise ValueError(f"{text!r} is not a number") from None
+            raise ValueError(f"{shown(text)} is not a number") from None
         return number
-    raise ValueError(f"{text!r} is not true or false")
+    raise ValueError(f"{shown(text)} is not true or false")

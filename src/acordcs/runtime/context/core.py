@@ -5,7 +5,9 @@ from __future__ import annotations
 import logging
 import math
 import threading
-from collections.abc import Callable
+from collections import Counter
+from collections.abc import Callable, Iterator
+from contextlib import contextmanager
 
 from lxml import etree
 
@@ -18,6 +20,7 @@ from acordcs.runtime.context.delivery import (
 from acordcs.runtime.context.errors import ContextError, SubscriptionError
 from acordcs.runtime.context.index import SubscriptionIndex
 from acordcs.runtime.context.xmlparse import Limits, parse_document, to_bytes
+from acordcs.runtime.context.xpathcost import check_linear
 from acordcs.runtime.context.xpathexpr import compile_expression, recognise
 
 log = logging.getLogger("acordcs.runtime.context")
@@ -65,15 +68,23 @@ class ProviderCore:
             InlineDelivery() if inline else DeliveryDispatcher(max_threads=delivery_threads)
         )
         self._lock = threading.RLock()
-        self._index = SubscriptionIndex(self.limits.max_eval_seconds, self.limits.max_strikes)
+        self._index = SubscriptionIndex(
+            self.limits.max_eval_seconds, self.limits.max_strikes, self.limits.strike_window
+        )
         self._index.on_suspend = self._suspended
+        # One lock per publisher, held while one of its documents is matched and dispatched (its
+        # notifications keep their order); the provider lock is held only for the index and the
+        # bookkeeping, not while a fallback XPath runs.
+        self._publisher_locks: dict[str, list] = {}  # publisher -> [lock, users]: see _publishing
+        self._on_suspend: dict[Subscription, Callable[[Subscription, str], object]] = {}
         self._subs: dict[int, tuple[Subscription, object]] = {}
         self._latest: dict[str, tuple[int, etree._ElementTree]] = {}
         # publisher -> the on_change subscriptions whose last selection there was not empty, with
         # the fingerprint of that selection
         self._changing: dict[str, dict[Subscription, object]] = {}
         self._closed = False
-        self.rejected = 0  # documents refused (malformed, hostile, too large)
+        self.rejected = 0  # documents refused (malformed, hostile, too large, too costly)
+        self.rejected_by: Counter[str] = Counter()  # the same, by publisher (the first 4,096)
 
     # -- subscriptions -------------------------------------------------------------------------------
     def subscribe(
@@ -85,11 +96,15 @@ class ProviderCore:
         max_rate: float | None = None,
         on_change: bool = False,
         queue_size: int = 1024,
+        on_suspend: Callable[[Subscription, str], object] | None = None,
     ) -> Subscription:
         """Call ``callback(notification)`` for every document (of ``publisher``, if given) that ``xpath``
         selects something in. ``max_rate``: at most that many notifications per second, the latest wins.
         ``on_change``: only when the selection differs from the previous document of that publisher
-        (including when it becomes empty: then ``nodes`` is empty)."""
+        (including when it becomes empty: then ``nodes`` is empty). ``on_suspend(handle, reason)``:
+        called (on a thread of its own) if the subscription is suspended for overrunning its time
+        budget. Unless ``Limits.trusted_subscribers``, an expression the index does not evaluate
+        itself must be of the linear forms (:mod:`.xpathcost`)."""
         self._check_open()
         if not callable(callback):
             raise SubscriptionError(
@@ -120,15 +135,23 @@ class ProviderCore:
                 element="subscription",
                 hint="the number of notifications kept for a slow callback",
             )
+        if on_suspend is not None and not callable(on_suspend):
+            raise SubscriptionError(
+                "on_suspend is not callable", element="subscription", hint="pass a function"
+            )
         compiled = form = None
         if xpath is not None:
             compiled = compile_expression(xpath, self.limits.max_expression_chars)
             form = recognise(xpath)
+            if form is None and not self.limits.trusted_subscribers:
+                check_linear(xpath)
         sub = Subscription(callback, xpath, publisher, max_rate, bool(on_change), queue_size)
         with self._lock:
             self._check_open()
             self._index.add(sub, publisher, form, compiled)
             self._subs[sub.id] = (sub, form)
+            if on_suspend is not None:
+                self._on_suspend[sub] = on_suspend
         self._subscribed(sub)
         return sub
 
@@ -140,6 +163,7 @@ class ProviderCore:
                 return False
             sub, form = entry
             self._index.remove(sub, sub.publisher, form)
+            self._on_suspend.pop(sub, None)
             for holders in self._changing.values():
                 holders.pop(sub, None)
         self._dispatcher.cancel(sub)
@@ -199,14 +223,43 @@ class ProviderCore:
             data = to_bytes(publisher, document)
             return data, parse_document(publisher, data, self.limits)
         except Exception:
-            self.rejected += 1
+            self._count_rejected(publisher)
             raise
 
+    def _count_rejected(self, publisher: str) -> None:
+        self.rejected += 1
+        if publisher in self.rejected_by or len(self.rejected_by) < 4096:
+            self.rejected_by[publisher] += 1
+
+    @contextmanager
+    def _publishing(self, publisher: str) -> Iterator[None]:
+        """Hold ``publisher``'s lock: its documents are numbered and dispatched one at a time, in
+        order. A lock lives while someone uses it, so hostile publisher names leave nothing behind."""
+        with self._lock:
+            entry = self._publisher_locks.get(publisher)
+            if entry is None:
+                entry = self._publisher_locks[publisher] = [threading.Lock(), 0]
+            entry[1] += 1
+        try:
+            with entry[0]:
+                yield
+        finally:
+            with self._lock:
+                entry[1] -= 1
+                if not entry[1]:
+                    del self._publisher_locks[publisher]
+
     def _dispatch(self, publisher: str, seq: int, tree: etree._ElementTree) -> int:
-        """Match and hand notifications to the subscribers' mailboxes. Returns how many were queued."""
+        """Match and hand notifications to the subscribers' mailboxes. Returns how many were queued.
+
+        The caller is inside :meth:`_publishing` (documents of one publisher in order)."""
         with self._lock:
             self._latest[publisher] = (seq, tree)
-            matches = self._index.match(tree, publisher)
+            matches = self._index.match_indexed(tree, publisher)
+            fallbacks = self._index.fallbacks(publisher)
+        if fallbacks:  # without the provider lock: other publishers and subscribers go on
+            matches += self._index.evaluate(fallbacks, tree)
+        with self._lock:
             changing = self._changing.get(publisher) or {}
             queued = 0
             matched_changing: dict[Subscription, object] = {}
@@ -228,14 +281,25 @@ class ProviderCore:
             return queued
 
     def _suspended(self, sub: Subscription, elapsed: float) -> None:
+        with self._lock:
+            self._index.suspend(sub, sub.publisher)
+            tell = self._on_suspend.pop(sub, None)
         sub.stats.suspended = True
-        log.warning(
-            "%r suspended: its XPath took %.1f ms on one document, over the %.1f ms budget %d times",
-            sub,
-            elapsed * 1e3,
-            self.limits.max_eval_seconds * 1e3,
-            self.limits.max_strikes,
+        reason = (
+            f"its XPath took {elapsed * 1e3:.1f} ms on one document, over the "
+            f"{self.limits.max_eval_seconds * 1e3:.1f} ms budget {self.limits.max_strikes} times "
+            f"within {self.limits.strike_window:g} s"
         )
+        log.warning("%r suspended: %s", sub, reason)
+        if tell is not None:  # on a thread of its own: the subscriber's code must not hold us up
+
+            def notify() -> None:
+                try:
+                    tell(sub, reason)
+                except Exception as err:
+                    log.warning("%r: on_suspend raised %s: %s", sub, type(err).__name__, err)
+
+            threading.Thread(target=notify, name="acordcs-ctx-suspended", daemon=True).start()
 
     # -- lifecycle ------------------------------------------------------------------------------------
     def _check_open(self) -> None:

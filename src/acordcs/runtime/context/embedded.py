@@ -31,7 +31,7 @@ class ContextProvider(ProviderCore):
         self._check_open()
         check_publisher(publisher)
         _, tree = self._parse(publisher, document)
-        with self._lock:
+        with self._publishing(publisher):  # not the provider lock: see _dispatch
             seq = self._seq.get(publisher, 0) + 1
             self._seq[publisher] = seq
             self._dispatch(publisher, seq, tree)

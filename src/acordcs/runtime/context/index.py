@@ -5,8 +5,9 @@ grouped by location path: every distinct path is evaluated once per document, ho
 subscriptions share it (plain ``/a/b/c`` paths by one walk of the document along a trie of all such
 paths, others by one compiled XPath each). The predicates of the recognised forms are kept per
 (path, value) entry as sorted thresholds, so ``. > c`` for all c is one bisection, and
-``= c`` one dict lookup. Anything else is a compiled lxml XPath evaluated per document, timed, and
-suspended after repeated overruns. The results are, by construction and by test, the node lists lxml
+``= c`` one dict lookup. Anything else is a compiled lxml XPath evaluated per document (outside the
+provider's lock: :meth:`SubscriptionIndex.fallbacks` then :meth:`SubscriptionIndex.evaluate`),
+timed, and suspended after repeated overruns within a window. The results are, by construction and by test, the node lists lxml
 returns when evaluating each subscription on its own.
 """
 
@@ -14,6 +15,7 @@ from __future__ import annotations
 
 import logging
 import time
+from collections import deque
 from collections.abc import Callable
 from typing import Any
 
@@ -28,14 +30,15 @@ log = logging.getLogger(__name__)
 Entry = Any  # the index stores any hashable subscription object
 
 
-class _Fallback:
-    """A subscription matched by its own compiled XPath: the expression, and its overruns so far."""
+class Fallback:
+    """A subscription matched by its own compiled XPath: the expression, and when it overran."""
 
-    __slots__ = ("compiled", "strikes")
+    __slots__ = ("compiled", "strikes", "suspended")
 
     def __init__(self, compiled: Callable[[etree._ElementTree], object]) -> None:
         self.compiled = compiled
-        self.strikes = 0
+        self.strikes: deque[float] = deque()  # monotonic times of recent overruns
+        self.suspended = False
 
 
 class _PublisherIndex:
@@ -44,7 +47,7 @@ class _PublisherIndex:
     def __init__(self) -> None:
         self.entries: dict[tuple, ValueEntry] = {}  # (path, value kind, value name) -> entry
         self.by_path: dict[str, list[tuple]] = {}  # path -> [(value kind, value name, entry)]
-        self.fallback: dict[Entry, _Fallback] = {}  # in subscription order
+        self.fallback: dict[Entry, Fallback] = {}  # in subscription order
         self.everything: dict[Entry, None] = {}  # ordered set
 
     def empty(self) -> bool:
@@ -71,7 +74,9 @@ def _string_value(node: object) -> str:
 class SubscriptionIndex:
     """Not thread-safe: the provider serialises ``add``/``remove``/``match`` under its lock."""
 
-    def __init__(self, max_eval_seconds: float = 0.05, max_strikes: int = 3) -> None:
+    def __init__(
+        self, max_eval_seconds: float = 0.05, max_strikes: int = 3, strike_window: float = 60.0
+    ) -> None:
         self._by_publisher: dict[str | None, _PublisherIndex] = {}
         self._trie = _Trie()
         self._paths: dict[str, list] = {}  # non-trie path -> [compiled XPath, refcount]
@@ -82,6 +87,7 @@ class SubscriptionIndex:
         self._forms: dict[Entry, IndexedForm] = {}
         self._max_eval = max_eval_seconds
         self._max_strikes = max_strikes
+        self._strike_window = strike_window
         self.on_suspend: Callable[[Entry, float], None] | None = None
 
     def __len__(self) -> int:
@@ -102,7 +108,7 @@ class SubscriptionIndex:
         pindex = self._by_publisher.setdefault(publisher, _PublisherIndex())
         if form is None:
             if compiled is not None:
-                pindex.fallback[sub] = _Fallback(compiled)
+                pindex.fallback[sub] = Fallback(compiled)
             else:
                 pindex.everything[sub] = None
             return
@@ -204,6 +210,24 @@ class SubscriptionIndex:
         """Chunks ``(subscriptions, selected nodes, raw XPath result)``: each matching subscription
         appears in exactly one chunk, with its nodes. Chunks spare a tuple per matching subscription
         when many share a result (every ``> c`` subscription below the value gets the same node)."""
+        results = self.match_indexed(tree, publisher)
+        results += self.evaluate(self.fallbacks(publisher), tree)
+        return results
+
+    def fallbacks(self, publisher: str) -> list[tuple[Entry, Fallback]]:
+        """The subscriptions matched by their own XPath on ``publisher``'s documents: taken under
+        the provider's lock, evaluated (:meth:`evaluate`) without it."""
+        found: list[tuple[Entry, Fallback]] = []
+        for key in (None, publisher):
+            pindex = self._by_publisher.get(key)
+            if pindex is not None and pindex.fallback:
+                found += pindex.fallback.items()
+        return found
+
+    def match_indexed(
+        self, tree: etree._ElementTree, publisher: str
+    ) -> list[tuple[list, list, object]]:
+        """:meth:`match` without the fallback subscriptions (the cheap part)."""
         root = tree.getroot()
         results: list[tuple[list, list, object]] = []
         walked: dict[str, list] | None = None
@@ -226,19 +250,22 @@ class SubscriptionIndex:
                         _match_entry(value_kind, value_name, entry, nodes, results)
         for key in (None, publisher):
             pindex = self._by_publisher.get(key)
-            if pindex is None:
-                continue
-            if pindex.everything:
+            if pindex is not None and pindex.everything:
                 whole = [root]
                 results.append((list(pindex.everything), whole, whole))
-            if pindex.fallback:
-                self._match_fallback(pindex, tree, results)
         return results
 
-    def _match_fallback(
-        self, pindex: _PublisherIndex, tree: etree._ElementTree, results: list
-    ) -> None:
-        for sub, state in list(pindex.fallback.items()):
+    def evaluate(
+        self, fallbacks: list[tuple[Entry, Fallback]], tree: etree._ElementTree
+    ) -> list[tuple[list, list, object]]:
+        """Evaluate :meth:`fallbacks` on ``tree``; needs no lock (lxml releases the GIL while it
+        evaluates, so other publishers go on meanwhile). An evaluation over
+        ``max_eval_seconds`` is a strike; ``max_strikes`` strikes within ``strike_window``
+        seconds suspend the subscription (:meth:`suspend`, then ``on_suspend``)."""
+        results: list[tuple[list, list, object]] = []
+        for sub, state in fallbacks:
+            if state.suspended:
+                continue
             started = time.perf_counter()
             try:
                 value = state.compiled(tree)
@@ -246,18 +273,35 @@ class SubscriptionIndex:
                 log.warning("subscription %s: XPath evaluation failed: %s", sub, err)
                 continue
             elapsed = time.perf_counter() - started
-            if elapsed > self._max_eval:
-                state.strikes += 1
-                if state.strikes >= self._max_strikes:
-                    del pindex.fallback[sub]
-                    if self.on_suspend is not None:
-                        self.on_suspend(sub, elapsed)
+            suspends = elapsed > self._max_eval and self._strike(state, started + elapsed)
+            if suspends and self.on_suspend is not None:
+                self.on_suspend(sub, elapsed)
             if isinstance(value, list):
                 if value:
                     results.append(([sub], value, value))
             # XPath boolean(): true, a number neither 0 nor NaN, a non-empty string
             elif value and value == value:
                 results.append(([sub], [], value))
+        return results
+
+    def _strike(self, state: Fallback, now: float) -> bool:
+        """Count an overrun; True when it suspends (once). Strikes older than the window decay."""
+        strikes = state.strikes
+        strikes.append(now)
+        while strikes and strikes[0] < now - self._strike_window:
+            strikes.popleft()
+        if len(strikes) < self._max_strikes or state.suspended:
+            return False
+        state.suspended = True
+        return True
+
+    def suspend(self, sub: Entry, publisher: str | None) -> None:
+        """Stop evaluating ``sub`` (after :meth:`evaluate` suspended it), under the provider's lock."""
+        pindex = self._by_publisher.get(publisher)
+        if pindex is not None:
+            pindex.fallback.pop(sub, None)
+            if pindex.empty():
+                del self._by_publisher[publisher]
 
 
 def _add_entry(pindex: _PublisherIndex, sub: Entry, form: IndexedForm) -> None:

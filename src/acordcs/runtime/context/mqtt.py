@@ -179,9 +179,17 @@ class MqttContextProvider(ProviderCore):
         # an exception escaping a paho callback would end the network thread, silently
         try:
             self._receive(message)
-        except Exception:
+        except Exception as err:
             self.malformed += 1
-            log.exception("failed to process a message on %s; going on", message.topic)
+            # what, where; the traceback only for debugging: a message from the network must not
+            # fill the log with one
+            log.warning(
+                "failed to process a message on %.200r (%s: %.200s); going on",
+                message.topic,
+                type(err).__name__,
+                err,
+            )
+            log.debug("the failure above", exc_info=True)
 
     def _receive(self, message: mqtt.MQTTMessage) -> None:
         topic = message.topic
@@ -196,7 +204,9 @@ class MqttContextProvider(ProviderCore):
             return
         header, _, body = payload.partition(b"\n")
         parts = header.split(b" ")
-        if len(parts) != 3 or parts[0] != _MAGIC or not parts[2].isdigit():
+        # a sequence number is at most 19 digits (it counts in 64 bits); int() of thousands of
+        # digits raises, and a long one costs quadratic time
+        if len(parts) != 3 or parts[0] != _MAGIC or not parts[2].isdigit() or len(parts[2]) > 19:
             self.malformed += 1
             log.warning("ignoring a message on %s that is not an acordcs context document", topic)
             return
@@ -220,10 +230,11 @@ class MqttContextProvider(ProviderCore):
             tree = parse_document(publisher, body, self.limits)
         except PublishError as err:
             self.malformed += 1
-            self.rejected += 1
+            self._count_rejected(publisher)
             log.warning("ignoring a refused document from the broker: %s", err)
             return
-        self._dispatch(publisher, seq, tree)
+        with self._publishing(publisher):
+            self._dispatch(publisher, seq, tree)
 
     # -- topics ---------------------------------------------------------------------------------------
     def _wanted(self) -> set[str]:

@@ -3,8 +3,8 @@
 Context documents come from other processes and machines, so they are parsed as hostile input, by
 :mod:`acordcs.safexml` (no DTD accepted at all, no entities, no network, libxml2's limits: nesting at most
 256 levels, text nodes at most 10 MB), on each thread's own parser. This module adds the provider's
-policy: :class:`Limits` on bytes, nodes and depth, so that the cost of every subscription per document
-is bounded, and PublishError messages naming the publisher.
+policy: :class:`Limits` on bytes, nodes, depth and evaluation cost, so that the cost of every
+subscription per document is bounded, and PublishError messages naming the publisher.
 """
 
 from __future__ import annotations
@@ -16,6 +16,7 @@ from lxml import etree
 
 from acordcs import safexml
 from acordcs.runtime.context.errors import PublishError
+from acordcs.runtime.context.xpathcost import document_cost
 
 _COUNT_NODES = etree.XPath("count(//node() | //@*)")
 _DECLARED_ENCODING = re.compile(r"\s*<\?xml[^>]*?encoding\s*=\s*[\"']([A-Za-z0-9._\-]+)")
@@ -29,19 +30,33 @@ class Limits:
     max_nodes: int = 20_000
     max_depth: int = 256
     max_expression_chars: int = 4096
+    # What evaluating string-values and relative paths from every node may cost on one document
+    # (acordcs.runtime.context.xpathcost.document_cost): a costlier document is refused.
+    max_cost: int = 4_000_000
+    # False: the subscriptions the index does not evaluate must be of the linear forms
+    # (xpathcost.check_linear); True only when every subscriber is trusted code.
+    trusted_subscribers: bool = False
     # A fallback (non-indexed) subscription whose evaluation exceeds this many seconds gets a strike;
-    # after ``max_strikes`` strikes it is suspended and reported (lxml cannot interrupt an evaluation).
+    # after ``max_strikes`` strikes within ``strike_window`` seconds it is suspended, reported and its
+    # subscriber told (lxml cannot interrupt an evaluation); older strikes are forgotten.
     max_eval_seconds: float = 0.05
     max_strikes: int = 3
+    strike_window: float = 60.0
 
     def __post_init__(self) -> None:
-        for name in ("max_bytes", "max_nodes", "max_depth", "max_expression_chars", "max_strikes"):
+        for name in (
+            "max_bytes",
+            "max_nodes",
+            "max_depth",
+            "max_expression_chars",
+            "max_strikes",
+            "max_cost",
+        ):
             if getattr(self, name) <= 0:
                 raise ValueError(f"Limits.{name} must be positive, got {getattr(self, name)!r}")
-        if not self.max_eval_seconds > 0:
-            raise ValueError(
-                f"Limits.max_eval_seconds must be positive, got {self.max_eval_seconds!r}"
-            )
+        for name in ("max_eval_seconds", "strike_window"):
+            if not getattr(self, name) > 0:
+                raise ValueError(f"Limits.{name} must be positive, got {getattr(self, name)!r}")
         if self.max_depth > safexml.MAX_DEPTH:
             raise ValueError(
                 f"Limits.max_depth above {safexml.MAX_DEPTH} would need libxml2's huge_tree, which is refused"
@@ -141,4 +156,14 @@ def parse_document(publisher: str, data: bytes, limits: Limits) -> etree._Elemen
             f"document nests elements deeper than {limits.max_depth} levels",
             "flatten the document or raise Limits.max_depth",
         )
+    # each character counts at most once per enclosing element: a short document cannot exceed
+    if len(data) * limits.max_depth > limits.max_cost:
+        cost = document_cost(root)
+        if cost > limits.max_cost:
+            raise _refuse(
+                publisher,
+                f"document costs {cost:,} to evaluate XPath on (text length times depth), more "
+                f"than the limit of {limits.max_cost:,}",
+                "publish flatter or smaller documents, or raise Limits.max_cost",
+            )
     return tree

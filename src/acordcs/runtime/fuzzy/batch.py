@@ -62,13 +62,32 @@ def run_batch(
     return out
 
 
+def _numbers(name: str, column: object, ruleset: str) -> np.ndarray:
+    """``column`` as a 1-D float array; text (``'5'``) and numbers beyond a float are a RuleError,
+    as in ``set``."""
+    raw = np.asarray(column)
+    text = raw.dtype.kind in "USV" or (
+        raw.dtype.kind == "O" and any(isinstance(v, str | bytes) for v in raw.ravel())
+    )
+    if not text:
+        try:
+            return np.atleast_1d(raw.astype(float))
+        except (OverflowError, TypeError, ValueError):
+            pass
+    raise RuleError(
+        f"input {name!r} must be numbers: text (such as '5') and numbers beyond a float's "
+        "range are refused",
+        ruleset=ruleset,
+    )
+
+
 def _inputs(compiled, columns, values, warn) -> dict[str, np.ndarray]:
     out = {}
     variables = compiled.variables
     for name in compiled.inputs:
         var = variables[name]
         if name in columns:
-            arr = np.atleast_1d(np.asarray(columns[name], dtype=float))
+            arr = _numbers(name, columns[name], compiled.name)
         elif values.get(name) is not None:
             arr = np.atleast_1d(np.asarray(values[name], dtype=float))
         else:

@@ -12,9 +12,9 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
-from acordcs.rules import BoolOp, Consequent, Is, Name, Not, Rule
+from acordcs.rules import BoolOp, Consequent, Is, Name, Not, Rule, depth_message, rule_too_deep
 from acordcs.runtime.fuzzy.defuzz import OutputShape, make_defuzzifier
 from acordcs.runtime.fuzzy.semantics import Semantics, collapses
 from acordcs.runtime.fuzzy.variable import LinguisticVariable
@@ -126,6 +126,8 @@ def resolve_rule(
             file=file,
             line=line,
         )
+    if rule_too_deep(rule):  # a tree built in Python: the parser refuses these in text
+        raise RuleError(depth_message(), ruleset=ruleset, rule=label, file=file, line=line)
     condition = walk(rule.condition)
     consequents = []
     for action in rule.actions:
@@ -189,20 +191,21 @@ class _Emitter:
 
 
 def compile_ruleset(
-    name: str, entries: list[RuleEntry], variables: dict[str, LinguisticVariable], sem: Semantics
+    name: str,
+    entries: list[RuleEntry],
+    variables: dict[str, LinguisticVariable],
+    sem: Semantics,
+    plan: Callable[[str, LinguisticVariable, Semantics], OutputPlan] | None = None,
 ) -> CompiledRuleSet:
-    """Generate and compile the rule set's fire function (see module doc)."""
-    inputs: list[str] = []
-    for e in entries:
-        for v in e.inputs():
-            if v not in inputs:
-                inputs.append(v)
-    out_names: list[str] = []
-    for e in entries:
-        for v, _ in e.consequents:
-            if v not in out_names:
-                out_names.append(v)
-    outputs = [output_plan(name, variables[v], sem) for v in out_names]
+    """Generate and compile the rule set's fire function (see module doc). ``plan`` gives an
+    output's plan (default :func:`output_plan`; an engine passes the plans it already built)."""
+    plan = plan or output_plan
+    # dicts as ordered sets: membership tests stay O(1) with thousands of rules and terms
+    inputs = list(dict.fromkeys(v for e in entries for v in e.inputs()))
+    out_names = list(dict.fromkeys(v for e in entries for v, _ in e.consequents))
+    out_index = {v: o for o, v in enumerate(out_names)}
+    outputs = [replace(plan(name, variables[v], sem), sources=[]) for v in out_names]
+    term_index = [{t: k for k, t in enumerate(o.variable.terms)} for o in outputs]
 
     em = _Emitter(sem)
     em.emit("missed = ()")
@@ -256,28 +259,28 @@ def compile_ruleset(
             d = t
         dloc.append(d)
         for v, term in e.consequents:
-            plan = outputs[out_names.index(v)]
-            plan.sources.append((r, list(plan.variable.terms).index(term)))
+            o = out_index[v]
+            outputs[o].sources.append((r, term_index[o][term]))
 
     namespace: dict[str, object] = {
         "_exp": math.exp,
         "_sqrt": math.sqrt,
         "_unset": _unset_raiser(name),
     }
-    for o, plan in enumerate(outputs):
-        namespace[f"D{o}"] = plan.defuzzifier
-        namespace[f"F{o}"] = plan.variable.fallback
-        if plan.collapsed:
-            folded = []
-            for k in range(len(plan.variable.terms)):
-                ds = [dloc[r] for r, kk in plan.sources if kk == k]
-                folded.append(_fold(em, sem.accu, ds))
+    for o, out in enumerate(outputs):
+        namespace[f"D{o}"] = out.defuzzifier
+        namespace[f"F{o}"] = out.variable.fallback
+        if out.collapsed:
+            by_term: list[list[str]] = [[] for _ in out.variable.terms]
+            for r, k in out.sources:
+                by_term[k].append(dloc[r])
+            folded = [_fold(em, sem.accu, ds) for ds in by_term]
             arg = "(" + ", ".join(folded) + ("," if len(folded) == 1 else "") + ")"
         else:
-            arg = "(" + "".join(f"({k}, {dloc[r]}), " for r, k in plan.sources) + ")"
+            arg = "(" + "".join(f"({k}, {dloc[r]}), " for r, k in out.sources) + ")"
         em.emit(f"r = D{o}({arg})")
-        em.emit(f"if r is None: r = F{o}(V[{plan.name!r}]); missed += ({plan.name!r},)")
-        em.emit(f"V[{plan.name!r}] = r")
+        em.emit(f"if r is None: r = F{o}(V[{out.name!r}]); missed += ({out.name!r},)")
+        em.emit(f"V[{out.name!r}] = r")
     em.emit("return missed")
     source = "def _run(V):\n" + "\n".join(em.lines) + "\n"
     exec(compile(source, f"<fuzzy rule set {name}>", "exec"), namespace)

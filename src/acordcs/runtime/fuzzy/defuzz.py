@@ -18,6 +18,7 @@ from __future__ import annotations
 
 import itertools
 import math
+from bisect import bisect_left, bisect_right
 
 from acordcs.runtime.fuzzy.membership import Membership
 from acordcs.runtime.fuzzy.sampled import Sampled
@@ -38,13 +39,21 @@ class OutputShape:
         if self.linear:
             cuts = {lo, hi} | {x for t in terms for x in t.xs if lo < x < hi}
             us = sorted(cuts)
-            for x0, x1 in itertools.pairwise(us):
-                lines = []
-                for k, t in enumerate(terms):
-                    v0, v1 = t.limits(x0)[1], t.limits(x1)[0]
+            found: list[list[tuple[int, float, float]]] = [[] for _ in range(len(us) - 1)]
+            for k, t in enumerate(terms):
+                # Outside its breakpoints a term is constant (its left or right value): a term
+                # that is 0 there only visits the intervals between them. Visiting every interval
+                # for every term made an output of n terms cost n**2 (250 terms: 0.1 s).
+                first = max(0, bisect_right(us, t.xs[0]) - 1) if t.left == 0 else 0
+                stop = bisect_left(us, t.xs[-1]) if t.right == 0 else len(found)
+                for i in range(first, min(stop, len(found))):
+                    v0, v1 = t.limits(us[i])[1], t.limits(us[i + 1])[0]
                     if v0 or v1:
-                        lines.append((k, v0, v1))
-                self.intervals.append((x0, x1, tuple(lines)))
+                        found[i].append((k, v0, v1))
+            self.intervals = [
+                (x0, x1, tuple(lines))
+                for (x0, x1), lines in zip(itertools.pairwise(us), found, strict=True)
+            ]
 
     def area_moment(self) -> tuple[list[float], list[float]]:
         """Exact area and first moment of each (unactivated) term over the range."""

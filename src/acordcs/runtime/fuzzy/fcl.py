@@ -22,7 +22,8 @@ from lark import Lark, Token, Tree
 from lark.exceptions import UnexpectedCharacters, UnexpectedInput, UnexpectedToken
 
 from acordcs.cachedir import lark_cache
-from acordcs.rules import BoolOp, Consequent, Is, Name, Not, Rule
+from acordcs.rules import BoolOp, Consequent, Is, Name, Not, Rule, depth_message, names_in
+from acordcs.rules.tree import deepest
 from acordcs.runtime.fuzzy.fcl_writer import format_condition, format_rule, write_fcl
 from acordcs.runtime.fuzzy.fuzzy_engine import FuzzyEngine
 from acordcs.runtime.fuzzy.membership import make_membership
@@ -74,14 +75,42 @@ def read_fcl(source: str | Path, *, filename: str | None = None) -> dict[str, Fu
         key = engine.name or f"block{n}"
         if key in out:
             raise RuleError(
-                f"two FUNCTION_BLOCKs are named {key!r}; give each its own name", file=filename
+                f"two FUNCTION_BLOCKs are named {key!r}; give each its own name",
+                file=filename,
+                line=block.meta.line,
+                column=block.meta.column,
             )
         out[key] = engine
     return out
 
 
+_FUNCTION = re.compile(r"(?i)\bfunction\b")
+
+
+def _position(text: str, pos: int) -> tuple[int, int]:
+    """1-based line and column of offset ``pos`` in ``text``."""
+    return text.count("\n", 0, pos) + 1, pos - text.rfind("\n", 0, pos)
+
+
 def _syntax_error(err: UnexpectedInput, text: str, filename: str | None) -> RuleError:
     line, column = getattr(err, "line", None), getattr(err, "column", None)
+    pos = getattr(err, "pos_in_stream", None)
+    if pos is None and isinstance(err, UnexpectedToken):
+        pos = err.token.start_pos
+    pos = len(text) if pos is None or pos < 0 else pos
+    # The statement the parse stopped in (from the previous ';'): a FUNCTION there is the cause
+    start = text.rfind(";", 0, pos) + 1
+    used = _FUNCTION.search(text, start, max(pos + 8, start))
+    if used:
+        line, column = _position(text, used.start())
+        return RuleError(
+            "FUNCTION is not supported: neither function definitions nor FUNCTION membership "
+            "terms (jFuzzyLogic's); use trian, trape, gauss, gbell, sigm, a point list or a "
+            "singleton",
+            file=filename,
+            line=line,
+            column=column,
+        )
     if isinstance(err, UnexpectedToken):
         found = "end of file" if err.token.type == "$END" else repr(str(err.token))
         expected = sorted(err.expected)
@@ -96,8 +125,8 @@ def _syntax_error(err: UnexpectedInput, text: str, filename: str | None) -> Rule
             opener, opened = end[4:], openers[end]
             where = f" (opened at line {text.count(chr(10), 0, opened[-1]) + 1})" if opened else ""
             msg = f"missing {end}: the {opener} block{where} is not closed before {found}"
-            if err.token.type == "$END":
-                line, column = text.count("\n") + 1, None
+            if err.token.type == "$END":  # after the last character of the file
+                line, column = _position(text, len(text.rstrip()))
             return RuleError(msg + f"; add {end}", file=filename, line=line, column=column)
         words = ", ".join(e.lower() if e.isupper() and len(e) > 2 else e for e in expected[:8])
         return RuleError(
@@ -117,6 +146,10 @@ class _Block:
         self.inputs: dict[str, tuple | None] = {}
         self.outputs: dict[str, tuple | None] = {}
         self.fuzz: dict[str, dict] = {}
+        self.declared_at: dict[str, Token] = {}  # variable -> its name in VAR_INPUT/VAR_OUTPUT
+        self.blocks: dict[str, Tree] = {}  # variable -> its FUZZIFY or DEFUZZIFY block
+        self.spikes: dict[str, Tree] = {}  # variable -> its first zero-width term
+        self.untermed: set[str] = set()  # inputs without terms or RANGE: not defined
 
     def error(self, msg: str, tok: Token | Tree | None) -> RuleError:
         line = (
@@ -163,6 +196,7 @@ class _Block:
                 )
             if name in self.inputs or name in self.outputs:
                 raise self.error(f"variable {name!s} is declared twice", name)
+            self.declared_at[str(name)] = name
             target[str(name)] = (
                 self._range(d.children[2]) if len(d.children) > 2 and d.children[2] else None
             )
@@ -183,6 +217,7 @@ class _Block:
         info = self.fuzz.setdefault(
             var, {"terms": {}, "range": None, "method": None, "default": None, "nc": False}
         )
+        self.blocks.setdefault(var, item)
         for node in item.children[2:]:
             if not isinstance(node, Tree):
                 continue
@@ -209,9 +244,15 @@ class _Block:
                     info["nc"] = True
                 else:
                     raise self.error(f"DEFAULT must be a number or NC, got {value!s}", value)
+            elif node.data == "accu":
+                raise self.error(
+                    f"ACCU inside DEFUZZIFY {var} is not supported; write ACCU : "
+                    f"{str(node.children[1]).upper()}; in the RULEBLOCK that concludes {var}",
+                    node.children[0],
+                )
 
     def _mf(self, var: str, term: str, node: Tree):
-        where = f"{self.file or '<fcl>'}:{node.meta.line}: variable {var!r}, term {term!r}"
+        where = f"variable {var!r}, term {term!r}"  # the location is the error's file:line:col
         nums: list[float] = []
         for child in node.children:
             if isinstance(child, Tree):  # a point
@@ -235,6 +276,12 @@ class _Block:
                     f"unknown membership function {node.children[0]!s}", node.children[0]
                 )
             shape = _SHAPES[word]
+        if shape in ("triangle", "trapezoid", "points"):
+            xs = nums if shape != "points" else nums[0::2]
+            if xs and min(xs) == max(xs) and (shape != "points" or max(nums[1::2]) == 1.0):
+                # zero width: jFuzzyLogic reads a spike at that x (1 there, 0 elsewhere)
+                self.spikes.setdefault(var, node)
+                shape, nums = "singleton", [xs[0]]
         try:
             return make_membership(shape, nums, where=where)
         except RuleError as exc:
@@ -245,19 +292,32 @@ class _Block:
     def _define(self, engine: FuzzyEngine, var: str) -> None:
         info = self.fuzz.get(var)
         is_out = var in self.outputs
+        where = self.blocks.get(var) or self.declared_at[var]
         if is_out and info is None:
-            raise RuleError(
-                f"output {var} has no DEFUZZIFY block; add one with its terms", file=self.file
-            )
+            raise self.error(f"output {var} has no DEFUZZIFY block; add one with its terms", where)
         info = info or {"terms": {}, "range": None, "method": None, "default": None, "nc": False}
         rng = info["range"] or (self.outputs if is_out else self.inputs).get(var)
+        if (
+            is_out
+            and var in self.spikes
+            and len(self.spikes)
+            and not all(mf.singleton for mf in info["terms"].values())
+        ):
+            raise self.error(
+                f"term of {var} has zero width (a spike, as jFuzzyLogic reads it), but an output "
+                "cannot mix spikes with shaped terms: its centroid would ignore it; give it a width",
+                self.spikes[var],
+            )
         if rng is None:
             extents = [mf.extent() for mf in info["terms"].values()]
             if not extents:
-                raise RuleError(
-                    f"variable {var} has no terms and no RANGE; give it one", file=self.file
-                )
+                if not is_out:  # jFuzzyLogic loads it; no rule can use a variable without terms
+                    self.untermed.add(var)
+                    return
+                raise self.error(f"variable {var} has no terms and no RANGE; give it one", where)
             lo, hi = min(a for a, _ in extents), max(b for _, b in extents)
+            if lo == hi:  # spikes only, at one x: a universe around it
+                lo, hi = lo - 1.0, hi + 1.0
         else:
             lo, hi = rng[0], rng[1]
         try:
@@ -271,10 +331,7 @@ class _Block:
                 method=info["method"],
             )
         except RuleError as exc:
-            node = rng[2] if rng else None
-            raise RuleError(
-                exc.message, file=self.file, line=node.meta.line if node else None, column=None
-            ) from None
+            raise self.error(exc.message, rng[2] if rng else where) from None
 
     def _ruleblock(self, engine: FuzzyEngine, node: Tree) -> None:
         name = str(node.children[1])
@@ -311,13 +368,36 @@ class _Block:
             samples=samples,
         )
         engine.define_ruleset(name, sem)
+        labels: set[str] = set()
         for item in rules:
             rule = self._rule(item)
-            engine.add_rule(rule, name, file=self.file, line=item.meta.line)
+            label = rule.label or ""
+            if label in labels:  # jFuzzyLogic keeps both rules of one number: so do we, as N.2
+                label = next(
+                    f"{label}.{k}"
+                    for k in range(2, len(labels) + 3)
+                    if f"{label}.{k}" not in labels
+                )
+                rule = Rule("fuzzy", label, rule.condition, rule.actions, rule.weight, rule.text)
+            labels.add(label)
+            try:
+                engine.add_rule(rule, name, file=self.file, line=item.meta.line)
+            except RuleError as exc:
+                if exc.column:
+                    raise
+                raise self.error(exc.message, item) from None
 
     def _rule(self, node: Tree) -> Rule:
         label = str(node.children[1])
         cond = _condition(node.children[3])
+        if deepest(cond):
+            raise self.error(f"rule {label}: {depth_message()}", node.children[3])
+        for used in names_in(cond):
+            if used.text in self.untermed:
+                raise self.error(
+                    f"rule {label}: variable {used.text} has no terms; define them in FUZZIFY {used.text}",
+                    node.children[3],
+                )
         actions = []
         weight = 1.0
         for child in node.children[5:]:
@@ -326,6 +406,10 @@ class _Block:
                 actions.append(Consequent(_name(var), _name(term)))
             elif isinstance(child, Tree) and child.data == "weight":
                 weight = float(child.children[1])
+                if not 0.0 <= weight <= 1.0:
+                    raise self.error(
+                        f"rule {label}: weight {weight!r} is outside 0..1", child.children[1]
+                    )
         text = format_rule(cond, actions, weight)
         return Rule("fuzzy", label, cond, tuple(actions), weight, text)
 
@@ -334,11 +418,25 @@ def _name(tok: Token) -> Name:
     return Name(str(tok), tok.column or 0)
 
 
-def _condition(node) -> object:
-    if node.data == "c_is":
-        var, _is, *mods, term = node.children
-        return Is(_name(var), tuple(str(m).lower() for m in mods), _name(term))
-    if node.data == "c_not":
-        return Not(_condition(node.children[1]))
-    op = "and" if node.data == "c_and" else "or"
-    return BoolOp(op, _condition(node.children[0]), _condition(node.children[2]))
+def _condition(node: Tree) -> object:
+    """The condition tree of a lark ``cond``, built without recursion (a chain of 10,000 ANDs
+    nests 10,000 deep); the caller checks the depth against the rule language's limit."""
+    out: list[object] = []
+    stack: list[tuple[Tree, bool]] = [(node, False)]
+    while stack:
+        n, built = stack.pop()
+        if n.data == "c_is":
+            var, _is, *mods, term = n.children
+            out.append(Is(_name(var), tuple(str(m).lower() for m in mods), _name(term)))
+        elif not built:  # children first, then this node from their results
+            stack.append((n, True))
+            if n.data == "c_not":
+                stack.append((n.children[1], False))
+            else:
+                stack.extend(((n.children[2], False), (n.children[0], False)))
+        elif n.data == "c_not":
+            out.append(Not(out.pop()))
+        else:
+            right, left = out.pop(), out.pop()
+            out.append(BoolOp("and" if n.data == "c_and" else "or", left, right))
+    return out[0]
