@@ -22,9 +22,15 @@ The options (:data:`OPTIONS`):
   of the real error in the parser's log.
 
 Before libxml2 sees the bytes, :func:`parse` refuses any ``<!DOCTYPE`` or ``<!ENTITY`` (in any letter
-case): none of these documents needs one, and refusing it closes XXE and entity bombs (billion laughs)
-whatever libxml2 would do with them. The byte scan cannot see a declaration in UTF-16 or UTF-32 text (nor
-past ``scan_end``), so the parsed tree is checked for a document type as well.
+case) outside a comment: none of these documents needs one, and refusing it closes XXE and entity bombs
+(billion laughs) whatever libxml2 would do with them. The byte scan cannot see a declaration in UTF-16 or
+UTF-32 text (nor past ``scan_end``), so the parsed tree is checked for a document type as well.
+
+One exception, for model files only (``external_doctype=True``): old XMI 1.x exports (Rational Rose,
+early Enterprise Architect) begin with ``<!DOCTYPE XMI SYSTEM 'UML13.dtd'>``, an external identifier
+and no internal subset. That declaration is accepted and never acted on: ``load_dtd=False`` and
+``no_network=True`` mean the DTD it names is neither opened nor fetched, and without an internal subset
+there is nothing to expand. A declaration with an internal subset (``[...]``) stays refused.
 """
 
 from __future__ import annotations
@@ -47,6 +53,11 @@ OPTIONS = {
 }
 
 _DECLARATION = re.compile(rb"<!(?:DOCTYPE|ENTITY)", re.IGNORECASE)
+# ``<!DOCTYPE Name SYSTEM "uri">`` or ``PUBLIC "id" "uri"`` and nothing else: no internal subset.
+_EXTERNAL_ONLY = re.compile(
+    rb"""<!DOCTYPE\s+[^\s\[>]+(?:\s+(?:SYSTEM\s+("[^"]*"|'[^']*')|PUBLIC\s+("[^"]*"|'[^']*')"""
+    rb"""\s+("[^"]*"|'[^']*')))?\s*>""",
+)
 
 
 class Refused(Exception):
@@ -104,8 +115,44 @@ def line_column(data: bytes, offset: int) -> tuple[int, int]:
     return line, offset - (data.rfind(b"\n", 0, offset) + 1) + 1
 
 
+def _declaration(data: bytes, start: int, end: int, external_doctype: bool) -> int | None:
+    """Offset of the first refused declaration in ``data[start:end]``, None if there is none.
+    Declarations inside comments are text, not declarations."""
+    while True:
+        found = _DECLARATION.search(data, start, end)
+        if found is None:
+            return None
+        at = found.start()
+        opened = data.rfind(b"<!--", 0, at)
+        if opened >= 0 and data.find(b"-->", opened + 4, at) < 0:  # inside a comment
+            start = at + 2
+            continue
+        if external_doctype:
+            allowed = _EXTERNAL_ONLY.match(data, at)
+            if allowed is not None:
+                start = allowed.end()
+                continue
+        return at
+
+
+def _refused_tree(root: etree._Element, external_doctype: bool) -> bool:
+    """Whether libxml2 saw a refused document type (the byte scan misses UTF-16 and friends)."""
+    dtd = root.getroottree().docinfo.internalDTD
+    if dtd is None:
+        return False
+    if not external_doctype:
+        return True  # set for internal subsets and external identifiers alike
+    external = dtd.system_url is not None or dtd.external_id is not None
+    # An ATTLIST-only subset is not visible here; without DTD attribute defaults it changes nothing.
+    return not external or next(dtd.iterentities(), None) is not None
+
+
 def parse(
-    data: bytes, parser: etree.XMLParser | None = None, *, scan_end: int | None = None
+    data: bytes,
+    parser: etree.XMLParser | None = None,
+    *,
+    scan_end: int | None = None,
+    external_doctype: bool = False,
 ) -> etree._Element | None:
     """Parse ``data`` with ``parser`` (default: :func:`thread_parser`).
 
@@ -113,22 +160,23 @@ def parse(
     default all of them, are scanned before parsing; the tree is checked after), and lets lxml's
     ``XMLSyntaxError`` (malformed, or past a libxml2 limit) and ``ValueError`` / ``LookupError`` (an
     unusable encoding declaration) through for the caller to word. None only from a recovering parser
-    that found nothing to keep.
+    that found nothing to keep. ``external_doctype``: accept a document type declaration that is an
+    external identifier alone (never loaded; see the module's docstring).
     """
     end = len(data) if scan_end is None else scan_end
     start = data.find(b"<!", 0, end)  # a fast no for documents without comments or CDATA
     if start >= 0:
-        found = _DECLARATION.search(data, start, end)
-        if found:
-            raise Refused(found.start(), *line_column(data, found.start()))
+        found = _declaration(data, start, end, external_doctype)
+        if found is not None:
+            raise Refused(found, *line_column(data, found))
     if parser is None:
         parser = getattr(_local, "parser", None)
         if parser is None:
             parser = thread_parser()
     root = etree.fromstring(data, parser)
     # the byte scan misses UTF-16 and friends: check what libxml2 saw as well
-    if root is not None and root.getroottree().docinfo.internalDTD is not None:
-        raise Refused()  # set for internal subsets and external identifiers alike
+    if root is not None and _refused_tree(root, external_doctype):
+        raise Refused()
     return root
 
 

@@ -16,7 +16,13 @@ from lxml import etree
 from acordcs.diagnostics import diagnostic
 from acordcs.xmi.uml import Element, StereotypeApplication, UmlModel
 
-_PROFILE_NS = re.compile(r"^http:///schemas/([^/]+)/")
+# Where a profile's namespace URI names the profile: BOUML and Eclipse (http:///schemas/P/..),
+# Enterprise Architect (http://www.sparxsystems.com/profiles/P/1.0), MagicDraw (.../schemas/P.xmi).
+_PROFILE_NS = re.compile(
+    r"^http:///schemas/([^/]+)/"
+    r"|^https?://www\.sparxsystems\.com/profiles/([^/]+)/"
+    r"|^https?://www\.magicdraw\.com/schemas/([^/]+?)\.xmi$"
+)
 
 
 def local_name(tag: str) -> str:
@@ -29,6 +35,7 @@ class StereotypeApplications:
     def __init__(self, model: UmlModel, xmi_id: str) -> None:
         self.model = model
         self.XID = xmi_id
+        self.XIDREF = xmi_id[:-2] + "idref"
         self._profiles: dict[str, str | None] = {}  # profile named by a namespace URI, if any
 
     def application(
@@ -125,20 +132,22 @@ class StereotypeApplications:
         ns, _, name = tag[1:].rpartition("}") if tag[0] == "{" else ("", "", tag)
         if ns not in self._profiles:
             match = _PROFILE_NS.match(ns)
-            self._profiles[ns] = match.group(1) if match else None
+            self._profiles[ns] = next((g for g in match.groups() if g), None) if match else None
         # The namespace names the profile; a prefix is the writer's choice (xmlns:acs= works too).
         profile = self._profiles[ns] or el.prefix
         app = self.application(profile, name, base, line)
         app.id = el.get(self.XID)
         app.line = line or app.line
         for key, value in items:
-            if key.startswith(("base_", "{")):
+            if key.startswith(("base_", "{", "__EA")):  # EA's __EAStereoName: its display name
                 continue
             self.set_tag(app, key, value, line, "root")
         for child in el:  # Eclipse writes multi-valued and reference tags as child elements
             if isinstance(child.tag, str):
                 tag = local_name(child.tag)
-                value = child.text if child.text is not None else child.get("href", "")
+                value = child.text
+                if value is None:  # a reference: MagicDraw writes xmi:idref, Eclipse href
+                    value = child.get(self.XIDREF) or child.get("href", "")
                 old = app.tags.get(tag)
                 app.tags[tag] = value if old is None else f"{old}\n{value}"
                 app.tag_lines.setdefault(tag, child.sourceline or 0)

@@ -1,9 +1,14 @@
-"""Reader for XMI 2.x as BOUML (exporters 1.10 to 5.x, UML 2.0 to 2.3) and Eclipse UML2 / Papyrus write it.
+"""Reader for XMI 2.x as BOUML (exporters 1.10 to 5.x, UML 2.0 to 2.3), Eclipse UML2 / Papyrus, Modelio,
+Enterprise Architect, MagicDraw / Cameo and Visual Paradigm write it.
 
-Both follow the UML 2 XMI mapping, so one walker serves both; they differ in how they write references
+All follow the UML 2 XMI mapping, so one walker serves them; they differ in how they write references
 (BOUML: ``<type xmi:idref=..>`` children; Eclipse: ``type=".."`` attributes holding ids), comments
-(BOUML: a ``body`` attribute owned implicitly; Eclipse: a ``<body>`` child and ``annotatedElement``) and
-stereotype tags (BOUML also repeats them in ``xmi:Extension`` blocks). See ``shared/reference/bouml-xmi.md``.
+(BOUML: a ``body`` attribute owned implicitly; Eclipse: a ``<body>`` child and ``annotatedElement``),
+stereotype tags (BOUML also repeats them in ``xmi:Extension`` blocks) and where stereotype applications
+stand: after the model at the root (BOUML, Eclipse, MagicDraw) or inside ``uml:Model`` (Enterprise
+Architect). ``xmi:Extension`` blocks of other tools (EA's types and diagrams, MagicDraw's copies of its
+own profiles and its diagrams) are not model content and are not read. See
+``shared/reference/bouml-xmi.md`` and ``docs/uml-tools.md``.
 """
 
 from __future__ import annotations
@@ -38,8 +43,10 @@ from acordcs.xmi.uml import (
 
 # Eclipse profile schemas (http://www.eclipse.org/uml2/schemas/Ecore/5) share the prefix: match only
 # the UML metamodel's own URI.
+# The metamodel's URI ends at its version: MagicDraw also binds .../UML/20131001/StandardProfile and
+# .../MagicDrawProfile, profiles whose elements are stereotype applications, not UML.
 _UML_NS = re.compile(
-    r"^https?://(schema\.omg\.org|www\.omg\.org)/spec/UML/"
+    r"^https?://(schema\.omg\.org|www\.omg\.org)/spec/UML/\d+(\.\d+)*/?$"
     r"|^http://www\.eclipse\.org/uml2/\d+(\.\d+)*/UML$"
 )
 _XMI_NS = re.compile(r"^https?://(schema\.omg\.org|www\.omg\.org)/(spec/)?XMI")
@@ -124,6 +131,7 @@ class _Reader:
         self.annotated: list[tuple[str, str]] = []  # (element id, comment body), Eclipse comments
         self.refs: list[tuple[str, str, int, Element]] = []  # (id, what, line, from element)
         self.type_refs: list[Element] = []
+        self._own_prefixes = (f"{{{self.uml_ns}}}", f"{{{self.xmi_ns}}}")
 
     # ------------------------------------------------------------------ entry
     def read(self) -> UmlModel:
@@ -171,6 +179,10 @@ class _Reader:
         line = el.sourceline or 0
         if ident is None:
             ident = f"<line {line}>"
+            if kind == "Model":  # Enterprise Architect writes none; nothing refers to the model
+                obj = cls(ident, kind, el.get("name", ""), line, owner)
+                self.elements.setdefault(ident, obj)
+                return obj
             self.model.diagnostics.append(
                 diagnostic(
                     "R207",
@@ -231,9 +243,18 @@ class _Reader:
             handler = handlers.get(child.tag) or _by_local_name(handlers, child.tag)
             if handler is not None:  # others (imports, profile applications, ...) are not read
                 handler(child, owner)
+            elif child.tag[0:1] == "{" and not child.tag.startswith(self._own_prefixes):
+                self._inner_application(child)
         member_ends = el.get("memberEnd")
         if member_ends and isinstance(owner, Association | Classifier):
             owner.member_ends.extend(member_ends.split())
+
+    def _inner_application(self, el: etree._Element) -> None:
+        """An element of a profile's namespace inside the model: Enterprise Architect writes its
+        stereotype applications there (``<thecustomprofile:boundary base_Class=".."/>`` as the last
+        children of ``uml:Model``), not after it."""
+        if any(key.startswith("base_") for key in el.attrib):
+            self.stereotypes.root_application(el)
 
     def _on_attribute(self, child: etree._Element, owner: Element) -> None:
         if isinstance(owner, Classifier):
@@ -377,14 +398,21 @@ class _Reader:
         """R203 for ids defined twice (their lines: a slow walk, rare)."""
         if len(known) == len(ids):
             return known
-        return check_ids(
-            self.model,
-            [
-                (el.get(self.XID), el.sourceline or 0)
-                for el in self.xml.root.iter(etree.Element)
-                if el.get(self.XID) is not None
-            ],
-        )
+        # Enterprise Architect's and MagicDraw's xmi:Extension blocks restate model ids (diagram
+        # objects, EA's element table): not definitions, so not duplicates.
+        return known | check_ids(self.model, self._model_ids())
+
+    def _model_ids(self) -> list[tuple[str, int]]:
+        found = []
+        stack = [self.xml.root]
+        extension = self.EXTENSION
+        while stack:
+            el = stack.pop()
+            ident = el.get(self.XID)
+            if ident is not None:
+                found.append((ident, el.sourceline or 0))
+            stack.extend(c for c in el if isinstance(c.tag, str) and c.tag != extension)
+        return found
 
     def _resolve(self, ids: list[str], known: set[str]) -> None:
         model = self.model
@@ -414,7 +442,10 @@ class _Reader:
             target = model.elements.get(ident)
             if target is not None:
                 target.comments.append(body)
+        unread = self._unread_bases(known)
         for app in list(model.applications.values()):
+            if app.base in unread:
+                model.elements[app.base] = unread[app.base]
             if app.base == app.id or app.base not in model.elements:
                 del model.applications[(app.base, app.key)]
                 model.diagnostics.append(
@@ -427,6 +458,25 @@ class _Reader:
                         xmi_id=app.base,
                     )
                 )
+
+    def _unread_bases(self, known: set[str]) -> dict[str, Element]:
+        """The elements stereotype applications are applied to that the walk did not read as model
+        structure (a MagicDraw diagram, an EA message or include), as plain elements: the application
+        is kept, on an element of its metaclass and name, instead of called dangling."""
+        missing = {
+            app.base
+            for app in self.model.applications.values()
+            if app.base not in self.model.elements and app.base in known
+        }
+        found: dict[str, Element] = {}
+        if not missing:
+            return found
+        for el in self.xml.root.iter(etree.Element):
+            ident = el.get(self.XID)
+            if ident in missing and ident not in found:
+                kind = self._kind(el, local_name(el.tag))
+                found[ident] = Element(ident, kind, el.get("name", ""), el.sourceline or 0)
+        return found
 
 
 def _by_local_name(table: dict, tag: object):
