@@ -37,6 +37,7 @@ class StereotypeApplications:
         self.XID = xmi_id
         self.XIDREF = xmi_id[:-2] + "idref"
         self._profiles: dict[str, str | None] = {}  # profile named by a namespace URI, if any
+        self._references: list[tuple[str, str, int]] = []  # (stereotype id, base id, line)
 
     def application(
         self, profile: str | None, name: str, base: str, line: int
@@ -79,7 +80,10 @@ class StereotypeApplications:
 
     def extension(self, el: etree._Element, owner: Element) -> None:
         """A BOUML ``xmi:Extension`` block of ``owner``: its stereotypes and tagged values."""
-        if el.get("extender", "Bouml") != "Bouml":
+        extender = el.get("extender", "Bouml")
+        if extender == "Visual Paradigm":
+            self._visual_paradigm(el, owner)
+        if extender != "Bouml":
             return
         # BOUML marks its profile definitions with their own metaclass keyword (a Stereotype is
         # <<stereotype>>, a Profile <<profile>>): keywords, not stereotype applications.
@@ -109,6 +113,28 @@ class StereotypeApplications:
                 self.set_tag(app, parts[2], value, tv_line, "extension")
             else:
                 owner.tagged_values[tag] = value
+
+    def _visual_paradigm(self, el: etree._Element, owner: Element) -> None:
+        """Visual Paradigm's XMI 2.1 names the stereotypes of an element in its extension block,
+        ``<appliedStereotype xmi:value="Class_CtxMonitor_id"/>``, the id of a ``uml:Stereotype`` of
+        the model; resolved by :meth:`resolve_references` once every element is read."""
+        for applied in el.iterchildren("appliedStereotype"):
+            ref = next((v for k, v in applied.items() if k.endswith("value")), None)
+            if ref:
+                self._references.append((ref, owner.id, applied.sourceline or owner.line))
+
+    def resolve_references(self) -> None:
+        """Applications stated by reference to a stereotype (Visual Paradigm): the stereotype's
+        profile is the ``uml:Profile`` that owns it, none for a stereotype outside a profile."""
+        for ref, base, line in self._references:
+            stereo = self.model.elements.get(ref)
+            if stereo is None or stereo.kind != "Stereotype":
+                continue
+            owner = stereo.owner
+            while owner is not None and owner.kind not in ("Profile", "Model"):
+                owner = owner.owner
+            profile = owner.name if owner is not None and owner.kind == "Profile" else None
+            self.application(profile, stereo.name, base, line).places.add("extension")
 
     def root_application(self, el: etree._Element) -> None:
         """A stereotype application written at the document root (``Profile:Stereotype base_X=..``)."""

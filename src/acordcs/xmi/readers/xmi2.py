@@ -148,6 +148,8 @@ class _Reader:
                         f"{child.get('exporter', '')} {child.get('exporterVersion', '')}".strip()
                         or None
                     )
+                elif local == "Diagram" and child.tag.startswith(f"{{{self.uml_ns}}}"):
+                    continue  # Visual Paradigm's diagrams after the model: not model content
                 elif child.tag.startswith(f"{{{self.uml_ns}}}"):
                     self._packageable(child, None)
                     if local == "Model" and not model.name:
@@ -417,8 +419,10 @@ class _Reader:
     def _resolve(self, ids: list[str], known: set[str]) -> None:
         model = self.model
         known = self._known_ids(ids, known)
+        self.stereotypes.resolve_references()
+        outside = self._named_outside([o.type_ref for o in self.type_refs], known)
         for obj in self.type_refs:
-            target = model.elements.get(obj.type_ref)
+            target = model.elements.get(obj.type_ref) or outside.get(obj.type_ref)
             if target is not None:
                 obj.type_name = target.name
             elif obj.type_ref not in known:
@@ -459,6 +463,21 @@ class _Reader:
                     )
                 )
 
+    def _named_outside(self, refs: list[str], known: set[str]) -> dict[str, Element]:
+        """Types defined where the walk does not read: Enterprise Architect types attributes with its
+        own primitive types (``<type xmi:idref="EAJava_int"/>``), defined in its ``xmi:Extension``."""
+        missing = {r for r in refs if r not in self.model.elements and r in known}
+        return self._elements_by_id(missing) if missing else {}
+
+    def _elements_by_id(self, missing: set[str]) -> dict[str, Element]:
+        found: dict[str, Element] = {}
+        for el in self.xml.root.iter(etree.Element):
+            ident = el.get(self.XID)
+            if ident in missing and ident not in found:
+                kind = self._kind(el, local_name(el.tag))
+                found[ident] = Element(ident, kind, el.get("name", ""), el.sourceline or 0)
+        return found
+
     def _unread_bases(self, known: set[str]) -> dict[str, Element]:
         """The elements stereotype applications are applied to that the walk did not read as model
         structure (a MagicDraw diagram, an EA message or include), as plain elements: the application
@@ -468,15 +487,7 @@ class _Reader:
             for app in self.model.applications.values()
             if app.base not in self.model.elements and app.base in known
         }
-        found: dict[str, Element] = {}
-        if not missing:
-            return found
-        for el in self.xml.root.iter(etree.Element):
-            ident = el.get(self.XID)
-            if ident in missing and ident not in found:
-                kind = self._kind(el, local_name(el.tag))
-                found[ident] = Element(ident, kind, el.get("name", ""), el.sourceline or 0)
-        return found
+        return self._elements_by_id(missing) if missing else {}
 
 
 def _by_local_name(table: dict, tag: object):
