@@ -28,9 +28,11 @@ UTF-32 text (nor past ``scan_end``), so the parsed tree is checked for a documen
 
 One exception, for model files only (``external_doctype=True``): old XMI 1.x exports (Rational Rose,
 early Enterprise Architect) begin with ``<!DOCTYPE XMI SYSTEM 'UML13.dtd'>``, an external identifier
-and no internal subset. That declaration is accepted and never acted on: ``load_dtd=False`` and
-``no_network=True`` mean the DTD it names is neither opened nor fetched, and without an internal subset
-there is nothing to expand. A declaration with an internal subset (``[...]``) stays refused.
+and no internal subset. That declaration is accepted and never acted on: libxml2 (2.14, through lxml
+6.1) still tries to open the DTD an external identifier names, whatever ``load_dtd`` says, so every
+parser made here carries a resolver that answers every request with an empty document: no file is
+opened and nothing is fetched. Without an internal subset there is nothing to expand. A declaration
+with an internal subset (``[...]``) stays refused.
 """
 
 from __future__ import annotations
@@ -78,6 +80,14 @@ class Refused(Exception):
         self.column = column
 
 
+class _NothingExternal(etree.Resolver):
+    """Answers every external resource libxml2 asks for (a DTD named by a DOCTYPE) with nothing,
+    before libxml2's own loader could open a file or a URL."""
+
+    def resolve(self, system_url, public_id, context):
+        return self.resolve_string("", context)
+
+
 def parser(*, recover: bool = False, remove_blank_text: bool = False) -> etree.XMLParser:
     """A new parser with :data:`OPTIONS`, for one thread at a time. The two variants:
 
@@ -90,7 +100,9 @@ def parser(*, recover: bool = False, remove_blank_text: bool = False) -> etree.X
     4 MB export: a faster parse and walk). Context documents and descriptions are kept as sent: a
     subscriber's XPath may read their whitespace.
     """
-    return etree.XMLParser(recover=recover, remove_blank_text=remove_blank_text, **OPTIONS)
+    made = etree.XMLParser(recover=recover, remove_blank_text=remove_blank_text, **OPTIONS)
+    made.resolvers.add(_NothingExternal())
+    return made
 
 
 _local = threading.local()

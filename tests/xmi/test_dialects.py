@@ -6,6 +6,9 @@ checks (R208, R209, R210) and the DOCTYPE policy."""
 from __future__ import annotations
 
 import json
+import os
+import subprocess
+import sys
 from pathlib import Path
 
 import pytest
@@ -250,3 +253,20 @@ def test_external_doctype_in_utf16_is_accepted(tmp_path: Path) -> None:
         text.replace("'UML13.dtd'>", "'UML13.dtd' [<!ENTITY e 'x'>]>").encode("utf-16")
     )
     assert run_main(["validate", str(path)]).code == 2
+
+
+def test_the_named_dtd_is_never_opened(tmp_path: Path) -> None:
+    """libxml2 tries to open a DTD an external identifier names even with ``load_dtd=False``: the
+    parser's resolver must answer first. The DTD here is a FIFO nobody writes to: opening it for
+    reading would block, and the read below would time out."""
+    fifo = tmp_path / "UML13.dtd"
+    os.mkfifo(fifo)
+    model = tmp_path / "model.xmi"
+    model.write_text(f"<?xml version='1.0'?>\n<!DOCTYPE XMI SYSTEM '{fifo}'>\n{MINIMAL_XMI11}")
+    code = (
+        "import sys; from acordcs.xmi.readers import read_uml; "
+        f"uml = read_uml({str(model)!r}); sys.exit(len(uml.diagnostics))"
+    )
+    env = {**os.environ, "PYTHONPATH": os.pathsep.join(sys.path)}
+    proc = subprocess.run([sys.executable, "-c", code], env=env, timeout=60, check=False)
+    assert proc.returncode == 0
