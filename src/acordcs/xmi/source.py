@@ -155,7 +155,7 @@ def parse_bytes(data: bytes, path: str = "<input>") -> XmlInput:
 
 def _refused(path: str, refused: safexml.Refused) -> XmlInput:
     if refused.line is None:  # a DOCTYPE past the scanned prefix, or in UTF-16
-        msg = "document type declaration with an internal subset refused: UML exports have none"
+        msg = "document type declaration refused: it has an internal subset or entities, which UML exports never have"
         return XmlInput(path, None, [diagnostic("X102", msg, file=path)])
     msg = (
         "document type or entity declaration refused: UML exports have no internal DTD subset, and one "
