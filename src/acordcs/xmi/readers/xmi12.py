@@ -135,14 +135,15 @@ class _Reader:
         cls=Element,
         ident: str | None = None,
     ):
-        ident = ident or el.get("xmi.id") or f"<line {el.sourceline}>"
-        if el.get("xmi.id"):
-            self.ids.append((ident, el.sourceline or 0))
-        obj = cls(
-            id=ident, kind=kind, name=el.get("name", ""), line=el.sourceline or 0, owner=owner
-        )
+        line = el.sourceline or 0
+        own = el.get("xmi.id")
+        ident = ident or own or f"<line {line}>"
+        if own:
+            self.ids.append((ident, line))
+        obj = cls(ident, kind, el.get("name", ""), line, owner)  # positional: half the cost
         self.model.elements.setdefault(ident, obj)
-        self._stereotypes(el, obj)
+        if len(el) or "stereotype" in el.attrib:
+            self._stereotypes(el, obj)
         return obj
 
     def _owned(self, el: etree._Element, owner: Element) -> None:
