@@ -13,6 +13,7 @@ from pathlib import Path
 
 import pytest
 
+from acordcs.model.reading import read_model
 from acordcs.xmi.readers import read_uml
 from tests.support.toolchain import codes_in, no_crash, run_main
 
@@ -270,3 +271,46 @@ def test_the_named_dtd_is_never_opened(tmp_path: Path) -> None:
     env = {**os.environ, "PYTHONPATH": os.pathsep.join(sys.path)}
     proc = subprocess.run([sys.executable, "-c", code], env=env, timeout=60, check=False)
     assert proc.returncode == 0
+
+
+EA_XMI11 = """<?xml version="1.0" encoding="windows-1252"?>
+<XMI xmi.version="1.1" xmlns:UML="omg.org/UML1.3" timestamp="2009-03-02 10:00:00">
+ <XMI.header><XMI.documentation><XMI.exporter>Enterprise Architect</XMI.exporter>
+ <XMI.exporterVersion>2.5</XMI.exporterVersion></XMI.documentation></XMI.header>
+ <XMI.content>
+  <UML:Model name="EA Model" xmi.id="MX_EAID_1">
+   <UML:Namespace.ownedElement>
+    <UML:Class name="EARootClass" xmi.id="EAID_11111111_5487_4080_A7F4_41526CB0AA00" isRoot="true"/>
+    <UML:Package name="lab" xmi.id="EAPK_1" visibility="public">
+     <UML:Namespace.ownedElement>
+      <UML:Class name="Light" xmi.id="EAID_2" visibility="public" namespace="EAPK_1">
+       <UML:ModelElement.stereotype><UML:Stereotype name="CtxMonitor"/></UML:ModelElement.stereotype>
+       <UML:ModelElement.taggedValue>
+        <UML:TaggedValue tag="isSpecification" value="false"/>
+        <UML:TaggedValue tag="ea_stype" value="Class"/>
+        <UML:TaggedValue tag="ea_localid" value="3"/>
+        <UML:TaggedValue tag="date_created" value="2009-03-02 10:00:00"/>
+        <UML:TaggedValue tag="stereotype" value="CtxMonitor"/>
+        <UML:TaggedValue tag="frequency" value="2"/>
+        <UML:TaggedValue tag="$ea_xref_property" value="$XREFPROP=$XID={A1}$XID;$NAM=Stereotypes$NAM;$TYP=element property$TYP;$VIS=Public$VIS;$PAR=0$PAR;$DES=@STEREO;Name=CtxMonitor;GUID={B2};FQName=ACORDCS::CtxMonitor;@ENDSTEREO;$DES;$CLT={C3}$CLT;$SUP=&lt;none&gt;$SUP;$ENDXREF;"/>
+       </UML:ModelElement.taggedValue>
+      </UML:Class>
+     </UML:Namespace.ownedElement>
+    </UML:Package>
+   </UML:Namespace.ownedElement>
+  </UML:Model>
+ </XMI.content>
+</XMI>
+"""
+
+
+def test_enterprise_architect_xmi11_profile_stereotypes_from_the_xref(tmp_path: Path) -> None:
+    path = tmp_path / "ea11.xmi"
+    path.write_bytes(EA_XMI11.encode("cp1252"))
+    reading = read_model(str(path))
+    assert reading.uml.dialect == "xmi1.1" and reading.uml.tool == "enterprise-architect"
+    assert [a.key for a in reading.uml.applications.values()] == ["ACORDCS:CtxMonitor"]
+    light = next(r for r in reading.architecture.roles.values() if r.name == "Light")
+    assert light.kind == "CtxMonitor" and light.tag("frequency") == "2"
+    codes = {d.code for d in reading.diagnostics}
+    assert "T303" not in codes and "R206" not in codes, reading.diagnostics

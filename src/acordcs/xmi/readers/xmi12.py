@@ -29,6 +29,7 @@ import difflib
 from lxml import etree
 
 from acordcs.diagnostics import diagnostic
+from acordcs.xmi.readers import ea
 from acordcs.xmi.readers.common import check_ids, dangling, primitive_from_href
 from acordcs.xmi.source import XmlInput
 from acordcs.xmi.uml import (
@@ -107,6 +108,8 @@ class _Reader:
         self.tag_names: dict[str, str] = {}  # TagDefinition id -> name
         self.tag_refs: list[tuple[str, str, Element]] = []  # (TagDefinition id, value, element)
         self.loose_tags: list[etree._Element] = []  # Rose: TaggedValue modelElement=".."
+        self.ea = exporter is not None and exporter.tool == "enterprise-architect"
+        self.profiled: set[tuple[str, str]] = set()  # (element, stereotype) EA gave a profile
 
     def read(self) -> UmlModel:
         root = self.xml.root
@@ -308,10 +311,10 @@ class _Reader:
             if isinstance(assoc, Association):
                 assoc.owned_ends.append(prop)
 
-    def _apply(self, name: str, obj: Element, line: int) -> None:
-        key = (obj.id, name)
+    def _apply(self, name: str, obj: Element, line: int, profile: str | None = None) -> None:
+        key = (obj.id, f"{profile}:{name}" if profile else name)
         if name and key not in self.model.applications:
-            app = StereotypeApplication(profile=None, name=name, base=obj.id, line=line)
+            app = StereotypeApplication(profile=profile, name=name, base=obj.id, line=line)
             app.places.add("xmi12")
             self.model.applications[key] = app
 
@@ -337,8 +340,22 @@ class _Reader:
                     if definition:
                         self.tag_refs.append((definition, value, obj))
                     continue
-                if tag != "stereotype":  # BOUML repeats the stereotype as a tag
+                if self.ea:
+                    self._ea_tag(tag, value, obj, tv.sourceline or 0)
+                elif tag != "stereotype":  # BOUML repeats the stereotype as a tag
                     obj.tagged_values[tag] = value
+
+    def _ea_tag(self, tag: str, value: str, obj: Element, line: int) -> None:
+        """Enterprise Architect's XMI 1.1: profile stereotypes in ``$ea_xref_property``; its own
+        element properties (``ea_guid``, ...) are not the modeller's tags."""
+        if tag == ea.XREF_TAG:
+            for profile, name in ea.stereotypes(value):
+                self._apply(name, obj, line, profile)
+                if profile:  # EA also names it as a free stereotype: one application
+                    self.model.applications.pop((obj.id, name), None)
+                    self.profiled.add((obj.id, name))
+        elif not ea.own_tag(tag):
+            obj.tagged_values[tag] = value
 
     def _resolve_stereotypes(self) -> None:
         elements = self.model.elements
@@ -346,6 +363,8 @@ class _Reader:
             obj = target if isinstance(target, Element) else elements.get(target)
             if obj is not None:
                 self._apply(self.stereotype_names.get(ident, ident), obj, line)
+        for key in self.profiled:  # a free stereotype read after EA's profiled one
+            self.model.applications.pop(key, None)
         for ident, value, obj in self.tag_refs:
             obj.tagged_values[self.tag_names.get(ident, ident)] = value
         for tv in self.loose_tags:  # Rose: tagged values listed after the model
