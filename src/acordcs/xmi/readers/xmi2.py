@@ -18,6 +18,7 @@ import re
 from lxml import etree
 
 from acordcs.diagnostics import diagnostic
+from acordcs.xmi.readers import unread
 from acordcs.xmi.readers.common import (
     UML_METACLASSES,
     check_ids,
@@ -402,25 +403,18 @@ class _Reader:
             return known
         # Enterprise Architect's and MagicDraw's xmi:Extension blocks restate model ids (diagram
         # objects, EA's element table): not definitions, so not duplicates.
-        return known | check_ids(self.model, self._model_ids())
-
-    def _model_ids(self) -> list[tuple[str, int]]:
-        found = []
-        stack = [self.xml.root]
-        extension = self.EXTENSION
-        while stack:
-            el = stack.pop()
-            ident = el.get(self.XID)
-            if ident is not None:
-                found.append((ident, el.sourceline or 0))
-            stack.extend(c for c in el if isinstance(c.tag, str) and c.tag != extension)
-        return found
+        return known | check_ids(
+            self.model, unread.ids_outside_extensions(self.xml.root, self.XID, self.EXTENSION)
+        )
 
     def _resolve(self, ids: list[str], known: set[str]) -> None:
         model = self.model
         known = self._known_ids(ids, known)
         self.stereotypes.resolve_references()
-        outside = self._named_outside([o.type_ref for o in self.type_refs], known)
+        # types defined where the walk does not read (EA's own types, in its extension)
+        outside = self._outside(
+            {o.type_ref for o in self.type_refs if o.type_ref not in model.elements} & known
+        )
         for obj in self.type_refs:
             target = model.elements.get(obj.type_ref) or outside.get(obj.type_ref)
             if target is not None:
@@ -446,10 +440,14 @@ class _Reader:
             target = model.elements.get(ident)
             if target is not None:
                 target.comments.append(body)
-        unread = self._unread_bases(known)
+        # applications to elements the walk keeps no object for (a MagicDraw diagram, an EA
+        # message): kept, on a plain element of that metaclass, instead of called dangling
+        bases = self._outside(
+            {a.base for a in model.applications.values() if a.base not in model.elements} & known
+        )
         for app in list(model.applications.values()):
-            if app.base in unread:
-                model.elements[app.base] = unread[app.base]
+            if app.base in bases:
+                model.elements[app.base] = bases[app.base]
             if app.base == app.id or app.base not in model.elements:
                 del model.applications[(app.base, app.key)]
                 model.diagnostics.append(
@@ -463,31 +461,8 @@ class _Reader:
                     )
                 )
 
-    def _named_outside(self, refs: list[str], known: set[str]) -> dict[str, Element]:
-        """Types defined where the walk does not read: Enterprise Architect types attributes with its
-        own primitive types (``<type xmi:idref="EAJava_int"/>``), defined in its ``xmi:Extension``."""
-        missing = {r for r in refs if r not in self.model.elements and r in known}
-        return self._elements_by_id(missing) if missing else {}
-
-    def _elements_by_id(self, missing: set[str]) -> dict[str, Element]:
-        found: dict[str, Element] = {}
-        for el in self.xml.root.iter(etree.Element):
-            ident = el.get(self.XID)
-            if ident in missing and ident not in found:
-                kind = self._kind(el, local_name(el.tag))
-                found[ident] = Element(ident, kind, el.get("name", ""), el.sourceline or 0)
-        return found
-
-    def _unread_bases(self, known: set[str]) -> dict[str, Element]:
-        """The elements stereotype applications are applied to that the walk did not read as model
-        structure (a MagicDraw diagram, an EA message or include), as plain elements: the application
-        is kept, on an element of its metaclass and name, instead of called dangling."""
-        missing = {
-            app.base
-            for app in self.model.applications.values()
-            if app.base not in self.model.elements and app.base in known
-        }
-        return self._elements_by_id(missing) if missing else {}
+    def _outside(self, wanted: set[str]) -> dict[str, Element]:
+        return unread.elements_by_id(self.xml.root, self.XID, self.XTYPE, wanted)
 
 
 def _by_local_name(table: dict, tag: object):
