@@ -23,6 +23,7 @@ Run: ``.venv/bin/python benchmarks/bench_validate.py``
 
 from __future__ import annotations
 
+import gc
 import statistics
 import subprocess
 import sys
@@ -61,13 +62,15 @@ def median_seconds(fn, rounds: int = ROUNDS) -> float:
     return statistics.median(times)
 
 
-def alternated(*fns, rounds: int = PAIRS) -> list[float]:
+def alternated(*fns, rounds: int = PAIRS, before=None) -> list[float]:
     """Medians of ``fns`` run one after the other ``rounds`` times: the host's speed drifts (a
     noisy neighbour, frequency changes), and a ratio of two medians taken minutes apart measures
-    the drift as much as the code."""
+    the drift as much as the code. ``before`` runs, untimed, before each call."""
     times: list[list[float]] = [[] for _ in fns]
     for _ in range(rounds):
         for fn, runs in zip(fns, times, strict=True):
+            if before is not None:
+                before()
             start = time.perf_counter()
             fn()
             runs.append(time.perf_counter() - start)
@@ -169,8 +172,13 @@ def _other_tools() -> None:
             classes = round(theirs.stat().st_size / BYTES_PER_CLASS)
             ours.write_text(generate(classes=classes, seed=3), encoding="utf-8")
             read = read_uml(str(theirs))
+            # Each read from a clean heap: a model is a graph of cycles (owners and members) that
+            # the cyclic collector frees during whatever runs next; alternated without this, each
+            # reader would pay for collecting the other's model.
             t_theirs, t_ours = alternated(
-                lambda p=theirs: read_uml(str(p)), lambda p=ours: read_uml(str(p))
+                lambda p=theirs: read_uml(str(p)),
+                lambda p=ours: read_uml(str(p)),
+                before=gc.collect,
             )
             print(
                 f"   {title}, {theirs.stat().st_size / 1e6:.2f} MB ({len(read.classifiers):,} "

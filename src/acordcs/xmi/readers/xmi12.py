@@ -171,9 +171,11 @@ class _Reader:
         elif tag in self.classifier_tags:
             cls = self._new(el, self.classifier_tags[tag], owner, Classifier)
             model.classifiers.append(cls)
-            self._features(el, cls)
-            self._literals(el, cls)
-            self._owned(el, cls)
+            if len(el):  # most data types and many classes of a large export have no children
+                self._features(el, cls)
+                if cls.kind == "Enumeration":
+                    self._literals(el, cls)
+                self._owned(el, cls)
         elif tag == f"{U}Generalization":
             gen = self._new(el, "Generalization", owner, Generalization)
             gen.specific = self._ref(el, "child", "subtype") or ""
@@ -323,6 +325,8 @@ class _Reader:
         if el.get("stereotype"):  # Umbrello, UML 1.3: the stereotype's id
             for ident in el.get("stereotype").split():
                 self.stereotype_refs.append((ident, obj, el.sourceline or 0))
+        if not len(el):
+            return
         for holder in el.iterchildren(f"{U}ModelElement.stereotype"):
             for st in holder.iterchildren(f"{U}Stereotype"):
                 if st.get("xmi.idref"):  # ArgoUML, Visual Paradigm: a reference
