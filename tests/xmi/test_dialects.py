@@ -314,3 +314,40 @@ def test_enterprise_architect_xmi11_profile_stereotypes_from_the_xref(tmp_path: 
     assert light.kind == "CtxMonitor" and light.tag("frequency") == "2"
     codes = {d.code for d in reading.diagnostics}
     assert "T303" not in codes and "R206" not in codes, reading.diagnostics
+
+
+def test_exporter_in_a_comment_and_in_child_elements(tmp_path: Path) -> None:
+    """BOUML's option writes xmi:Documentation inside a comment; MagicDraw writes child elements."""
+    commented = UNKNOWN_TOOL.replace(
+        '<xmi:Documentation exporter="NoSuchModeller" exporterVersion="3.1"/>',
+        '<!-- <xmi:Documentation exporter="Bouml" exporterVersion="1.15.1"/> -->',
+    )
+    uml = read_uml(_write(tmp_path, commented, "commented.xmi"))
+    assert (uml.exporter, uml.tool, uml.dialect) == ("Bouml 1.15.1", "bouml", "bouml-xmi2")
+    assert not uml.diagnostics
+    children = UNKNOWN_TOOL.replace(
+        '<xmi:Documentation exporter="NoSuchModeller" exporterVersion="3.1"/>',
+        "<xmi:Documentation><xmi:exporter>Cameo Systems Modeler</xmi:exporter>"
+        "<xmi:exporterVersion>2022x</xmi:exporterVersion></xmi:Documentation>",
+    )
+    uml = read_uml(_write(tmp_path, children, "children.xmi"))
+    assert (uml.exporter, uml.tool, uml.dialect) == (
+        "Cameo Systems Modeler 2022x",
+        "magicdraw",
+        "omg-xmi2",
+    )
+
+
+def test_no_exporter_named_is_an_info_unless_eclipse(tmp_path: Path) -> None:
+    bare = UNKNOWN_TOOL.replace(
+        '<xmi:Documentation exporter="NoSuchModeller" exporterVersion="3.1"/>', ""
+    )
+    uml = read_uml(_write(tmp_path, bare, "bare.xmi"))
+    assert [d.code for d in uml.diagnostics] == ["R209"]
+    assert "names itself nowhere" in uml.diagnostics[0].message
+    papyrus = GENMYMODEL_ROOT.replace(
+        '<eAnnotations xmi:id="e" source="genmymodel"><details xmi:id="d" key="exporterVersion" value="1.0"/></eAnnotations>',
+        "",
+    )
+    uml = read_uml(_write(tmp_path, papyrus, "papyrus.uml"))
+    assert uml.exporter is None and not uml.diagnostics
