@@ -142,9 +142,10 @@ def _value(el: etree._Element) -> str | None:
 _CLASS_LIKE = frozenset(("Class", "Interface", "Enumeration", "Component", "AssociationClass"))
 
 
-def _class_like(root: etree._Element) -> tuple[int, etree._Element | None]:
-    """The class-like elements of the file, outside tool extensions (diagrams name classes too)."""
-    count, first = 0, None
+def _class_like(root: etree._Element) -> tuple[int, etree._Element | None, str]:
+    """The class-like elements of the file, outside tool extensions (diagrams name classes too):
+    their number, the first and its metaclass."""
+    count, first, first_kind = 0, None, ""
     skip = None
     for el in root.iter(etree.Element):
         if skip is not None:
@@ -159,8 +160,9 @@ def _class_like(root: etree._Element) -> tuple[int, etree._Element | None]:
         kind = (kind or local).rpartition(":")[2].rpartition(".")[2]
         if kind in _CLASS_LIKE and (el.get("name") is not None or len(el)):
             count += 1
-            first = first if first is not None else el
-    return count, first
+            if first is None:
+                first, first_kind = el, kind
+    return count, first, first_kind
 
 
 _WHAT_TO_DO = (
@@ -178,13 +180,14 @@ def review(model: UmlModel, root: etree._Element, exporter: Exporter, dialect_ru
         f"exporter {exporter.text!r}" if exporter.text else "an exporter that names itself nowhere"
     )
     if not model.classifiers:
-        count, first = _class_like(root)
+        count, first, kind = _class_like(root)
         if count:
             model.diagnostics.append(
                 diagnostic(
                     "R208",
-                    f"the file holds {count} class-like element(s) (the first: {_local(first.tag)} "
-                    f"{first.get('name', '')!r}) but none was read as a classifier: {named} writes a "
+                    f"the file holds {count} class-like element(s) (the first: {kind} "
+                    f"{first.get('name', '')!r}, element {_local(first.tag)}) but none was read as a "
+                    f"classifier: {named} writes a "
                     f"form the {dialect_rules} rules do not read; {_WHAT_TO_DO}",
                     file=model.file,
                     line=first.sourceline,

@@ -94,7 +94,7 @@ class _Reader:
     def __init__(self, xml: XmlInput, exporter=None) -> None:
         self.xml = xml
         root = xml.root
-        bouml = exporter is None or exporter.tool in (None, "bouml")
+        bouml = exporter is not None and exporter.tool == "bouml"
         version = root.get("xmi.version", "1.x")
         self.model = UmlModel(file=xml.path, dialect="bouml-xmi12" if bouml else f"xmi{version}")
         self.typed: list = []
