@@ -171,3 +171,9 @@ def test_rational_rose_xmi11_with_doctype_is_read_as_the_empty_model_it_is() -> 
 def test_inspect_names_the_exporter_and_version(name: str, line: str) -> None:
     result = run_main(["inspect", str(xmi_sample(name, XMI_OTHER_TOOLS))])
     assert result.out.splitlines()[0].endswith(line), result.out
+
+
+def test_every_file_of_the_folder_is_checked_here() -> None:
+    folder = xmi_sample(UMBRELLO, XMI_OTHER_TOOLS).parent
+    present = {p.name for p in folder.iterdir() if p.name != "SOURCES.md"}
+    assert present == {UMBRELLO, MAGICDRAW, EA, MODELIO, VP, ROSE}
