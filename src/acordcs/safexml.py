@@ -58,7 +58,7 @@ _DECLARATION = re.compile(rb"<!(?:DOCTYPE|ENTITY)", re.IGNORECASE)
 # ``<!DOCTYPE Name SYSTEM "uri">`` or ``PUBLIC "id" "uri"`` and nothing else: no internal subset.
 _EXTERNAL_ONLY = re.compile(
     rb"""<!DOCTYPE\s+[^\s\[>]+(?:\s+(?:SYSTEM\s+("[^"]*"|'[^']*')|PUBLIC\s+("[^"]*"|'[^']*')"""
-    rb"""\s+("[^"]*"|'[^']*')))?\s*>""",
+    rb"""\s+("[^"]*"|'[^']*')))\s*>""",
 )
 
 

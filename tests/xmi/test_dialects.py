@@ -232,8 +232,9 @@ def test_external_doctype_alone_is_accepted_and_never_loaded(doctype: str, tmp_p
         "<!DOCTYPE XMI SYSTEM 'UML13.dtd' [<!ENTITY e 'x'>]>",
         "<!DOCTYPE XMI [<!ATTLIST Class name CDATA 'x'>]>",
         "<!DOCTYPE XMI SYSTEM 'a.dtd'>\n<!DOCTYPE XMI [<!ENTITY e 'x'>]>",
+        "<!DOCTYPE XMI>",
     ],
-    ids=["external-and-subset", "subset-only", "second-declaration"],
+    ids=["external-and-subset", "subset-only", "second-declaration", "no-identifier"],
 )
 def test_internal_subset_stays_refused(doctype: str, tmp_path: Path) -> None:
     text = f"<?xml version='1.0'?>\n{doctype}\n{MINIMAL_XMI11}"
