@@ -1,6 +1,6 @@
 """The hostile-input shapes of ``test_hostile_input`` over the other tools' dialect paths (XMI 1.x of
 Umbrello and Rose, XMI 2.5 of MagicDraw, EA's XMI 2.1 with applications inside the model, Eclipse UML2
-of Modelio): exit 1 or 2, a located message with the right code, no traceback, no file content leaked."""
+of Modelio, Visual Paradigm's XMI 2.1): exit 1 or 2, a located message with the right code, no traceback, no file content leaked."""
 
 from __future__ import annotations
 
@@ -47,6 +47,7 @@ BASES = {
     "magicdraw-xmi25": (MODELS / "acordcs_magicdraw.xmi").read_text(encoding="utf-8"),
     "ea-xmi21": (MODELS / "acordcs_enterprise_architect.xmi").read_text(encoding="cp1252"),
     "modelio-uml2": (MODELS / "acordcs_modelio.xmi").read_text(encoding="utf-8"),
+    "vp-xmi21": (MODELS / "acordcs_visual_paradigm.xmi").read_text(encoding="utf-8"),
     "rose-xmi11": (
         "<?xml version = '1.0' encoding = 'ISO-8859-1'?>\n<!DOCTYPE XMI SYSTEM 'UML1311.dtd' >\n"
         "<XMI xmi.version = '1.1' xmlns:UML='href://org.omg/UML/1.3'>\n<XMI.header><XMI.documentation>"
@@ -132,7 +133,8 @@ def test_windows_1252_bytes_declared_utf8_are_refused_where_they_are(
     base: str, tmp_path: Path
 ) -> None:
     text = BASES[base]
-    found = re.compile(r"""name\s*=\s*['"]""").search(text, text.index("Model xmi"))
+    model = re.search(r"<(\w+:)?Model\s", text).start()  # the first name in the model
+    found = re.compile(r"""name\s*=\s*['"]""").search(text, model)
     text = text[: found.end()] + "Régulateur" + text[found.end() :]
     declared = text.replace("windows-1252", "UTF-8").replace("ISO-8859-1", "UTF-8")
     path = tmp_path / "model.xmi"
