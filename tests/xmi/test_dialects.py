@@ -171,7 +171,7 @@ def test_class_like_elements_read_as_none_is_an_error_naming_the_exporter(tmp_pa
     path = _write(tmp_path, XMI10_LONG_NAMES)
     result = run_main(["validate", path])
     no_crash(result)
-    assert result.code == 1, result.out
+    assert result.code == 1 and codes_in(result.out) == {"R208"}, result.out
     line = next(ln for ln in result.out.splitlines() if " R208: " in ln)
     assert "'SomeTool'" in line and "Foundation.Core.Class" in line and "export" in line
     assert line.startswith(f"{path}:7:")  # the first class

@@ -202,6 +202,7 @@ class _Reader:
             and tag.startswith(U)
             and not tag.startswith("XMI.")
             and tag[len(U) :] not in UML14_METACLASSES
+            and "." not in tag[len(U) :]  # XMI 1.0's Foundation.Core.Class: R208 speaks for it
         ):
             name = tag[len(U) :]
             close = difflib.get_close_matches(name, UML14_METACLASSES, n=1)
