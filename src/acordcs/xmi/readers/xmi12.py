@@ -62,6 +62,11 @@ UML14_METACLASSES = frozenset(
 )
 
 
+# Read as classifiers; AssociationClass is read with the associations, and in UML 1.x a
+# Stereotype is a definition, no classifier.
+_CLASSIFIERS = CLASSIFIER_KINDS - {"AssociationClass", "Stereotype"}
+
+
 def accepts(root: etree._Element) -> bool:
     """XMI 1.x: an unqualified ``XMI`` root (XMI 2 puts it in the XMI namespace)."""
     return root.tag == "XMI" and (
@@ -102,7 +107,7 @@ class _Reader:
         self.ids: list[tuple[str, int]] = []
         self.content = root.find("XMI.content")
         self.U = U = _uml_prefix(self.content)
-        self.classifier_tags = {f"{U}{k}": k for k in CLASSIFIER_KINDS}
+        self.OWNED = f"{U}Namespace.ownedElement"
         self.stereotype_refs: list[tuple[str, Element, int]] = []  # (Stereotype id, element, line)
         self.stereotype_names: dict[str, str] = {}  # Stereotype id -> name
         self.tag_names: dict[str, str] = {}  # TagDefinition id -> name
@@ -150,7 +155,7 @@ class _Reader:
         return obj
 
     def _owned(self, el: etree._Element, owner: Element) -> None:
-        for child in el.iterchildren(f"{self.U}Namespace.ownedElement"):
+        for child in el.iterchildren(self.OWNED):
             for member in child:
                 if isinstance(member.tag, str) and not member.tag.startswith("XMI."):
                     self._element(member, owner)
@@ -159,24 +164,27 @@ class _Reader:
         tag = el.tag
         model = self.model
         U = self.U
-        if tag in (f"{U}Model", f"{U}Package"):
-            pkg = self._new(el, "Model" if tag == f"{U}Model" else "Package", owner, Package)
-            if pkg.kind == "Package":
-                model.packages.append(pkg)
-            self._owned(el, pkg)
-        elif tag == f"{U}Association" or tag == f"{U}AssociationClass":
-            self._association(el, owner)
-        elif tag == f"{U}Stereotype":  # UML 1.x: a stereotype is no classifier
-            self._stereotype_definition(el)
-        elif tag in self.classifier_tags:
-            cls = self._new(el, self.classifier_tags[tag], owner, Classifier)
+        if not tag.startswith(U):
+            return  # another namespace: a tool's own element
+        local = tag[len(U) :]  # compared as plain strings: a large export has thousands
+        if local in _CLASSIFIERS:
+            cls = self._new(el, local, owner, Classifier)
             model.classifiers.append(cls)
             if len(el):  # most data types and many classes of a large export have no children
                 self._features(el, cls)
                 if cls.kind == "Enumeration":
                     self._literals(el, cls)
                 self._owned(el, cls)
-        elif tag == f"{U}Generalization":
+        elif local == "Model" or local == "Package":
+            pkg = self._new(el, local, owner, Package)
+            if local == "Package":
+                model.packages.append(pkg)
+            self._owned(el, pkg)
+        elif local == "Association" or local == "AssociationClass":
+            self._association(el, owner)
+        elif local == "Stereotype":  # UML 1.x: a stereotype is no classifier
+            self._stereotype_definition(el)
+        elif local == "Generalization":
             gen = self._new(el, "Generalization", owner, Generalization)
             gen.specific = self._ref(el, "child", "subtype") or ""
             gen.general = self._ref(el, "parent", "supertype") or ""
@@ -184,27 +192,25 @@ class _Reader:
             for ident in (gen.specific, gen.general):
                 if ident:
                     self.refs.append((ident, "generalization", gen.line, gen))
-        elif tag in (f"{U}Dependency", f"{U}Abstraction", f"{U}Usage"):
-            dep = self._new(el, tag[len(U) :], owner, Dependency)
+        elif local in ("Dependency", "Abstraction", "Usage"):
+            dep = self._new(el, local, owner, Dependency)
             dep.clients = self._refs(el, "Dependency", "client")
             dep.suppliers = self._refs(el, "Dependency", "supplier")
             model.dependencies.append(dep)
             for ident in dep.clients + dep.suppliers:
                 self.refs.append((ident, "dependency", dep.line, dep))
-        elif tag == f"{U}Comment" and owner is not None:
+        elif local == "Comment" and owner is not None:
             owner.comments.append(el.get("body", ""))
-        elif tag == f"{U}TagDefinition":
+        elif local == "TagDefinition":
             self.tag_names[el.get("xmi.id", "")] = el.get("name") or el.get("tagType", "")
-        elif tag == f"{U}TaggedValue" and el.get("modelElement"):
+        elif local == "TaggedValue" and el.get("modelElement"):
             self.loose_tags.append(el)
         elif (
-            isinstance(tag, str)
-            and tag.startswith(U)
-            and not tag.startswith("XMI.")
-            and tag[len(U) :] not in UML14_METACLASSES
-            and "." not in tag[len(U) :]  # XMI 1.0's Foundation.Core.Class: R208 speaks for it
+            not local.startswith("XMI.")
+            and local not in UML14_METACLASSES
+            and "." not in local  # XMI 1.0's Foundation.Core.Class: R208 speaks for it
         ):
-            name = tag[len(U) :]
+            name = local
             close = difflib.get_close_matches(name, UML14_METACLASSES, n=1)
             hint = f" (did you mean UML:{close[0]}?)" if close else ""
             model.diagnostics.append(
