@@ -6,7 +6,7 @@ STAMP := $(VENV)/.installed
 DEV_STAMP := $(VENV)/.installed-dev
 SYSTEM_PACKAGES := shellcheck mosquitto libeclipse-emf-ecore-java libeclipse-emf-ecore-xmi-java openjdk-17-jdk-headless
 
-.PHONY: demo test lint format bench system-packages clean
+.PHONY: demo test docs lint format bench system-packages clean
 
 $(BIN)/python:
 	$(PY) -m venv $(VENV)
@@ -14,13 +14,14 @@ $(BIN)/python:
 
 # Byte-compiled as pip does for a regular install: an editable install never is, and with
 # PYTHONDONTWRITEBYTECODE set every `acordcs-gen` run would compile the toolchain again.
+# The demo's extra: `weblab` (what the WebLab experiment needs beyond the toolchain and runtime).
 $(STAMP): pyproject.toml | $(BIN)/python
-	$(BIN)/python -m pip install -q -e .
+	$(BIN)/python -m pip install -q -e '.[weblab]'
 	$(BIN)/python -m compileall -q src > /dev/null
 	touch $@
 
 $(DEV_STAMP): pyproject.toml | $(BIN)/python
-	$(BIN)/python -m pip install -q -e '.[dev]'
+	$(BIN)/python -m pip install -q -e '.[dev,weblab]'
 	$(BIN)/python -m compileall -q src > /dev/null
 	touch $@ $(STAMP)
 
@@ -36,6 +37,10 @@ demo: $(STAMP)
 test: $(DEV_STAMP) system-packages
 	$(BIN)/python -m pytest -q
 
+# The documentation site (MkDocs, Material theme) into site/; strict: a broken link fails.
+docs: $(DEV_STAMP)
+	NO_MKDOCS_2_WARNING=1 $(BIN)/python -m mkdocs build --strict
+
 lint: $(DEV_STAMP)
 	$(BIN)/ruff format --check src tests benchmarks
 	$(BIN)/ruff check src tests benchmarks
@@ -48,4 +53,4 @@ bench: $(DEV_STAMP)
 	@for b in benchmarks/bench_*.py; do echo "== $$b"; $(BIN)/python $$b || exit 1; done
 
 clean:
-	rm -rf $(VENV) build src/*.egg-info .pytest_cache
+	rm -rf $(VENV) build site src/*.egg-info .pytest_cache

@@ -182,7 +182,7 @@ def weblab() -> Pkg:
     link("RecoveryLink", "inprocess", loco_p, rec_loco, qos=False)
 
     # ---- monitors
-    control = ctx(adapt.cls("Control"), "CtxMonitor")
+    control = ctx(adapt.cls("Control"), "CtxMonitor", acquisition="intercept")
     control.comment = (
         "Intercepts the calls to the locomotion service; from the speed and turn set it computes"
         " the control cycle rate (cycles/s) and the trajectory angle (degrees). Event-driven."
@@ -190,16 +190,23 @@ def weblab() -> Pkg:
     ctx_var(control, "cycleRate", "double", 0, 3, CYCLE_RATE)
     ctx_var(control, "angle", "double", 0, 90, ANGLE)
     ctx_var(control, "speed", "double", 0, 500, SPEED)
-    telemetry = ctx(adapt.cls("Telemetry"), "CtxMonitor")
-    telemetry.comment = "Subscribes to the context provider for the robot's telemetry."
+    telemetry = ctx(
+        adapt.cls("Telemetry"), "CtxMonitor", acquisition="subscribe", xpath="/telemetry"
+    )
+    telemetry.comment = (
+        "Subscribes to the context provider for the robot's telemetry: the documents the"
+        " locomotion service publishes, <telemetry> with one child element per attribute."
+    )
     for name in ("positionX", "positionY", "heading", "sonarRange", "batteryVoltage"):
         telemetry.attr(name, "double")
-    usage = ctx(adapt.cls("Usage"), "CtxMonitor", frequency=1.0)
+    usage = ctx(
+        adapt.cls("Usage"), "CtxMonitor", acquisition="poll", frequency=1.0, operation="countUsers"
+    )
     usage.comment = "Polls the access service for the number of users of the experiment."
     ctx_var(usage, "numUsers", "int", 0, 10, NUM_USERS, default="1")
 
     adapt.depend(control, loco_p)
-    adapt.depend(telemetry, telem_p)
+    adapt.depend(telemetry, telem_p)  # where its documents come from (read: the xpath)
     adapt.depend(usage, access)
 
     # ---- policy sets and policies
@@ -273,7 +280,9 @@ def weblab() -> Pkg:
     # ---- containers and deployment
     user_side = ctx(deploy.cls("UserSide"), "CtxContainer", host="user.example.org")
     user_side.comment = "The user's computer."
-    weblab_side = ctx(deploy.cls("WebLabSide"), "CtxContainer", host="weblab.example.org")
+    weblab_side = ctx(
+        deploy.cls("WebLabSide"), "CtxContainer", host="weblab.example.org", port=47020
+    )
     weblab_side.comment = "The WebLab's server: hosts every element except the Navigator."
     deploy.associate(user_side, nav, "navigator", aggregation="composite")
     for c in (vision, loco, access, camera, recovery, control, telemetry, usage):

@@ -84,7 +84,9 @@ def main(argv: list[str]) -> int:
             print(f"  control sets speed {speed:g}")
             monitor.update(speed=speed)
         print(
-            f"  recoveries counted: {weblab.get_property('Recovery', 'recoveries')}; faults: {weblab.faults.counts['total']}"
+            f"  recovery episodes counted: {weblab.get_property('Recovery', 'recoveries')} "
+            f"(a stop and its retries count once, when the robot moves again); "
+            f"faults: {weblab.faults.counts['total']}"
         )
     return 0
 

@@ -1,11 +1,15 @@
 """Diagnostics: one record per finding, with a stable code, severity, message, element and place.
 
-Every code is declared once in :data:`CODES` with its severity and a one-line title; the README's table
-and the SARIF rule metadata are both produced from it.
+Every code is declared once in :data:`CODES` with its severity and a one-line title; the table of
+docs/diagnostics.md and the SARIF rule metadata are both produced from it.
+
+The text form is the one compilers print, ``file:line:col: severity: CODE message``, so that editors'
+problem matchers (VS Code's ``$gcc``) make every line clickable.
 """
 
 from __future__ import annotations
 
+import re
 import unicodedata
 from dataclasses import dataclass
 from enum import IntEnum
@@ -20,6 +24,34 @@ def printable(text: str) -> str:
     return "".join(
         f"\\u{ord(ch):04x}" if unicodedata.category(ch) in _UNPRINTABLE else ch for ch in text
     )
+
+
+# A quoted value longer than this is cut in messages: a tag holding a whole rule list would make one
+# line of output thousands of characters long (R205 quotes two of them).
+MAX_QUOTED = 80
+_LONG = f"{{{MAX_QUOTED + 1},}}"
+# A value quoted as repr() quotes it: the opening quote at the start or after a space, bracket or
+# '=', the closing one not inside a word ("model's" is no quote), the value on one line. Backslashes
+# are not escapes here: messages also quote single characters such as '\'.
+_OPEN = r"(?<![^\s(\[{=])"
+_QUOTED = re.compile(rf"{_OPEN}'[^'\n]{_LONG}'(?!\w)|{_OPEN}\"[^\"\n]{_LONG}\"(?!\w)")
+
+
+def shorten(message: str, limit: int = MAX_QUOTED) -> str:
+    """``message`` with every quoted value longer than ``limit`` characters cut to its first
+    ``limit - 1`` and an ellipsis (``'if a is b then c is d; if …'``)."""
+    if len(message) <= limit:
+        return message
+    return _QUOTED.sub(lambda m: m[0][:limit] + "\u2026" + m[0][0], message)
+
+
+def suggestion(word: str, names: list[str]) -> str:
+    """`` (did you mean 'x'?)`` for the closest of ``names``, or ''."""
+    # difflib is quadratic-ish: a bounded candidate list keeps huge hostile models fast
+    import difflib  # only when a name is not found
+
+    close = difflib.get_close_matches(word, names[:500], n=1)
+    return f" (did you mean {close[0]!r}?)" if close else ""
 
 
 class Severity(IntEnum):
@@ -76,6 +108,8 @@ CODES: dict[str, tuple[Severity, str]] = {
     "T310": (E, "variable range missing or empty (min must be below max)"),
     "T311": (E, "linguistic term shape invalid (points out of order, non-positive width)"),
     "T312": (E, "two terms of a variable share a name"),
+    "T313": (W, "the model applies no ACORDCS stereotype (nothing to check)"),
+    "T314": (E, "container port outside 1-65535"),
     # L: rules
     "L401": (E, "rule syntax error"),
     "L402": (E, "rule variable is not an attribute in the policy set's scope"),
@@ -101,6 +135,8 @@ CODES: dict[str, tuple[Severity, str]] = {
     "A511": (W, "port owned by no component"),
     "A512": (E, "port owned by more than one component"),
     "A513": (W, "policy set adapts nothing and no monitor feeds it"),
+    "A514": (E, "monitor lacks what its acquisition needs (source, xpath, operation, frequency)"),
+    "A515": (W, "monitor tag that its acquisition does not read"),
     # N: names that become identifiers
     "N601": (E, "name is not a valid identifier"),
     "N602": (E, "name is a reserved word in Python or Java"),
@@ -120,25 +156,38 @@ CODES: dict[str, tuple[Severity, str]] = {
 }
 
 
+# Where each code is explained, with an example and the fix: one anchor per code (``#l402``).
+DOCS_URL = "https://github.com/acordcs/acordcs/blob/main/docs/diagnostics.md"
+
+
+def help_uri(code: str) -> str:
+    """The page section that explains ``code`` (SARIF ``helpUri``)."""
+    return f"{DOCS_URL}#{code.lower()}"
+
+
 @dataclass(slots=True)
 class Diagnostic:
     code: str
     severity: Severity
     message: str
     file: str
-    line: int = 0
-    column: int = 0
+    line: int = 0  # 0: unknown (the finding is about the whole file)
+    column: int = 0  # 0: unknown; shown as 1, the start of the line
     element: str | None = None  # qualified name
     xmi_id: str | None = None
     unreadable: bool = False  # the input could not be read at all: exit code 2
+    # What within the element the finding is about (a tag name, a rule's label or "Rule#2"): with
+    # the code and the element's id, the finding's identity across runs (SARIF fingerprints).
+    subject: str | None = None
 
     def location(self) -> str:
-        loc = f"{self.file}:{self.line}" if self.line else self.file
-        return f"{loc}:{self.column}" if self.line and self.column else loc
+        """``file:line:col`` (column 1 when unknown), or ``file`` when the line is unknown."""
+        return f"{self.file}:{self.line}:{self.column or 1}" if self.line else self.file
 
     def format_text(self) -> str:
-        """One line: names from the model cannot break it (newlines, bidi controls are escaped)."""
-        text = f"{self.location()}: {self.severity} {self.code}: {self.message}"
+        """One line, ``file:line:col: severity: CODE message [element (id)]``; names from the
+        model cannot break it (newlines, bidi controls are escaped)."""
+        text = f"{self.location()}: {self.severity}: {self.code} {self.message}"
         if self.element or self.xmi_id:
             where = " ".join(
                 p for p in (self.element, f"({self.xmi_id})" if self.xmi_id else None) if p
@@ -146,14 +195,19 @@ class Diagnostic:
             text += f" [{where}]"
         return printable(text)
 
+    def fingerprint(self) -> str:
+        """What stays the same while the finding does: code, element and subject, not the wording."""
+        return f"{self.code}:{self.xmi_id or self.element or ''}:{self.subject or ''}"
+
     def to_dict(self) -> dict:
+        """Line and column from 1, or None when the finding is about the whole file."""
         return {
             "code": self.code,
             "severity": str(self.severity),
             "message": self.message,
             "file": self.file,
-            "line": self.line,
-            "column": self.column,
+            "line": self.line or None,
+            "column": (self.column or 1) if self.line else None,
             "element": self.element,
             "xmi_id": self.xmi_id,
         }
@@ -168,17 +222,19 @@ def diagnostic(
     column: int | None = 0,
     element: str | None = None,
     xmi_id: str | None = None,
+    subject: str | None = None,
 ) -> Diagnostic:
-    """A diagnostic with the severity its code declares."""
+    """A diagnostic with the severity its code declares; long quoted values in ``message`` cut."""
     severity = CODES[code][0]
     return Diagnostic(
         code,
         severity,
-        message,
+        shorten(message),
         file,
         line or 0,
         column or 0,
         element,
         xmi_id,
         unreadable=code.startswith("X") and code != "X107" and severity is Severity.ERROR,
+        subject=subject,
     )

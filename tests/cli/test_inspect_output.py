@@ -117,7 +117,7 @@ def test_inspect_unreadable_file(tmp_path: Path) -> None:
     result = run_main(["inspect", str(tmp_path / "missing.xmi")])
     no_crash(result)
     assert result.code == 2
-    assert " X101: " in result.err and result.out == ""
+    assert " X101 " in result.err and result.out == ""
 
 
 def test_inspect_keeps_two_containers_of_the_same_name(weblab_text, tmp_path):

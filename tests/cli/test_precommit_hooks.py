@@ -147,13 +147,14 @@ def test_validate_hook_passes_the_sample():
 
 def test_validate_hook_fails_a_misspelt_rule_variable(project: Path):
     model = project / "models" / "app.xmi"
-    (project / "models" / "broken.xmi").write_text(
-        _broken(model.read_text(encoding="utf-8")), encoding="utf-8"
-    )
+    broken = _broken(model.read_text(encoding="utf-8"))
+    (project / "models" / "broken.xmi").write_text(broken, encoding="utf-8")
+    # the line of the taggedValue holding the rule (the first of the two places BOUML writes)
+    line = broken[: broken.index("smallNarrow: if cycleRat")].count("\n") + 1
     done = run_hook("acordcs-validate", project, ["models/app.xmi", "models/broken.xmi"])
     assert done.returncode == 1, done.stdout + done.stderr
     assert "models/app.xmi: 0 errors" in done.stdout
-    assert "models/broken.xmi:707: error L402:" in done.stdout
+    assert f"models/broken.xmi:{line}:1: error: L402 " in done.stdout
     assert "variable 'cycleRat'" in done.stdout
 
 
@@ -161,7 +162,7 @@ def test_build_check_hook_fails_until_the_output_is_built(project: Path):
     args = ["models/app.xmi", "--output", "gen"]
     done = run_hook("acordcs-build-check", project, ["models/app.xmi"], args)
     assert done.returncode == 1, done.stdout + done.stderr
-    assert "gen: not up to date: 48 files to write, 0 to delete" in done.stderr
+    assert "gen: not up to date: 55 files to write, 0 to delete" in done.stderr
     assert not (project / "gen").exists()  # --check writes nothing
 
     built = subprocess.run(

@@ -76,5 +76,9 @@ def test_warnings_of_the_model_are_shown_and_the_build_goes_on(tmp_path: Path):
     model = weblab_variant(tmp_path, (anchor, anchor.replace("xmi:id", 'colour="red" xmi:id')))
     result = build(model, tmp_path / "out")
     assert result.code == 0
-    assert result.out.startswith(f"{model}:1125: warning T303: <<CtxPolicy>> has no tag 'colour'")
+    text = model.read_text(encoding="utf-8")
+    line = text[: text.index('colour="red"')].count("\n") + 1
+    assert result.out.startswith(
+        f"{model}:{line}:1: warning: T303 <<CtxPolicy>> has no tag 'colour'"
+    )
     assert os.path.isfile(tmp_path / "out" / "WebLab.descriptor.xml")

@@ -35,7 +35,7 @@ def test_model_names_that_cannot_be_file_names_are_refused(tmp_path: Path, name:
     result = build(model, out)
     no_crash(result)
     assert result.code == 1, result.both
-    assert ": error G701: the name " in result.out and "rename it" in result.out
+    assert ": error: G701 the name " in result.out and "rename it" in result.out
     assert snapshot(tmp_path) == before  # nothing written anywhere, out not even created
 
 
@@ -47,7 +47,7 @@ def test_names_differing_only_in_case_are_refused(tmp_path: Path):
     # The model check sees it before any file name is made (N606); the writer's own guard against
     # files differing only in case (G702) is held below, with a target that makes such files.
     assert (
-        "error N606: ACORD-CS elements 'SpeedLimiting', 'speedLimiting' differ only" in result.out
+        "error: N606 ACORD-CS elements 'SpeedLimiting', 'speedLimiting' differ only" in result.out
     )
     assert "WebLab::ContextAwareNavigation::Adaptation::speedLimiting" in result.out
     assert not out.exists()
@@ -76,7 +76,7 @@ def test_a_target_cannot_write_outside_the_output(tmp_path: Path, path: str):
         result = build(WEBLAB, out, "--target", "escape")
     no_crash(result)
     assert result.code == 1
-    assert "error G701: target escape would write" in result.out
+    assert "error: G701 target escape would write" in result.out
     assert not (tmp_path / "a").exists() and not Path("/abs.txt").exists()
 
 
@@ -90,8 +90,8 @@ def test_two_files_that_would_be_one_are_refused(tmp_path: Path):
     with registered(twice):
         result = build(WEBLAB, tmp_path / "out")
     assert result.code == 1
-    assert "G702: targets rules and twice would both write 'rules/SpeedLimiting.fcl'" in result.out
-    assert "G702: 'A/README.txt' and 'a/Readme.txt' differ only in case" in result.out
+    assert "G702 targets rules and twice would both write 'rules/SpeedLimiting.fcl'" in result.out
+    assert "G702 'A/README.txt' and 'a/Readme.txt' differ only in case" in result.out
     assert not (tmp_path / "out").exists()
 
 

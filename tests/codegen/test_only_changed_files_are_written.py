@@ -12,6 +12,7 @@ from tests.support.codegen import FASTER, build, snapshot, weblab_variant
 from tests.support.toolchain import WEBLAB
 
 COMPONENTS = ["Access", "Locomotion", "Navigator", "PanoramicCamera", "Recovery", "Vision"]
+MONITORS = ["Control", "Telemetry", "Usage"]
 PACKAGE = sorted(
     [
         "weblab_app/UserSide.py",
@@ -21,7 +22,9 @@ PACKAGE = sorted(
         "weblab_app/components/__init__.py",
         "weblab_app/descriptor.xml",
         "weblab_app/registry.py",
+        "weblab_app/monitors/__init__.py",
         *(f"weblab_app/{d}/{c}.py" for d in ("base", "components") for c in COMPONENTS),
+        *(f"weblab_app/{d}/{m}.py" for d in ("base", "monitors") for m in MONITORS),
     ]
 )
 JAVA = [
@@ -69,7 +72,7 @@ def test_first_build_writes_every_file(tmp_path: Path):
     assert result.code == 0, result.both
     assert sorted(snapshot(tmp_path / "out")) == FILES
     assert (
-        "48 written, 0 deleted, 0 unchanged (targets: config, java, python, rules, shell)"
+        "55 written, 0 deleted, 0 unchanged (targets: config, java, python, rules, shell)"
         in result.out
     )
 
@@ -91,7 +94,7 @@ def test_forced_rebuild_runs_the_targets_and_writes_nothing(tmp_path: Path):
     before = snapshot(tmp_path)
     result = build(WEBLAB, tmp_path, "--force")
     assert result.code == 0
-    assert "nothing changed (48 files up to date)" in result.out
+    assert "nothing changed (55 files up to date)" in result.out
     assert snapshot(tmp_path) == before
 
 
@@ -129,7 +132,7 @@ def test_a_deleted_or_edited_generated_file_is_restored(tmp_path: Path):
     assert result.code == 0
     restored = snapshot(tmp_path)
     assert {p: d for p, (d, _) in restored.items()} == {p: d for p, (d, _) in original.items()}
-    assert "2 written, 0 deleted, 46 unchanged" in result.out
+    assert "2 written, 0 deleted, 53 unchanged" in result.out
 
 
 def test_same_model_same_bytes_wherever_it_is_built_from(tmp_path: Path, monkeypatch):
@@ -158,7 +161,8 @@ def test_manifest_traces_each_file_to_model_elements(tmp_path: Path, weblab):
 
     for rel, entry in files.items():
         user_java = rel.startswith("java/weblab/") and not rel.endswith("Base.java")
-        assert entry.get("user", False) == (rel.startswith("weblab_app/components/") or user_java)
+        user_python = rel.startswith(("weblab_app/components/", "weblab_app/monitors/"))
+        assert entry.get("user", False) == (user_python or user_java)
         assert entry["sha256"] == hashlib.sha256((tmp_path / rel).read_bytes()).hexdigest()
     assert os.path.getsize(tmp_path / ".acordcs-manifest.json") > 0
 
@@ -171,7 +175,7 @@ def test_the_same_model_under_another_name_is_built_again(tmp_path: Path):
     result = build(renamed, out)
     assert result.code == 0
     # every header names the model file; the user's files (written once) are not written again
-    assert "35 written, 0 deleted, 13 unchanged" in result.out
+    assert "38 written, 0 deleted, 17 unchanged" in result.out
     assert "in model file lab.xmi." in (out / "rules" / "Recovering.clp").read_text(
         encoding="utf-8"
     )

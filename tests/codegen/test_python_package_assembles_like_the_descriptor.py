@@ -3,9 +3,9 @@ assembles (its ``assemble_application``, and each container module's ``assemble_
 the other containers given as remote) is what ``assemble(describe(read_model(path).architecture))``
 assembles: the same containers, components (type, properties, ports and their properties,
 operations and their parameters), connections (ends, connector, QoS), monitors (frequency, sources,
-attributes), policy sets (engine, trigger, frequency, semantics, rule sets and rules, adapted
-elements, the monitors feeding them, variables) and feeds; only the component classes differ (the
-user's subclasses of the generated bases, not the generic classes)."""
+attributes, acquisition kind with its xpath or polled operation), policy sets (engine, trigger, frequency, semantics, rule sets and rules, adapted
+elements, the monitors feeding them, variables) and feeds; only the component and monitor classes
+differ (the user's subclasses of the generated bases, not the generic and kind classes)."""
 
 from __future__ import annotations
 
@@ -20,8 +20,15 @@ from acordcs.codegen.targets.python import package_name
 from acordcs.descriptor import describe
 from acordcs.model.reading import read_model
 from acordcs.runtime.api import RunningApplication, VirtualClock, assemble
+from acordcs.runtime.monitor import Monitor
 from tests.support.codegen import build, imported
 from tests.support.toolchain import SMARTROOM, WEBLAB
+
+
+def _runtime_class(monitor: Monitor) -> str:
+    """The runtime class a monitor is (or derives from): its acquisition kind's."""
+    runtime = ("acordcs.runtime.acquisition", "acordcs.runtime.monitor")
+    return next(k.__name__ for k in type(monitor).__mro__ if k.__module__ in runtime)
 
 
 def connector(c: Any) -> list[str]:
@@ -60,7 +67,9 @@ def shape(app: RunningApplication) -> dict[str, Any]:
                 c.monitor(m).frequency,
                 c.monitor(m).sources,
                 dict(c.monitor(m).attributes),
-                type(c.monitor(m)).__name__,
+                _runtime_class(c.monitor(m)),
+                getattr(c.monitor(m), "xpath", None),
+                getattr(c.monitor(m), "operation", None),
             )
             for m in c.monitors()
         }

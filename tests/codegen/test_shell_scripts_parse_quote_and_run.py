@@ -1,8 +1,9 @@
 """The ``shell`` target's scripts: ``sh -n`` parses every one of both samples, shellcheck finds
 nothing (service test: ``make test`` installs shellcheck), model strings are quoted (hostile
 hosts, ids and documentation reach the program as data and never run), and the WebLab's scripts
-start both containers, which serve the endpoints the other is given, report them running, refuse
-a second start, and stop them."""
+start both containers as two processes, which serve the endpoints the other is given, call each
+other over the remote connector (with user code in the user classes) while a policy adapts,
+report them running, refuse a second start, and stop them."""
 
 from __future__ import annotations
 
@@ -143,9 +144,81 @@ def test_needs_is_what_assembly_requires(weblab, smartroom) -> None:
                     assemble(app, only=[c.name], clock=VirtualClock(0), remote=fewer)
 
 
+# User code for the two-process run, written where the build keeps it (the user classes): the
+# Navigator (UserSide) grabs a frame and moves the robot (WebLabSide) every 0.2 s over the remote
+# connector; the Control monitor turns each move into the SpeedLimiting policy's inputs, whose
+# firing caps Locomotion.maxSpeed in the WebLab's process; Usage polls Access.countUsers.
+USER_CODE = {
+    "components/Navigator.py": """
+from weblab_app.base.Navigator import NavigatorBase
+
+
+class Navigator(NavigatorBase):
+    def on_start(self):
+        self.frames = 0
+        self.clock.call_every(0.2, self.step)
+
+    def step(self):
+        try:
+            frame = self.port("NavVisionPort").call("grab")
+            self.port("NavLocomotionPort").call("move", 150.0, 4.0)
+        except Exception as err:  # the WebLab's process may not serve yet
+            print(f"Navigator: waiting ({type(err).__name__})", flush=True)
+            return False
+        self.frames += 1
+        print(f"Navigator: frame {self.frames}: {type(frame).__name__} of {len(frame)}", flush=True)
+        return True
+""",
+    "components/Vision.py": """
+import os
+
+from weblab_app.base.Vision import VisionBase
+
+
+class Vision(VisionBase):
+    def grab(self):
+        return b"\\xff\\xd8" + os.getpid().to_bytes(4, "big") * 100
+""",
+    "components/Locomotion.py": """
+from weblab_app.base.Locomotion import LocomotionBase
+
+
+class Locomotion(LocomotionBase):
+    def move(self, speed, turn):
+        print(f"Locomotion: move {speed} under maxSpeed {self.get('maxSpeed'):.1f}", flush=True)
+        self.publish_context(f"<telemetry><heading>{turn}</heading></telemetry>")
+""",
+    "components/Access.py": """
+from weblab_app.base.Access import AccessBase
+
+
+class Access(AccessBase):
+    def countUsers(self):
+        return 2
+""",
+    "monitors/Control.py": """
+from weblab_app.base.Control import ControlBase
+
+
+class Control(ControlBase):
+    last = None
+
+    def on_call(self, call):
+        if call.operation != "move":
+            return None
+        speed, turn = call.args
+        rate = 0.0 if self.last is None else 1.0 / max(call.time - self.last, 1e-3)
+        self.last = call.time
+        return {"cycleRate": min(rate, 3.0), "angle": abs(turn), "speed": speed}
+""",
+}
+
+
 def test_the_weblab_scripts_start_check_and_stop_both_containers(tmp_path: Path) -> None:
     out = tmp_path / "out"
     assert build(WEBLAB, out, "-t", "python,shell").code == 0
+    for rel, code in USER_CODE.items():
+        (out / "weblab_app" / rel).write_text(code, encoding="utf-8")
     run = tmp_path / "run"
     ports = free_ports(2)
     env = {
@@ -186,6 +259,19 @@ def test_the_weblab_scripts_start_check_and_stop_both_containers(tmp_path: Path)
                 time.sleep(0.1)
             with Proxy(uri) as proxy:
                 proxy._pyroBind()
+        # The processes talk: frames from the WebLab reach the user's process as bytes, and
+        # the moves reach the WebLab, where the speed policy (fed by the Control monitor that
+        # intercepts them) has set maxSpeed away from the model's default of 200.
+        user_log, lab_log = run / "UserSide.log", run / "WebLabSide.log"
+        while "Navigator: frame 5: bytes of 402" not in user_log.read_text():
+            assert time.monotonic() < deadline, user_log.read_text() + lab_log.read_text()
+            time.sleep(0.1)
+        limits = [
+            float(line.rsplit(" ", 1)[1])
+            for line in lab_log.read_text().splitlines()
+            if line.startswith("Locomotion: move 150.0 under maxSpeed")
+        ]
+        assert limits and any(limit != 200.0 for limit in limits), lab_log.read_text()
     finally:
         stopped = sh("stop-all")
     assert stopped.returncode == 0, stopped.stderr

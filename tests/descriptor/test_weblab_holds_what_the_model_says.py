@@ -48,13 +48,19 @@ def test_hosts_and_endpoints(weblab):
 
 def test_monitors_acquire_context_as_modelled(weblab):
     how = {
-        m.name: (m.acquisition, m.frequency, [s.name for s in m.sources]) for m in weblab.monitors
+        m.name: (m.acquisition, m.frequency, m.xpath, m.operation, [s.name for s in m.sources])
+        for m in weblab.monitors
     }
     assert how == {
-        "Control": ("event", None, ["Locomotion.LocomotionPort"]),
-        "Telemetry": ("event", None, ["Locomotion.TelemetryPort"]),
-        "Usage": ("periodic", 1.0, ["Access"]),
+        "Control": ("intercept", None, None, None, ["Locomotion.LocomotionPort"]),
+        "Telemetry": ("subscribe", None, "/telemetry", None, ["Locomotion.TelemetryPort"]),
+        "Usage": ("poll", 1.0, None, "countUsers", ["Access"]),
     }
+
+
+def test_container_port_tag_reaches_the_endpoint(weblab):
+    ports = {c.name: c.endpoint and c.endpoint.port for c in weblab.containers}
+    assert ports == {"UserSide": None, "WebLabSide": 47020}
 
 
 def test_documentation_from_uml_comments(weblab):

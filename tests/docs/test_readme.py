@@ -19,12 +19,17 @@ def test_readme_names_the_two_commands():
     assert "make demo" in README and "make test" in README
 
 
-def test_every_diagnostic_code_is_in_the_readme_table_with_its_severity_and_meaning():
-    rows = dict(re.findall(r"^\| ([A-Z]\d{3}) \| (.+) \|$", README, flags=re.M))
+def test_every_diagnostic_code_is_in_the_codes_page_with_its_severity_and_meaning():
+    page = (ROOT / "docs" / "diagnostics.md").read_text(encoding="utf-8")
+    rows = dict(re.findall(r"^\| \[([A-Z]\d{3})\]\(#[a-z]\d{3}\) \| (.+) \|$", page, flags=re.M))
     for code, (severity, title) in CODES.items():
-        assert code in rows, f"{code} missing from the README's table"
-        assert rows[code] == f"{severity} | {title}", f"README row for {code} is stale"
-    assert set(rows) == set(CODES), "the README lists codes that do not exist"
+        assert code in rows, f"{code} missing from docs/diagnostics.md's table"
+        assert rows[code] == f"{severity} | {title}", f"docs/diagnostics.md row for {code} is stale"
+    assert set(rows) == set(CODES), "docs/diagnostics.md lists codes that do not exist"
+    sections = re.findall(r"^### ([A-Z]\d{3})\n\n\*\*(\w+)\*\*: (.+)\.\n", page, flags=re.M)
+    assert [(c, s, t) for c, s, t in sections] == [(c, str(s), t) for c, (s, t) in CODES.items()], (
+        "one section per code, in the table's order, with its severity and meaning"
+    )
 
 
 def test_make_demo_transcript_is_what_the_commands_print(monkeypatch):

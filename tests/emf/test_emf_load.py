@@ -263,7 +263,7 @@ def covering_model():
         frequency=2.5,
         policies=[create("CtxPolicy", name="Recover", rules=rules[1:])],
     )
-    user_side = create("CtxContainer", name="UserSide", host="client.example")
+    user_side = create("CtxContainer", name="UserSide", host="client.example", port=47011)
     lab_side = create("CtxContainer", name="WebLabSide", host="localhost")
     fuzzy.adapts.extend([locomotion, locomotion.ports[2], connections[1], lab_side])
     crisp.adapts.append(locomotion)
@@ -271,21 +271,46 @@ def covering_model():
         "CtxMonitor",
         name="Control",
         frequency=10.0,
+        acquisition=lit("MonitorAcquisition", "custom"),
         sources=[locomotion, locomotion.ports[1]],
         feeds=[fuzzy, crisp],
         attributes=[create("Attribute", name="cycleRate", type="double")],
     )
     usage = create("CtxMonitor", name="Usage", sources=[user_side], feeds=[fuzzy])
+    # The other acquisition kinds, each with the tag it needs.
+    tapping = create(
+        "CtxMonitor",
+        name="Tap",
+        acquisition=lit("MonitorAcquisition", "intercept"),
+        sources=[locomotion.ports[1]],
+        feeds=[crisp],
+    )
+    telemetry = create(
+        "CtxMonitor",
+        name="Telemetry",
+        acquisition=lit("MonitorAcquisition", "subscribe"),
+        xpath="/telemetry",
+        feeds=[crisp],
+    )
+    polling = create(
+        "CtxMonitor",
+        name="Poll",
+        acquisition=lit("MonitorAcquisition", "poll"),
+        frequency=1.0,
+        operation="odometry",
+        sources=[locomotion],
+        feeds=[fuzzy],
+    )
     user_side.components.append(navigator)
     lab_side.components.append(locomotion)
-    lab_side.monitors.extend([control, usage])
+    lab_side.monitors.extend([control, usage, tapping, telemetry, polling])
     lab_side.policySets.extend([fuzzy, crisp])
     return create(
         "Application",
         name="CoverAll",
         containers=[user_side, lab_side],
         components=[navigator, locomotion],
-        monitors=[control, usage],
+        monitors=[control, usage, tapping, telemetry, polling],
         policySets=[fuzzy, crisp],
         connections=connections,
     )

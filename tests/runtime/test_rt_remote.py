@@ -136,6 +136,12 @@ def test_components_in_two_processes_call_and_notify(local):
     assert wait_for(lambda: nav.ask("received") == [{"stripe": "lost", "at": [1, 2]}])
 
 
+def test_bytes_cross_as_bytes_both_ways(local):
+    # serpent sends bytes as a base64 dict; the connector gives them back as bytes
+    frame = local.find("nav").ask("frame", b"\xff\xd8JPEG")
+    assert frame == b"\xff\xd8JPEG" + bytes(range(256))
+
+
 def test_remote_component_error_comes_back_as_a_clear_error(local):
     with pytest.raises(RemoteCallError, match=r"remote ComponentError: .*robot refuses") as info:
         local.find("nav").ask("crash")

@@ -35,6 +35,12 @@ class Robot(CtxComponent):
     def pid(self) -> int:
         return os.getpid()
 
+    def frame(self, header: bytes) -> bytes:
+        """Bytes in, bytes out (a camera frame): fails unless the argument arrived as bytes."""
+        if not isinstance(header, bytes):
+            raise TypeError(f"header arrived as {type(header).__name__}")
+        return header + bytes(range(256))
+
     def crash(self) -> None:
         raise ValueError("robot refuses")
 

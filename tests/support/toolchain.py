@@ -169,7 +169,7 @@ def write_model(tmp_path: Path, text: str) -> Path:
 
 def codes_in(out: str) -> set[str]:
     """The diagnostic codes in ``validate``'s text output."""
-    return set(re.findall(r": (?:error|warning|info) ([A-Z]\d{3}):", out))
+    return set(re.findall(r": (?:error|warning|info): ([A-Z]\d{3}) ", out))
 
 
 def replace(text: str, old: str, new: str, count: int = 1) -> str:

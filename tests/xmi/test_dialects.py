@@ -126,6 +126,11 @@ UNKNOWN_TOOL = """<?xml version="1.0" encoding="UTF-8"?>
 """
 
 
+def _codes(out: str) -> set[str]:
+    """The codes ``validate`` printed, but T313 (these small files apply no ACORDCS stereotype)."""
+    return codes_in(out) - {"T313"}
+
+
 def _write(tmp_path: Path, text: str, name: str = "model.xmi") -> str:
     path = tmp_path / name
     path.write_text(text, encoding="utf-8")
@@ -171,8 +176,8 @@ def test_class_like_elements_read_as_none_is_an_error_naming_the_exporter(tmp_pa
     path = _write(tmp_path, XMI10_LONG_NAMES)
     result = run_main(["validate", path])
     no_crash(result)
-    assert result.code == 1 and codes_in(result.out) == {"R208"}, result.out
-    line = next(ln for ln in result.out.splitlines() if " R208: " in ln)
+    assert result.code == 1 and _codes(result.out) == {"R208"}, result.out
+    line = next(ln for ln in result.out.splitlines() if ": R208 " in ln)
     assert "'SomeTool'" in line and "Foundation.Core.Class" in line and "export" in line
     assert line.startswith(f"{path}:7:")  # the first class
 
@@ -180,7 +185,7 @@ def test_class_like_elements_read_as_none_is_an_error_naming_the_exporter(tmp_pa
 def test_unknown_exporter_read_cleanly_is_an_info(tmp_path: Path) -> None:
     path = _write(tmp_path, UNKNOWN_TOOL)
     result = run_main(["validate", path])
-    assert result.code == 0 and codes_in(result.out) == {"R209"}, result.out
+    assert result.code == 0 and _codes(result.out) == {"R209"}, result.out
     assert "'NoSuchModeller 3.1'" in result.out
 
 
@@ -190,7 +195,7 @@ def test_unknown_exporter_with_errors_is_a_warning(tmp_path: Path) -> None:
         'name="Camera"><generalization xmi:id="g" general="nope"/></packagedElement>',
     )
     result = run_main(["validate", _write(tmp_path, text)])
-    assert codes_in(result.out) == {"R202", "R210"}, result.out
+    assert _codes(result.out) == {"R202", "R210"}, result.out
 
 
 # ------------------------------------------------------------------------------------- DOCTYPE

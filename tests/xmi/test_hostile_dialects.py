@@ -123,7 +123,7 @@ def test_hostile_shape_on_dialect(base: str, shape: str, tmp_path: Path) -> None
     result = run_main(["validate", str(path)])
     no_crash(result)
     assert result.code == exit_code, result.out
-    lines = [ln for ln in result.out.splitlines() if f" {code}: " in ln]
+    lines = [ln for ln in result.out.splitlines() if f": {code} " in ln]
     assert lines and all(ln.startswith(f"{path}:") for ln in lines), result.out
     assert SECRET not in result.both
 
@@ -142,7 +142,7 @@ def test_windows_1252_bytes_declared_utf8_are_refused_where_they_are(
     result = run_main(["validate", str(path)])
     no_crash(result)
     assert result.code == 2 and codes_in(result.out) == {"X105"}, result.out
-    line = next(ln for ln in result.out.splitlines() if " X105: " in ln)
+    line = next(ln for ln in result.out.splitlines() if ": X105 " in ln)
     assert line.startswith(f"{path}:{text[: found.end()].count(chr(10)) + 1}:")
     # declared as what it is, the same bytes read with the accent intact
     path.write_bytes(declared.replace("UTF-8", "windows-1252", 1).encode("cp1252"))
@@ -157,7 +157,7 @@ def test_thousands_of_ids_restated_in_extensions_are_not_duplicates(tmp_path: Pa
     path.write_text(_umbrello(3000), encoding="utf-8")
     result = run_main(["validate", str(path)])
     no_crash(result)
-    assert result.code == 0 and " R203: " not in result.out, result.out[:2000]
+    assert result.code == 0 and ": R203 " not in result.out, result.out[:2000]
     assert "3000 Class" in run_main(["inspect", str(path)]).out
 
 
@@ -167,7 +167,7 @@ def test_thousands_of_real_duplicate_ids_are_one_located_error(tmp_path: Path) -
     result = run_main(["validate", str(path)])
     no_crash(result)
     assert result.code == 1
-    lines = [ln for ln in result.out.splitlines() if " R203: " in ln]
+    lines = [ln for ln in result.out.splitlines() if ": R203 " in ln]
     assert len(lines) == 1 and "3000 times" in lines[0] and lines[0].startswith(f"{path}:6:")
 
 

@@ -201,7 +201,7 @@ def test_hostile_input_gives_a_clear_diagnostic(case: Case, tmp_path: Path) -> N
     result = run_main(["validate", "--fail-on", case.fail_on, str(path)])
     no_crash(result)
     assert result.code == case.exit, result.both
-    lines = [ln for ln in result.out.splitlines() if f" {case.code}: " in ln]
+    lines = [ln for ln in result.out.splitlines() if f": {case.code} " in ln]
     assert lines, result.both
     assert all(ln.startswith(str(path)) for ln in lines)
     assert any(case.message in ln for ln in lines), (case.message, lines)
@@ -245,7 +245,7 @@ def test_truncated_file_is_refused(where: str, tmp_path: Path) -> None:
     result = run_main(["validate", str(target)])
     no_crash(result)
     assert result.code == 2, result.both
-    assert " X104: " in result.out, result.out
+    assert " X104 " in result.out, result.out
 
 
 def test_a_missing_end_tag_is_refused_not_recovered(weblab_text, tmp_path):
@@ -267,7 +267,7 @@ def test_utf16_declaration_on_utf8_bytes_is_an_encoding_error(tmp_path: Path) ->
     result = run_main(["validate", str(target)])
     no_crash(result)
     assert result.code == 2
-    assert " X105: " in result.out, result.out
+    assert " X105 " in result.out, result.out
 
 
 def test_binary_garbage_is_not_called_empty(tmp_path: Path) -> None:
@@ -276,7 +276,7 @@ def test_binary_garbage_is_not_called_empty(tmp_path: Path) -> None:
     result = run_main(["validate", str(target)])
     no_crash(result)
     assert result.code == 2
-    assert " X108: " in result.out or " X109: " in result.out, result.out
+    assert " X108 " in result.out or " X109 " in result.out, result.out
     assert "empty" not in result.out
 
 
@@ -287,7 +287,7 @@ def test_binary_garbage_exit_code(tmp_path: Path) -> None:
     result = run_main(["validate", str(target)])
     no_crash(result)
     assert result.code == 2
-    assert " error X1" in result.out
+    assert " error: X1" in result.out
 
 
 def test_huge_attribute_message_does_not_talk_of_nesting(tmp_path: Path) -> None:
@@ -295,7 +295,7 @@ def test_huge_attribute_message_does_not_talk_of_nesting(tmp_path: Path) -> None
     target = tmp_path / "huge.xmi"
     target.write_bytes(case.make(tmp_path))
     result = run_main(["validate", str(target)])
-    assert " X103: " in result.out
+    assert " X103 " in result.out
     assert "nest this deep" not in result.out  # the file nests nothing
 
 
@@ -308,7 +308,7 @@ def test_recovered_file_with_unbound_prefix_does_not_crash(tmp_path: Path) -> No
     target.write_bytes(data)
     result = run_main(["validate", str(target)])
     no_crash(result)
-    assert " X107: " in result.out
+    assert " X107 " in result.out
     assert result.code in (0, 1)
 
 

@@ -13,7 +13,7 @@ import json
 import pytest
 from lxml import etree
 
-from tests.support.toolchain import XMI_OTHER_TOOLS, no_crash, run_main, xmi_sample
+from tests.support.toolchain import XMI_OTHER_TOOLS, codes_in, no_crash, run_main, xmi_sample
 
 UMBRELLO = "umbrello__class_all-elements.xmi"
 MAGICDRAW = "marklogic-uml2es__DHFEmployeeSample_md18.5.xml"
@@ -38,6 +38,11 @@ def _validate(name: str) -> str:
     no_crash(result)
     assert result.code == 0, result.out
     return result.out
+
+
+def _clean(out: str) -> bool:
+    """Nothing found but T313: these files apply no ACORDCS stereotype, which T313 says."""
+    return codes_in(out) <= {"T313"} and " 0 errors," in out
 
 
 def _tree(name: str) -> etree._Element:
@@ -85,7 +90,7 @@ def test_enterprise_architect_applications_inside_the_model() -> None:
 
 def test_enterprise_architect_extension_ids_are_not_duplicates() -> None:
     out = _validate(EA)  # EA's xmi:Extension restates every element's id
-    assert " R203: " not in out and " R204: " not in out
+    assert ": R203 " not in out and ": R204 " not in out
 
 
 def test_magicdraw_applications_at_the_root_and_its_own_profiles_not_content() -> None:
@@ -105,7 +110,7 @@ def test_magicdraw_applications_at_the_root_and_its_own_profiles_not_content() -
 
 def test_magicdraw_validates_clean() -> None:
     out = _validate(MAGICDRAW)
-    assert "0 errors, 0 warnings" in out, out
+    assert _clean(out), out
 
 
 def test_modelio_eclipse_uml2_with_its_default_profile() -> None:
@@ -137,7 +142,7 @@ def test_umbrello_uml13_namespace_and_diagram_ids() -> None:
         "1.6.1"
     )
     out = _validate(UMBRELLO)  # its diagram widgets reuse the classes' ids: no R203
-    assert "0 errors, 0 warnings" in out, out
+    assert _clean(out), out
 
 
 def test_visual_paradigm_xmi12() -> None:
@@ -147,7 +152,7 @@ def test_visual_paradigm_xmi12() -> None:
     assert len(_outside_extensions(root, "//UML:Class", ns)) == 2
     assert data["classifiers"]["Class"] == 2 and data["operations"] == 2
     assert data["exporter"] == "Visual Paradigm 7.0.0" and data["dialect"] == "xmi1.2"
-    assert "0 errors, 0 warnings" in _validate(VP)
+    assert _clean(_validate(VP))
 
 
 def test_rational_rose_xmi11_with_doctype_is_read_as_the_empty_model_it_is() -> None:
@@ -155,7 +160,7 @@ def test_rational_rose_xmi11_with_doctype_is_read_as_the_empty_model_it_is() -> 
     assert data["model"] == "AAA_5.1.1_K2" and data["classifiers"] == {}
     assert data["exporter"] == "Unisys.JCR.1 1.3.6" and data["dialect"] == "xmi1.1"
     out = _validate(ROSE)
-    assert " X102: " not in out and " R208: " not in out
+    assert ": X102 " not in out and ": R208 " not in out
 
 
 @pytest.mark.parametrize(

@@ -15,19 +15,20 @@ from typing import NoReturn
 import click
 
 from acordcs import __version__
-from acordcs.cli import build, inspect, validate
+from acordcs.cli import build, inspect, profile, validate
 
 
 @click.group(context_settings={"help_option_names": ["-h", "--help"]})
 @click.version_option(__version__, prog_name="acordcs-gen")
 def cli() -> None:
     """ACORD-CS toolchain: read UML models (BOUML XMI, Eclipse UML2/Papyrus), check them and
-    generate the application's files from them."""
+    generate the application's files from them; write the UML profile for BOUML and Papyrus."""
 
 
 cli.add_command(validate.validate)
 cli.add_command(inspect.inspect)
 cli.add_command(build.build)
+cli.add_command(profile.profile)
 
 
 def main(argv: list[str] | None = None) -> int:

@@ -6,25 +6,26 @@ import json
 
 import click
 
+from acordcs.cli.inputs import read_one
 from acordcs.cli.summary import summarize, summary_text
-from acordcs.model.reading import read_model
 
 
 @click.command()
-@click.argument("file", type=click.Path(dir_okay=True))
+@click.argument("file", type=click.Path(dir_okay=True, allow_dash=True))
 @click.option(
     "--format", "fmt", type=click.Choice(["text", "json"]), default="text", show_default=True
 )
 def inspect(file: str, fmt: str) -> int:
-    """Show what was read from FILE: UML element counts, stereotype applications, ACORD-CS roles.
+    """Show what was read from FILE (- reads standard input): UML element counts, stereotype
+    applications, ACORD-CS roles.
 
-    Exit 0 when the file was read, 2 when it could not be.
+    Exit 0 when the file was read, 2 when it could not be or is not a model.
 
     \b
     Example:
       acordcs-gen inspect samples/weblab/weblab.xmi --format json
     """
-    reading = read_model(file, check=False)
+    reading = read_one(file, check=False)
     if reading.unreadable:
         for d in reading.diagnostics:
             click.echo(d.format_text(), err=True)

@@ -6,17 +6,28 @@ import json
 from collections import Counter
 
 from acordcs import __version__
-from acordcs.diagnostics import CODES, Severity
+from acordcs.diagnostics import CODES, Severity, help_uri
 from acordcs.model.reading import ModelReading
 
 _SARIF_LEVEL = {Severity.ERROR: "error", Severity.WARNING: "warning", Severity.INFO: "note"}
 
 
-def render(readings: list[ModelReading], fmt: str) -> str:
+def render(
+    readings: list[ModelReading],
+    fmt: str,
+    *,
+    exit_code: int = 0,
+    at_least: Severity | None = None,
+) -> str:
+    """``readings`` in ``fmt``; ``exit_code`` goes into SARIF's invocation; ``at_least`` (text
+    only, ``--quiet``) keeps the diagnostics of that severity or worse and drops the summaries."""
     if fmt == "json":
         return json.dumps(as_json(readings), indent=2) + "\n"
     if fmt == "sarif":
-        return json.dumps(as_sarif(readings), indent=2) + "\n"
+        return json.dumps(as_sarif(readings, exit_code=exit_code), indent=2) + "\n"
+    if at_least is not None:
+        lines = [d.format_text() for r in readings for d in r.diagnostics if d.severity >= at_least]
+        return "".join(line + "\n" for line in lines)
     return as_text(readings)
 
 
@@ -63,8 +74,13 @@ def _uri(path: str) -> str:
     return pure.as_uri() if pure.is_absolute() else quote(pure.as_posix())
 
 
-def as_sarif(readings: list[ModelReading]) -> dict:
-    """SARIF 2.1.0 in the subset GitHub code scanning accepts (rules with levels, regions >= line 1)."""
+def as_sarif(readings: list[ModelReading], *, exit_code: int = 0) -> dict:
+    """SARIF 2.1.0 in the subset GitHub code scanning accepts (rules with levels, regions >= line 1).
+
+    A result's fingerprint is its code, element id and subject (tag, rule), never its message:
+    rewording a message must not reopen every alert. Two results with one fingerprint (two
+    misspelt variables in one rule) are told apart by their order.
+    """
     used = sorted({d.code for r in readings for d in r.diagnostics})
     rules = [
         {
@@ -72,12 +88,13 @@ def as_sarif(readings: list[ModelReading]) -> dict:
             "name": CODES[code][1].title().replace(" ", "").replace("'", "")[:60],
             "shortDescription": {"text": CODES[code][1]},
             "defaultConfiguration": {"level": _SARIF_LEVEL[CODES[code][0]]},
-            "helpUri": "https://github.com/acordcs/acordcs#diagnostic-codes",
+            "helpUri": help_uri(code),
         }
         for code in used
     ]
     index = {code: n for n, code in enumerate(used)}
     results = []
+    seen: Counter = Counter()
     for reading in readings:
         for d in reading.diagnostics:
             physical: dict = {"artifactLocation": {"uri": _uri(d.file)}}
@@ -89,6 +106,10 @@ def as_sarif(readings: list[ModelReading]) -> dict:
             location: dict = {"physicalLocation": physical}
             if d.element:
                 location["logicalLocations"] = [{"fullyQualifiedName": d.element, "kind": "type"}]
+            key = d.fingerprint()
+            seen[(d.file, key)] += 1
+            if seen[(d.file, key)] > 1:
+                key += f":{seen[(d.file, key)]}"
             results.append(
                 {
                     "ruleId": d.code,
@@ -96,9 +117,7 @@ def as_sarif(readings: list[ModelReading]) -> dict:
                     "level": _SARIF_LEVEL[d.severity],
                     "message": {"text": d.message},
                     "locations": [location],
-                    "partialFingerprints": {
-                        "acordcsElement/v1": f"{d.code}:{d.xmi_id or d.element or ''}:{d.message}"
-                    },
+                    "partialFingerprints": {"acordcsFinding/v2": key},
                 }
             )
     return {
@@ -114,6 +133,14 @@ def as_sarif(readings: list[ModelReading]) -> dict:
                         "rules": rules,
                     }
                 },
+                "invocations": [
+                    {
+                        # Exit 1 is a successful run that found problems; 2 is input it could
+                        # not judge.
+                        "executionSuccessful": exit_code != 2,
+                        "exitCode": exit_code,
+                    }
+                ],
                 "results": results,
                 "columnKind": "unicodeCodePoints",
             }

@@ -71,7 +71,12 @@ def summary_text(data: dict) -> str:
     apps = ", ".join(f"{k} x{n}" for k, n in data["stereotype_applications"].items()) or "none"
     lines.append(f"  stereotype applications: {apps}")
     acordcs = data["acordcs"]
-    lines.append("  ACORD-CS:")
+    if not acordcs["elements"]:
+        lines.append(
+            "  ACORD-CS: none (no element has an ACORDCS stereotype; validate says more: T313)"
+        )
+    else:
+        lines.append("  ACORD-CS:")
     for kind, names in acordcs["elements"].items():
         lines.append(f"    {kind} ({len(names)}): {', '.join(names)}")
     for container, hosted in acordcs["deployment"].items():

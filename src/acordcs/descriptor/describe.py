@@ -50,10 +50,22 @@ from acordcs.model.architecture import (
     Architecture,
     Role,
 )
-from acordcs.model.queries import parse_real, policy_rules, variable_terms
+from acordcs.model.queries import (
+    monitor_acquisition,
+    parse_integer,
+    parse_real,
+    policy_rules,
+    variable_terms,
+)
 from acordcs.xmi.uml import Classifier, Element
 from acordcs.xmi.uml import Operation as UmlOperation
 from acordcs.xmi.uml import Property as UmlProperty
+
+
+def _tag_text(role: Role, tag: str) -> str | None:
+    """The tag's value, None when unset or blank (BOUML writes every declared tag, empty)."""
+    return (role.tag(tag) or "").strip() or None
+
 
 _KIND = {
     CONTAINER: "container",
@@ -229,7 +241,8 @@ class _Describer:
         if container.id not in self._served:
             return None
         host = container.tag("host") or "localhost"
-        return Endpoint("pyro", PYRO_OBJECT.format(container.name), host)
+        port = parse_integer(container.tag("port") or "")
+        return Endpoint("pyro", PYRO_OBJECT.format(container.name), host, port)
 
     def _remote_containers(self) -> set[str]:
         """Ids of the containers that need an endpoint: those hosting a component with a port
@@ -298,13 +311,15 @@ class _Describer:
         )
 
     def monitor(self, role: Role) -> Monitor:
-        frequency = parse_real(role.tag("frequency") or "")
+        acquisition = monitor_acquisition(role)
         return Monitor(
             role.id,
             role.name,
             role.element.qualified_name(),
-            frequency,
-            "event" if frequency is None else "periodic",
+            parse_real(role.tag("frequency") or ""),
+            acquisition,
+            _tag_text(role, "xpath") if acquisition == "subscribe" else None,
+            _tag_text(role, "operation") if acquisition == "poll" else None,
             self.refs(self.arch.related(role, "sources")),
             self.refs(self.arch.related(role, "feeds")),
             self.properties(role),

@@ -128,6 +128,7 @@ class Endpoint:
     protocol: str
     object_name: str
     host: str
+    port: int | None = None  # the model's tag port; None: chosen at deployment
 
     def uri(self, port: int) -> str:
         """The URI the container's server publishes on ``port``."""
@@ -181,15 +182,20 @@ class Connection:
 
 @dataclass(frozen=True, slots=True)
 class Monitor:
-    """A monitor. ``acquisition`` says how it acquires context: ``periodic`` (polled at
-    ``frequency`` Hz) or ``event`` (``frequency`` None: driven by the events of its ``sources``).
-    ``feeds`` are the policy sets its ``properties`` (the context attributes) feed."""
+    """A monitor. ``acquisition`` says how it acquires context: ``intercept`` (the calls through its
+    source port, or to its source component, and that component's property changes), ``subscribe``
+    (the context provider's documents ``xpath`` selects something in), ``poll`` (its source
+    component's ``operation`` called at ``frequency`` Hz) or ``custom`` (its own code: ``acquire``
+    at ``frequency`` Hz when one is set). ``feeds`` are the policy sets its ``properties`` (the
+    context attributes) feed."""
 
     id: str
     name: str
     qualified_name: str
     frequency: float | None
     acquisition: str
+    xpath: str | None = None
+    operation: str | None = None
     sources: tuple[Ref, ...] = ()
     feeds: tuple[Ref, ...] = ()
     properties: tuple[Property, ...] = ()

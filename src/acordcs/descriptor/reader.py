@@ -121,7 +121,12 @@ class _Reader:
     def container(self, el) -> Container:
         ep = el.find(_NS + "endpoint")
         endpoint = (
-            Endpoint(ep.get("protocol"), ep.get("object"), ep.get("host"))
+            Endpoint(
+                ep.get("protocol"),
+                ep.get("object"),
+                ep.get("host"),
+                None if ep.get("port") is None else int(ep.get("port")),
+            )
             if ep is not None
             else None
         )
@@ -172,6 +177,8 @@ class _Reader:
             *self._traced(el),
             self._real(el.get("frequency")),
             el.get("acquisition"),
+            el.get("xpath"),
+            el.get("operation"),
             self.refs(el, "source"),
             self.refs(el, "feeds"),
             self.properties(el),

@@ -166,7 +166,16 @@ class _Writer:
         el = self.traced(parent, "container", c, where, host=c.host)
         if c.endpoint is not None:
             e = c.endpoint
-            _sub(el, "endpoint", where, protocol=e.protocol, object=e.object_name, host=e.host)
+            port = None if e.port is None else str(e.port)
+            _sub(
+                el,
+                "endpoint",
+                where,
+                protocol=e.protocol,
+                object=e.object_name,
+                host=e.host,
+                port=port,
+            )
         self.refs(el, "hosts", c.hosts, where)
         self.members(el, c, where)
 
@@ -188,7 +197,16 @@ class _Writer:
     def monitor(self, parent, m: Monitor) -> None:
         where = f"monitor {m.name!r}"
         freq = None if m.frequency is None else _real(m.frequency, "frequency", where)
-        el = self.traced(parent, "monitor", m, where, acquisition=m.acquisition, frequency=freq)
+        el = self.traced(
+            parent,
+            "monitor",
+            m,
+            where,
+            acquisition=m.acquisition,
+            frequency=freq,
+            xpath=m.xpath,
+            operation=m.operation,
+        )
         self.refs(el, "source", m.sources, where)
         self.refs(el, "feeds", m.feeds, where)
         self.members(el, m, where)

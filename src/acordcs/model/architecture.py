@@ -13,7 +13,7 @@ from collections import defaultdict
 from dataclasses import dataclass, field
 from functools import cache
 
-from acordcs.diagnostics import diagnostic
+from acordcs.diagnostics import diagnostic, suggestion
 from acordcs.profile import PROFILE_NAME, Stereotype, profile, stereotype
 from acordcs.xmi.uml import (
     Classifier,
@@ -218,8 +218,12 @@ def _role(uml: UmlModel, app: StereotypeApplication) -> Role | None:
                 if key not in tags and ":" not in key:
                     tags[key] = value
         if declared is None:
-            known = ", ".join(s.name for s in profile())
-            report("T302", f"ACORDCS has no stereotype {app.name!r}; use one of {known}")
+            names = [s.name for s in profile()]
+            report(
+                "T302",
+                f"ACORDCS has no stereotype {app.name!r}{suggestion(app.name, names)}; use one of "
+                f"{', '.join(names)}",
+            )
             return None
     elif app.profile is None and stereotype(app.name) is not None:
         # A free stereotype named like ours (older BOUML models, XMI 1.2): its element's tagged

@@ -18,10 +18,11 @@ from acordcs.model.architecture import (
     Architecture,
     Role,
 )
-from acordcs.model.queries import parse_real, policy_rules, variable_terms
+from acordcs.model.queries import parse_integer, parse_real, policy_rules, variable_terms
 from acordcs.xmi.uml import Classifier
 
 # "label: if ..." (a label is an identifier before the first ':'; rules have no other ':' before 'if')
+_NUMBER_PARSERS = {"EDouble": parse_real, "EInt": parse_integer}
 _LABELLED = re.compile(r"^\s*([A-Za-z_][A-Za-z0-9_]*)\s*:\s*((?i:if)\b.*)$")
 
 _ROOT_LISTS = {
@@ -115,9 +116,9 @@ def _element(role: Role, arch: Architecture):
         feature = eclass.findEStructuralFeature(tag.feature)
         if tag.values:
             setattr(obj, tag.feature, _enum(tag.type, value))
-        elif feature.eType.name == "EDouble":
-            number = parse_real(value)
-            if number is not None:
+        elif feature.eType.name in _NUMBER_PARSERS:
+            number = _NUMBER_PARSERS[feature.eType.name](value)
+            if number is not None:  # a value of the wrong type is the checks' T304
                 setattr(obj, tag.feature, number)
         else:
             setattr(obj, tag.feature, value)

@@ -12,6 +12,7 @@ import math
 import re
 from dataclasses import dataclass
 
+from acordcs.diagnostics import suggestion
 from acordcs.model.architecture import Architecture, Role
 from acordcs.rules import Name, RuleKind, RuleSyntaxError, TermDef, parse_terms, split_rules
 from acordcs.xmi.uml import Operation, Property
@@ -68,6 +69,19 @@ def rule_kind(policy_set: Role) -> RuleKind:
 
 # ----------------------------------------------------------------------- linguistic variables
 _TERMS_CACHE: dict[str, list[TermDef] | RuleSyntaxError] = {}
+
+
+ACQUISITIONS = ("intercept", "subscribe", "poll", "custom")
+
+
+def monitor_acquisition(monitor: Role) -> str:
+    """How ``monitor`` acquires context: its tag ``acquisition``, or when unset (or not one of
+    :data:`ACQUISITIONS`, which the checks report) ``custom`` for a monitor with a frequency and
+    ``intercept`` for one without."""
+    tag = (monitor.tag("acquisition") or "").strip()
+    if tag in ACQUISITIONS:
+        return tag
+    return "custom" if parse_real(monitor.tag("frequency") or "") is not None else "intercept"
 
 
 def parsed_terms(text: str) -> list[TermDef] | RuleSyntaxError:
@@ -196,12 +210,3 @@ class PolicySetScope:
         if len(found) > 1:
             return Ambiguous(tuple(f"{r.role.name}.{r.member.name}" for r in found))
         return found[0]
-
-
-def suggestion(word: str, names: list[str]) -> str:
-    """`` (did you mean 'x'?)`` for the closest of ``names``, or ''."""
-    # difflib is quadratic-ish: a bounded candidate list keeps huge hostile models fast
-    import difflib  # only when a name is not found
-
-    close = difflib.get_close_matches(word, names[:500], n=1)
-    return f" (did you mean {close[0]!r}?)" if close else ""

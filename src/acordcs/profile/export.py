@@ -15,7 +15,7 @@ the same declaration and a model that applied an earlier version of the profile 
 
 from __future__ import annotations
 
-from collections.abc import Callable
+from collections.abc import Callable, Iterable
 from pathlib import Path
 
 from acordcs.profile.bouml import bouml_xmi
@@ -44,9 +44,12 @@ def default_directory() -> Path:
     return Path(__file__).resolve().parent
 
 
-def write_profiles(directory: Path | str | None = None) -> list[Path]:
-    """Write both profile files into ``directory`` (default: the package); only files whose
-    content changed are rewritten. Returns the paths written."""
+def write_profiles(
+    directory: Path | str | None = None, names: Iterable[str] | None = None
+) -> list[Path]:
+    """Write the profile files ``names`` (default both, see :data:`OUTPUTS`) into ``directory``
+    (default: the package); only files whose content changed are rewritten. Returns the paths
+    written."""
     target = default_directory() if directory is None else Path(directory)
     if not target.is_dir():
         raise NotADirectoryError(
@@ -54,7 +57,10 @@ def write_profiles(directory: Path | str | None = None) -> list[Path]:
             "pass an existing one"
         )
     written = []
+    wanted = set(OUTPUTS if names is None else names)
     for name, produce in OUTPUTS.items():
+        if name not in wanted:
+            continue
         path = target / name
         data = produce()
         try:

@@ -1,7 +1,8 @@
 """The ACORDCS profile as an Eclipse UML2 ``.profile.uml`` for Papyrus, shaped like a real
 Papyrus-made profile: metaclass ``elementImport`` elements, ``uml:Extension`` elements with an
-``uml:ExtensionEnd``, enumerations, primitive types from ``UMLPrimitiveTypes.library.uml``. Ids are
-derived from names (see :mod:`acordcs.profile.export`).
+``uml:ExtensionEnd``, enumerations, primitive types from ``UMLPrimitiveTypes.library.uml``, and
+already *defined* (its Ecore definition, :mod:`acordcs.profile.papyrus_definition`), so Papyrus
+applies it as shipped. Ids are derived from names (see :mod:`acordcs.profile.export`).
 """
 
 from __future__ import annotations
@@ -11,6 +12,7 @@ from collections.abc import Sequence
 from lxml import etree
 
 from acordcs.profile.declaration import PROFILE_NAME, PROFILE_URI, Stereotype, Tag, profile
+from acordcs.profile.papyrus_definition import add_definition
 from acordcs.profile.writing import check, enumerations, serialize, tag_doc
 
 # --- Eclipse UML2 / Papyrus ----------------------------------------------------------------------
@@ -99,6 +101,13 @@ def eclipse_profile(stereotypes: Sequence[Stereotype] | None = None) -> bytes:
                 {t: "uml:EnumerationLiteral", i: f"_{name}.{lit}", "name": lit},
             )
 
+    optional = {
+        f"_{st.name}.base_{m}"
+        for st in stereotypes
+        if len(st.metaclasses) > 1
+        for m in st.metaclasses
+    }
+    add_definition(prof, stereotypes, t, i, optional)
     appl = etree.SubElement(
         prof, "profileApplication", {t: "uml:ProfileApplication", i: "_apply.Ecore"}
     )

@@ -3,6 +3,12 @@
 Start with :class:`Container` (docs/runtime.md walks through an example).
 """
 
+from acordcs.runtime.acquisition import (
+    InterceptingMonitor,
+    ObservedCall,
+    PollingMonitor,
+    SubscribingMonitor,
+)
 from acordcs.runtime.assembly import RunningApplication, assemble
 from acordcs.runtime.clock import Clock, RealClock, VirtualClock
 from acordcs.runtime.component import ComponentFactory, ComponentRef, CtxComponent
@@ -37,16 +43,20 @@ __all__ = [
     "Event",
     "Fault",
     "InProcessConnector",
+    "InterceptingMonitor",
     "Interceptor",
     "Invocation",
     "Monitor",
+    "ObservedCall",
     "PolicySet",
+    "PollingMonitor",
     "PortSpec",
     "RealClock",
     "RemoteConnector",
     "RemotePort",
     "RunningApplication",
     "ShapedConnector",
+    "SubscribingMonitor",
     "Variable",
     "VirtualClock",
     "assemble",

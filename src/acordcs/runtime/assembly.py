@@ -25,6 +25,7 @@ from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
 from acordcs.runtime import events as ev
+from acordcs.runtime.acquisition import MONITOR_KINDS
 from acordcs.runtime.clock import Clock, VirtualClock
 from acordcs.runtime.component import ComponentFactory, CtxComponent
 from acordcs.runtime.connectors import (
@@ -47,6 +48,7 @@ from acordcs.runtime.registry import Variable
 if TYPE_CHECKING:
     from acordcs.descriptor.model import Application, Connection
     from acordcs.descriptor.model import PolicySet as PolicySetDescriptor
+    from acordcs.runtime.context.core import ProviderCore
 
 MonitorMaker = Callable[..., Monitor]
 log = logging.getLogger(__name__)
@@ -95,6 +97,15 @@ class RunningApplication:
         self.feeds = feeds
         self.servers: dict[str, ContainerServer] = {}
         self._release = list(release)  # what else close() releases (the feeds' connector)
+
+    @property
+    def context(self) -> ProviderCore:
+        """The context provider its containers share."""
+        return self.container().context
+
+    def release(self, fn: Callable[[], None]) -> None:
+        """Call ``fn`` when the application closes (after its containers)."""
+        self._release.append(fn)
 
     def container(self, name: str | None = None) -> Container:
         """The container ``name`` (default: the first one built)."""
@@ -148,18 +159,39 @@ def assemble(
     only: Iterable[str] | None = None,
     remote: Mapping[str, str] | None = None,
     remote_timeout: float = 5.0,
+    context: ProviderCore | None = None,
 ) -> RunningApplication:
     """Build the containers of ``descriptor`` (all, or those named in ``only``) on one clock
-    (default: a :class:`VirtualClock` with seed 0); see the module's docstring."""
-    return _Assembler(
-        descriptor,
-        factories=dict(factories or {}),
-        monitors=dict(monitors or {}),
-        clock=clock or VirtualClock(),
-        only=only,
-        remote=dict(remote or {}),
-        remote_timeout=remote_timeout,
-    ).run()
+    (default: a :class:`VirtualClock` with seed 0) and one context provider (default: an embedded
+    one, inline on a virtual clock; give an MQTT one to share context between processes); see the
+    module's docstring."""
+    clock = clock or VirtualClock()
+    owned = context is None
+    if context is None:
+        # imported here: the provider needs lxml, which an application without context documents
+        # (and a process only reading the descriptor) does not load
+        from acordcs.runtime.context.embedded import ContextProvider
+
+        context = ContextProvider(inline=isinstance(clock, VirtualClock))
+    provider = context
+    try:
+        running = _Assembler(
+            descriptor,
+            factories=dict(factories or {}),
+            monitors=dict(monitors or {}),
+            clock=clock,
+            only=only,
+            remote=dict(remote or {}),
+            remote_timeout=remote_timeout,
+            context=provider,
+        ).run()
+    except BaseException:
+        if owned:
+            provider.close()
+        raise
+    if owned:
+        running.release(provider.close)
+    return running
 
 
 class _Assembler:
@@ -173,8 +205,10 @@ class _Assembler:
         only: Iterable[str] | None,
         remote: dict[str, str],
         remote_timeout: float,
+        context: ProviderCore,
     ) -> None:
         self.app = app
+        self.context = context
         self.factories = factories
         self.monitors = monitors
         self.clock = clock
@@ -196,9 +230,11 @@ class _Assembler:
                 self.placed[ref.name] = c.name
             if wanted is None or c.name in wanted:
                 props = {p.name: p.default for p in c.properties}
-                self.containers[c.name] = Container(c.name, clock=clock, properties=props)
+                self.containers[c.name] = Container(
+                    c.name, clock=clock, properties=props, context=context
+                )
         if not app.containers:
-            self.containers[app.name] = Container(app.name, clock=clock)
+            self.containers[app.name] = Container(app.name, clock=clock, context=context)
         self.default = app.containers[0].name if app.containers else app.name
         self.relay: RemoteConnector | None = None  # sends readings to other processes
 
@@ -235,13 +271,19 @@ class _Assembler:
             target = self.home(mon.name)
             if target is None:
                 continue
-            maker = self.monitors.get(mon.name, Monitor)
+            maker = self.monitors.get(mon.name, MONITOR_KINDS[mon.acquisition])
+            how: dict[str, str] = {}  # what its kind needs besides what every monitor has
+            if mon.acquisition == "subscribe":
+                how["xpath"] = mon.xpath or ""
+            elif mon.acquisition == "poll":
+                how["operation"] = mon.operation or ""
             target.add_monitor(
                 maker(
                     mon.name,
                     frequency=mon.frequency,
                     sources=[s.name for s in mon.sources],
                     attributes={p.name: p.default for p in mon.properties},
+                    **how,
                 )
             )
         for conn in self.app.connections:

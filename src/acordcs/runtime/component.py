@@ -32,6 +32,8 @@ class ComponentHost(PortHost, Protocol):
 
     def set_property(self, element: str, attribute: str, value: object) -> None: ...
 
+    def publish_context(self, publisher: str, document: object) -> int: ...
+
     def invoke(
         self,
         name: str,
@@ -83,6 +85,12 @@ class CtxComponent:
     def set(self, attribute: str, value: object) -> None:
         """Change a property through the container, so policies and monitors see it."""
         self.container.set_property(self.name, attribute, value)
+
+    def publish_context(self, document: object) -> int:
+        """Publish ``document`` (XML as bytes, text or an lxml element) to the context provider as
+        this component's latest context: the subscribing monitors whose xpath selects something
+        in it read it. Returns its sequence number."""
+        return self.container.publish_context(self.name, document)
 
     def port(self, name: str) -> Port:
         try:

@@ -31,7 +31,7 @@ from typing import TYPE_CHECKING, Any
 
 from acordcs.runtime import events as ev
 from acordcs.runtime.calls import OperationCalls
-from acordcs.runtime.clock import Clock, RealClock, Timer
+from acordcs.runtime.clock import Clock, RealClock, Timer, VirtualClock
 from acordcs.runtime.component import (
     ComponentFactory,
     ComponentRef,
@@ -53,6 +53,7 @@ from acordcs.runtime.monitor import PortTap
 from acordcs.runtime.wiring import Wiring
 
 if TYPE_CHECKING:
+    from acordcs.runtime.context.core import ProviderCore
     from acordcs.runtime.monitor import Monitor
     from acordcs.runtime.policy import PolicySet
 
@@ -69,10 +70,15 @@ class Container(OperationCalls, Wiring):
         max_cascade_events: int = 10_000,
         properties: dict[str, object] | None = None,
         logger: logging.Logger | None = None,
+        context: ProviderCore | None = None,
     ) -> None:
         self.name = name
         self._owns_clock = clock is None
         self.clock: Clock = clock if clock is not None else RealClock()
+        # The context provider its components publish to and its monitors subscribe to: given
+        # (shared by the containers of one application), else its own, made on first use.
+        self._context = context
+        self._owns_context = context is None
         self.log = logger or logging.getLogger(f"acordcs.runtime.{name}")
         self.faults = FaultLog(name, self.log)
         self.stats: Counter[str] = Counter()
@@ -111,6 +117,22 @@ class Container(OperationCalls, Wiring):
 
     def _timer_fault(self, timer: Timer, exc: BaseException) -> None:
         self.faults.record("timer", repr(timer.fn), exc, self.clock.now())
+
+    # ------------------------------------------------------------------------------ context
+    @property
+    def context(self) -> ProviderCore:
+        """The context provider (its own embedded one unless one was given; inline, hence
+        deterministic, on a virtual clock)."""
+        with self._lock:
+            if self._context is None:
+                from acordcs.runtime.context.embedded import ContextProvider  # needs lxml
+
+                self._context = ContextProvider(inline=isinstance(self.clock, VirtualClock))
+            return self._context
+
+    def publish_context(self, publisher: str, document: object) -> int:
+        """Publish ``document`` as ``publisher``'s latest context (see ``ContextProvider.publish``)."""
+        return self.context.publish(publisher, document)  # type: ignore[attr-defined]
 
     # ------------------------------------------------------------------------------- events
     def subscribe(
@@ -372,7 +394,7 @@ class Container(OperationCalls, Wiring):
                 with self.guard("monitor", m.name, event=f"{event.kind} {event.element}"):
                     m.on_event(event)
 
-            for source in monitor.sources:
+            for source in monitor.event_sources:
                 for kind in (ev.OPERATION_CALLED, ev.PROPERTY_CHANGED):
                     self._events.subscribe(
                         kind, feed, name=f"monitor:{monitor.name}", element=source
@@ -461,6 +483,8 @@ class Container(OperationCalls, Wiring):
         for name in list(self._components):
             self.destroy(name)
         self.close_connectors()
+        if self._owns_context and self._context is not None:
+            self._context.close()
         if self._owns_clock:
             self.clock.close()
 

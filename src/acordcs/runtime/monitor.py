@@ -24,7 +24,11 @@ from acordcs.runtime.events import Event
 from acordcs.runtime.interceptors import Interceptor, Invocation
 
 if TYPE_CHECKING:
+    from contextlib import AbstractContextManager
+
     from acordcs.runtime.clock import Clock, Timer
+    from acordcs.runtime.component import ComponentRef
+    from acordcs.runtime.context.core import ProviderCore
     from acordcs.runtime.events import FaultLog
 
 
@@ -33,6 +37,19 @@ class MonitorHost(Protocol):
 
     clock: Clock
     faults: FaultLog
+
+    @property
+    def context(self) -> ProviderCore:
+        """The context provider (subscribing monitors)."""
+        ...
+
+    def find(self, name: str) -> ComponentRef:
+        """A hosted component (polling monitors call it)."""
+        ...
+
+    def guard(self, kind: str, where: str, **context: object) -> AbstractContextManager[None]:
+        """Run monitor code; an exception becomes a recorded fault."""
+        ...
 
     def monitor_update(self, monitor: Monitor, values: dict[str, object]) -> None:
         """Take the new attribute values and emit ``monitor.updated``."""
@@ -61,6 +78,12 @@ class Monitor:
         self.container: MonitorHost | None = None
         self.ticks = 0
         self._timer: Timer | None = None
+
+    @property
+    def event_sources(self) -> tuple[str, ...]:
+        """The sources whose calls and property changes reach :meth:`on_event` (all of them,
+        unless the monitor acquires otherwise: subscribing and polling monitors)."""
+        return self.sources
 
     def acquire(self) -> Mapping[str, object] | None:
         """Read the context; return attribute updates (or call :meth:`update` yourself)."""

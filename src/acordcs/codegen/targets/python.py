@@ -33,7 +33,9 @@ from acordcs.codegen.targets.names import NameRefused, refused, require_identifi
 STYLESHEET = resources.files(__package__) / "python.xsl"
 
 # Modules and packages of the generated package a container module must not shadow.
-OWN_MODULES = frozenset({"__init__", "__main__", "registry", "base", "components", "descriptor"})
+OWN_MODULES = frozenset(
+    {"__init__", "__main__", "registry", "base", "components", "monitors", "descriptor"}
+)
 
 
 def package_name(application: str) -> str:
@@ -46,6 +48,8 @@ def package_name(application: str) -> str:
 def _names(app):
     for c in app.containers:
         yield "container", c.name, c.id, c.qualified_name
+    for mon in app.monitors:
+        yield "monitor", mon.name, mon.id, mon.qualified_name
     for comp in app.components:
         yield "component", comp.name, comp.id, comp.qualified_name
         for op in comp.operations:

@@ -159,6 +159,7 @@
     <xsl:variable name="pkg" select="$package"/>
     <xsl:variable name="components" select="$app/d:components/d:component"/>
     <xsl:variable name="containers" select="$app/d:containers/d:container"/>
+    <xsl:variable name="monitors" select="$app/d:monitors/d:monitor"/>
     <xsl:variable name="all-ids" select="string-join(distinct-values($app/*/*/@id), ' ')"/>
 
     <xsl:result-document href="{$pkg}/__init__.py" method="text" encoding="UTF-8">
@@ -183,7 +184,7 @@
     </xsl:result-document>
     <xsl:result-document href="{$pkg}/base/__init__.py" method="text" encoding="UTF-8">
       <xsl:sequence select="py:header('model ''' || $app/@name || '''', $regenerated)"/>
-      <xsl:text>"""The generated base classes of the components of '{py:inline($app/@name)}': one module each."""&#10;</xsl:text>
+      <xsl:text>"""The generated base classes of the components and monitors of '{py:inline($app/@name)}': one module each."""&#10;</xsl:text>
     </xsl:result-document>
     <xsl:result-document href="{$pkg}/components/__init__.py" method="text" encoding="UTF-8">
       <xsl:sequence select="py:header('model ''' || $app/@name || '''', $yours)"/>
@@ -194,6 +195,20 @@
         <xsl:apply-templates select="." mode="base"/>
       </xsl:result-document>
       <xsl:result-document href="{$pkg}/components/{@name}.py" method="text" encoding="UTF-8">
+        <xsl:apply-templates select="." mode="user">
+          <xsl:with-param name="pkg" select="$pkg" tunnel="yes"/>
+        </xsl:apply-templates>
+      </xsl:result-document>
+    </xsl:for-each>
+    <xsl:result-document href="{$pkg}/monitors/__init__.py" method="text" encoding="UTF-8">
+      <xsl:sequence select="py:header('model ''' || $app/@name || '''', $yours)"/>
+      <xsl:text>"""The monitor classes of '{py:inline($app/@name)}': one module each, yours to complete."""&#10;</xsl:text>
+    </xsl:result-document>
+    <xsl:for-each select="$monitors">
+      <xsl:result-document href="{$pkg}/base/{@name}.py" method="text" encoding="UTF-8">
+        <xsl:apply-templates select="." mode="base"/>
+      </xsl:result-document>
+      <xsl:result-document href="{$pkg}/monitors/{@name}.py" method="text" encoding="UTF-8">
         <xsl:apply-templates select="." mode="user">
           <xsl:with-param name="pkg" select="$pkg" tunnel="yes"/>
         </xsl:apply-templates>
@@ -210,9 +225,14 @@
     <files>
       <file path="{$pkg}/__init__.py" element="{$app/@name}" ids="{$all-ids}"/>
       <file path="{$pkg}/descriptor.xml" element="{$app/@name}" ids="{$all-ids}"/>
-      <file path="{$pkg}/registry.py" element="{$app/@name}" ids="{string-join($components/@id, ' ')}"/>
+      <file path="{$pkg}/registry.py" element="{$app/@name}" ids="{string-join(($components/@id, $monitors/@id), ' ')}"/>
       <file path="{$pkg}/base/__init__.py" element="{$app/@name}" ids=""/>
       <file path="{$pkg}/components/__init__.py" element="{$app/@name}" ids="" once="yes"/>
+      <file path="{$pkg}/monitors/__init__.py" element="{$app/@name}" ids="" once="yes"/>
+      <xsl:for-each select="$monitors">
+        <file path="{$pkg}/base/{@name}.py" element="{@qname}" ids="{string-join((@id, .//@id), ' ')}"/>
+        <file path="{$pkg}/monitors/{@name}.py" element="{@qname}" ids="{@id}" once="yes"/>
+      </xsl:for-each>
       <xsl:for-each select="$components">
         <file path="{$pkg}/base/{@name}.py" element="{@qname}" ids="{string-join((@id, .//@id), ' ')}"/>
         <file path="{$pkg}/components/{@name}.py" element="{@qname}" ids="{@id}" once="yes"/>
@@ -231,17 +251,17 @@
     <xsl:text>"""Application '{py:inline($app/@name)}': its containers, each a module run with
 ``python -m {$pkg}.&lt;container&gt;``; :func:`assemble_application` builds them in one process.
 
-The component classes are in ``{$pkg}.components`` (yours: written once, never overwritten),
-derived from the generated ones in ``{$pkg}.base``; ``{$pkg}.registry`` maps each component to
-its class.
+The component classes are in ``{$pkg}.components`` and the monitor classes in
+``{$pkg}.monitors`` (yours: written once, never overwritten), derived from the generated ones in
+``{$pkg}.base``; ``{$pkg}.registry`` maps each component and monitor to its class.
 """
 
-from {$pkg}.registry import FACTORIES, assemble_application, descriptor
+from {$pkg}.registry import FACTORIES, MONITORS, assemble_application, descriptor
 
 APPLICATION = {py:str($app/@name)}
 CONTAINERS = {py:tuple(for $c in $app/d:containers/d:container return py:str($c/@name))}
 
-__all__ = ["APPLICATION", "CONTAINERS", "FACTORIES", "assemble_application", "descriptor"]
+__all__ = ["APPLICATION", "CONTAINERS", "FACTORIES", "MONITORS", "assemble_application", "descriptor"]
 </xsl:text>
   </xsl:template>
 
@@ -250,10 +270,11 @@ __all__ = ["APPLICATION", "CONTAINERS", "FACTORIES", "assemble_application", "de
     <xsl:param name="app" as="element()"/>
     <xsl:param name="pkg" as="xs:string"/>
     <xsl:variable name="components" select="$app/d:components/d:component"/>
+    <xsl:variable name="monitors" select="$app/d:monitors/d:monitor"/>
     <xsl:sequence select="py:header('model ''' || $app/@name || '''', $regenerated)"/>
-    <xsl:text>"""The factory registry of '{py:inline($app/@name)}': each component of the model and the class
-implementing it (``{$pkg}.components``), and the application assembled from the descriptor
-``descriptor.xml`` with them (:func:`acordcs.runtime.assembly.assemble`)."""
+    <xsl:text>"""The factory registry of '{py:inline($app/@name)}': each component and monitor of the model and
+the class implementing it (``{$pkg}.components``, ``{$pkg}.monitors``), and the application
+assembled from the descriptor ``descriptor.xml`` with them (:func:`acordcs.runtime.assembly.assemble`)."""
 
 from __future__ import annotations
 
@@ -266,6 +287,9 @@ from acordcs.runtime.api import Clock, CtxComponent, Monitor, RunningApplication
     <xsl:for-each select="$components">
       <xsl:text>from {$pkg}.components.{@name} import {@name}&#10;</xsl:text>
     </xsl:for-each>
+    <xsl:for-each select="$monitors">
+      <xsl:text>from {$pkg}.monitors.{@name} import {@name}&#10;</xsl:text>
+    </xsl:for-each>
     <xsl:text>
 FACTORIES: dict[str, type[CtxComponent]] = {{
 </xsl:text>
@@ -274,6 +298,14 @@ FACTORIES: dict[str, type[CtxComponent]] = {{
     </xsl:for-each>
     <xsl:text>}}
 """Component name -> the class the container creates it from."""
+
+MONITORS: dict[str, type[Monitor]] = {{
+</xsl:text>
+    <xsl:for-each select="$monitors">
+      <xsl:text>    {py:str(@name)}: {@name},&#10;</xsl:text>
+    </xsl:for-each>
+    <xsl:text>}}
+"""Monitor name -> its class."""
 
 DESCRIPTOR = Path(__file__).with_name("descriptor.xml")
 
@@ -292,11 +324,12 @@ def assemble_application(
     monitors: Mapping[str, type[Monitor]] | None = None,
 ) -> RunningApplication:
     """The containers of the application (all, or those in ``only``), with the component classes
-    of :data:`FACTORIES`; ``remote`` gives the URI of each container running elsewhere."""
+    of :data:`FACTORIES` and the monitor classes of :data:`MONITORS` (``monitors`` replaces some);
+    ``remote`` gives the URI of each container running elsewhere."""
     return assemble(
         descriptor(),
         factories=FACTORIES,
-        monitors=monitors,
+        monitors={{**MONITORS, **(monitors or {{}})}},
         clock=clock,
         only=only,
         remote=remote,
@@ -416,6 +449,100 @@ class {@name}({@name}Base):
         else string-join($overloads[1]/d:parameter[@direction = ('in', 'inout')]/@name, ', ')"/>
     <xsl:sequence select="if ($params) then ', ' || $params else ''"/>
   </xsl:function>
+
+  <!-- ================================================================ base/<Monitor>.py -->
+  <xsl:variable name="monitor-class" as="map(xs:string, xs:string)"
+      select="map {'intercept': 'InterceptingMonitor', 'subscribe': 'SubscribingMonitor',
+                   'poll': 'PollingMonitor', 'custom': 'Monitor'}"/>
+
+  <!-- What the monitor acquires and how, in words (its classes' docstrings). -->
+  <xsl:function name="py:acquires" as="xs:string">
+    <xsl:param name="m" as="element()"/>
+    <xsl:variable name="sources" select="string-join($m/d:source/@name, ', ')"/>
+    <xsl:variable name="hz" select="if ($m/@frequency) then ' at ' || $m/@frequency || ' Hz' else ''"/>
+    <xsl:sequence select="
+      if ($m/@acquisition = 'intercept') then 'Intercepts the calls through ' || $sources || ' (and its property changes).'
+      else if ($m/@acquisition = 'subscribe') then 'Subscribes to the context provider: the documents ' || $m/@xpath || ' selects something in.'
+      else if ($m/@acquisition = 'poll') then 'Polls ' || $sources || '.' || $m/@operation || '()' || $hz || '.'
+      else 'Acquires context with its own code' || (if ($hz) then ': acquire()' || $hz else '') || '.'"/>
+  </xsl:function>
+
+  <xsl:template match="d:monitor" mode="base">
+    <xsl:variable name="base" select="$monitor-class(string(@acquisition))"/>
+    <xsl:sequence select="py:header('monitor ''' || @name || ''' ('|| @qname || ', id ' || @id || ')', $regenerated)"/>
+    <xsl:text>"""The generated base of monitor {@name}; its code is in ``monitors/{@name}.py``."""
+
+from __future__ import annotations
+
+from acordcs.runtime.api import {$base}
+
+
+class {@name}Base({$base}):
+    {py:doc(string-join((if (d:documentation) then string(d:documentation) else (),
+        'Monitor ' || @name || ' (' || @qname || '). ' || py:acquires(.),
+        'Feeds ' || string-join(d:feeds/@name, ', ') || ' with its attributes: '
+        || string-join(for $p in d:property return $p/@name || ' (' || $p/@type || ')', ', ') || '.'),
+        '&#10;&#10;'), '    ')}
+
+    acquisition = {py:str(@acquisition)}
+    attribute_defaults = {{</xsl:text>
+    <xsl:choose>
+      <xsl:when test="d:property">
+        <xsl:text>&#10;</xsl:text>
+        <xsl:for-each select="d:property">
+          <xsl:text>        {py:str(@name)}: {py:value(.)},  # {py:escaped(@type, '[\p{C}\p{Zl}\p{Zp}]')}&#10;</xsl:text>
+        </xsl:for-each>
+        <xsl:text>    }}&#10;</xsl:text>
+      </xsl:when>
+      <xsl:otherwise>}}&#10;</xsl:otherwise>
+    </xsl:choose>
+  </xsl:template>
+
+  <!-- ============================================================= monitors/<Monitor>.py -->
+  <xsl:template match="d:monitor" mode="user">
+    <xsl:param name="pkg" tunnel="yes"/>
+    <xsl:variable name="attrs" select="string-join(d:property/@name, ', ')"/>
+    <xsl:sequence select="py:header('monitor ''' || @name || ''' ('|| @qname || ', id ' || @id || ')', $yours)"/>
+    <xsl:text>"""Monitor {@name}. {py:inline(py:acquires(.))}"""
+
+from __future__ import annotations
+
+from {$pkg}.base.{@name} import {@name}Base
+
+
+class {@name}({@name}Base):
+</xsl:text>
+    <xsl:choose>
+      <xsl:when test="@acquisition = 'intercept'">
+        <xsl:text>    # Each call through its sources, once done, reaches on_call; return the new values of
+    # {py:inline($attrs)} (a dict), or None:
+    #   def on_call(self, call):  # call.operation, .args, .kwargs, .result, .error, .time
+    # A source's property change reaches on_change(self, attribute, value): by default a
+    # property named like one of the attributes is taken as it is.
+</xsl:text>
+      </xsl:when>
+      <xsl:when test="@acquisition = 'subscribe'">
+        <xsl:text>    # Each document its xpath selects something in reaches on_document; by default each of
+    # {py:inline($attrs)} is read from the first selected element's child (or attribute) of
+    # that name, converted to its type. To read otherwise:
+    #   def on_document(self, note):  # note.nodes, .document, .publisher, .seq
+</xsl:text>
+      </xsl:when>
+      <xsl:when test="@acquisition = 'poll'">
+        <xsl:text>    # What the polled operation returns reaches on_reading; by default it is the value of
+    # the only attribute, or a dict of some of {py:inline($attrs)}. To read otherwise:
+    #   def on_reading(self, value):
+</xsl:text>
+      </xsl:when>
+      <xsl:otherwise>
+        <xsl:text>    # Your acquisition: acquire(self) is called at the monitor's frequency (if it has one) and
+    # returns new values of {py:inline($attrs)}; on_event(self, event) sees its sources' calls
+    # and property changes; self.update(name=value) publishes at any time.
+</xsl:text>
+      </xsl:otherwise>
+    </xsl:choose>
+    <xsl:text>    pass&#10;</xsl:text>
+  </xsl:template>
 
   <!-- ================================================================= <Container>.py -->
   <xsl:template match="d:container" mode="container">

@@ -25,7 +25,8 @@ from acordcs.codegen.targets.python import check_names, package_name
 
 PORT_BASE = 47010
 """The default of ``ACORDCS_PORT_BASE``: container number ``i`` (1, 2, ... in model order) serves
-at ``ACORDCS_PORT_BASE + i`` unless its ``ACORDCS_<C>_PORT`` is set."""
+at ``ACORDCS_PORT_BASE + i`` unless the model gives it a port (tag ``port``) or its
+``ACORDCS_<C>_PORT`` is set."""
 
 
 def quote(text: str) -> str:
@@ -133,7 +134,11 @@ def env_file(context, app) -> str:
             f'[ -n "${{ACORDCS_{c.name}_HOST-}}" ] || ACORDCS_{c.name}_HOST='
             f"{quote(c.host or 'localhost')}\n",
             f'[ -n "${{ACORDCS_{c.name}_PORT-}}" ] || '
-            f"ACORDCS_{c.name}_PORT=$((ACORDCS_PORT_BASE + {n}))\n",
+            + (
+                f"ACORDCS_{c.name}_PORT={c.endpoint.port}  # the model's tag port\n"
+                if c.endpoint is not None and c.endpoint.port is not None
+                else f"ACORDCS_{c.name}_PORT=$((ACORDCS_PORT_BASE + {n}))\n"
+            ),
         ]
     return "".join(out)
 

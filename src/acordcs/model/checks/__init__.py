@@ -34,6 +34,7 @@ class Context:
         *,
         line: int | None = None,
         column: int | None = None,
+        subject: str | None = None,
     ) -> Diagnostic:
         element = where.element if isinstance(where, Role) else where
         return diagnostic(
@@ -44,11 +45,19 @@ class Context:
             column=column,
             element=element.qualified_name(),
             xmi_id=element.id,
+            subject=subject,
         )
 
 
 def run_checks(ctx: Context) -> list[Diagnostic]:
-    from acordcs.model.checks import names, rules, structure, tags  # noqa: F401  (registration)
+    from acordcs.model.checks import (  # noqa: F401  (registration)
+        monitors,
+        names,
+        profile_use,
+        rules,
+        structure,
+        tags,
+    )
 
     out: list[Diagnostic] = []
     for fn in _CHECKS:

@@ -40,6 +40,12 @@ def _where(prule: PolicyRule) -> str:
     return f"rule {prule.index} of tag {prule.tag!r} of policy {prule.policy.name!r}"
 
 
+def _subject(prule: PolicyRule) -> str:
+    """The rule's identity for fingerprints: its label, else tag and position (``Rule#2``)."""
+    head = prule.text.split(":", 1)[0].strip() if ":" in prule.text else ""
+    return head if head.isidentifier() else f"{prule.tag}#{prule.index}"
+
+
 @check
 def rules(ctx: Context) -> Iterator[Diagnostic]:
     terms: dict[str, tuple[Role | None, list[str], set[str]]] = {}  # by attribute id, for all sets
@@ -64,6 +70,7 @@ def rules(ctx: Context) -> Iterator[Diagnostic]:
                         f"{_where(prule)}, column {err.column}: {err.message}: {prule.text!r}",
                         policy,
                         line=prule.line,
+                        subject=_subject(prule),
                     )
                     continue
                 if rule.label:
@@ -75,6 +82,7 @@ def rules(ctx: Context) -> Iterator[Diagnostic]:
                             "would replace one with the other",
                             policy,
                             line=prule.line,
+                            subject=_subject(prule),
                         )
                     labels[rule.label] = prule
                 if rule.kind == "fuzzy":
@@ -91,6 +99,7 @@ def rules(ctx: Context) -> Iterator[Diagnostic]:
                     "into itself",
                     prule.policy,
                     line=prule.line,
+                    subject=f"{_subject(prule)}:{name.text}",
                 )
 
 
@@ -107,7 +116,11 @@ class _RuleChecker:
     def problem(self, prule: PolicyRule, code: str, message: str, name: Name) -> Diagnostic:
         # The column is in the rule text, not in the XML line: it goes in the message, not the location.
         return self.ctx.diag(
-            code, f"{_where(prule)}, column {name.column}: {message}", prule.policy, line=prule.line
+            code,
+            f"{_where(prule)}, column {name.column}: {message}",
+            prule.policy,
+            line=prule.line,
+            subject=f"{_subject(prule)}:{name.text}",
         )
 
     def variable(self, prule: PolicyRule, name: Name) -> Resolved | Diagnostic:

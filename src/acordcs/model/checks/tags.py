@@ -13,6 +13,7 @@ from acordcs.model.queries import (
     parse_integer,
     parse_real,
     parsed_terms,
+    suggestion,
     variable_range,
 )
 from acordcs.rules import RuleSyntaxError, TermDef
@@ -31,12 +32,14 @@ def tag_values(ctx: Context) -> Iterator[Diagnostic]:
             declared = role.stereotype.tag(name)
             line = role.tag_line(name)
             if declared is None:
-                known = ", ".join(t.name for t in role.stereotype.tags) or "none"
+                names = [t.name for t in role.stereotype.tags]
                 yield ctx.diag(
                     "T303",
-                    f"<<{role.kind}>> has no tag {name!r} (its tags: {known}); it is ignored",
+                    f"<<{role.kind}>> has no tag {name!r}{suggestion(name, names)} (its tags: "
+                    f"{', '.join(names) or 'none'}); it is ignored",
                     role,
                     line=line,
+                    subject=name,
                 )
                 continue
             if not value.strip():
@@ -48,13 +51,16 @@ def tag_values(ctx: Context) -> Iterator[Diagnostic]:
                     f"tag {name!r} must be a {declared.type}, not {value!r}",
                     role,
                     line=line,
+                    subject=name,
                 )
             elif declared.values and value.strip() not in declared.values:
                 yield ctx.diag(
                     "T305",
-                    f"tag {name!r} is {value!r}; permitted: {', '.join(declared.values)}",
+                    f"tag {name!r} is {value!r}{suggestion(value.strip(), list(declared.values))}; "
+                    f"permitted: {', '.join(declared.values)}",
                     role,
                     line=line,
+                    subject=name,
                 )
         if role.kind in (MONITOR, POLICY_SET):
             frequency = role.tags.get("frequency", "").strip()

@@ -4,7 +4,9 @@ RMI connector).
 Transport choices, after the Pyro5 5.17 pitfalls (../shared/reference/context-and-transport.md):
 
 - serpent serializer, set on every proxy (arguments must be serpent-serialisable: numbers, strings,
-  lists, dicts, ...; tuples and sets arrive as tuples);
+  lists, dicts, ...; tuples and sets arrive as tuples); serpent sends ``bytes`` as a base64 dict,
+  turned back into ``bytes`` here for an argument, a message and a result (a camera frame arrives
+  as the bytes it left as), by :func:`bytes_back`;
 - an explicit timeout on every proxy (Pyro's default, 0, waits forever); it bounds connecting too;
 - no automatic retries (``MAX_RETRIES`` would re-execute non-idempotent operations): a call whose reply
   is missing raises :class:`RemoteTimeoutError`, its outcome unknown;
@@ -25,6 +27,7 @@ from typing import TYPE_CHECKING, Any, Protocol
 
 import Pyro5.api
 import Pyro5.errors
+import serpent
 
 from acordcs.runtime.connectors.base import Connection, Connector
 from acordcs.runtime.errors import (
@@ -130,7 +133,7 @@ class RemoteConnector(Connector):
             what=f"{args[0]}()" if method == "call" else "a delivery",
         )
         conn.stats["sent"] += 1
-        return reply
+        return bytes_back(reply)
 
     def request(
         self,
@@ -225,6 +228,19 @@ def _fault(exc: BaseException) -> RemoteFault:
     return RemoteFault(type(exc).__name__, str(exc), hint)
 
 
+def bytes_back(value: Any) -> Any:
+    """``value``, unless it is how serpent sends ``bytes`` (a dict of exactly ``data`` and
+    ``encoding: "base64"``): then the bytes. Only the value itself, not what it contains: a frame
+    is one argument or result; a dict of that very shape sent on purpose is taken for bytes."""
+    serpent_bytes = isinstance(value, dict) and value.keys() == {"data", "encoding"}
+    if serpent_bytes and value.get("encoding") == "base64":
+        try:
+            return serpent.tobytes(value)
+        except (TypeError, ValueError):  # not base64 after all: a dict of that shape
+            return value
+    return value
+
+
 @Pyro5.api.expose
 class ContainerEndpoint:
     """What a container exposes over Pyro5; failures come back as :class:`RemoteFault`."""
@@ -242,6 +258,8 @@ class ContainerEndpoint:
         self, component: str, port: str, operation: str, args: list[Any], kwargs: dict[str, Any]
     ) -> Any:
         c = self._container
+        args = [bytes_back(a) for a in args]
+        kwargs = {k: bytes_back(v) for k, v in kwargs.items()}
         try:
             return c.invoke_port(c.port_of(component, port), operation, tuple(args), kwargs)
         except Exception as exc:  # including faults in our own code: the worker must survive
@@ -249,7 +267,7 @@ class ContainerEndpoint:
 
     def deliver(self, component: str, port: str, message: Any) -> None:
         try:
-            self._container.port_of(component, port).deliver(message)
+            self._container.port_of(component, port).deliver(bytes_back(message))
         except Exception as exc:
             raise _fault(exc) from None
 

@@ -9,7 +9,12 @@ from collections.abc import Callable
 
 from lxml import etree
 
-from acordcs.runtime.context.delivery import DeliveryDispatcher, Notification, Subscription
+from acordcs.runtime.context.delivery import (
+    DeliveryDispatcher,
+    InlineDelivery,
+    Notification,
+    Subscription,
+)
 from acordcs.runtime.context.errors import ContextError, SubscriptionError
 from acordcs.runtime.context.index import SubscriptionIndex
 from acordcs.runtime.context.xmlparse import Limits, parse_document, to_bytes
@@ -48,11 +53,17 @@ def check_publisher(publisher: object, what: str = "publisher") -> str:
 class ProviderCore:
     """Subscriptions, matching and dispatch; engines add ``publish``.
 
-    ``delivery_threads`` bounds how many callbacks can run at once (slow ones each hold a thread)."""
+    ``delivery_threads`` bounds how many callbacks can run at once (slow ones each hold a thread);
+    ``inline``: no threads, callbacks run in the publishing thread (:class:`InlineDelivery`)."""
 
-    def __init__(self, limits: Limits | None = None, delivery_threads: int = 64) -> None:
+    def __init__(
+        self, limits: Limits | None = None, delivery_threads: int = 64, *, inline: bool = False
+    ) -> None:
         self.limits = limits or Limits()
-        self._dispatcher = DeliveryDispatcher(max_threads=delivery_threads)
+        self.inline = inline
+        self._dispatcher: DeliveryDispatcher | InlineDelivery = (
+            InlineDelivery() if inline else DeliveryDispatcher(max_threads=delivery_threads)
+        )
         self._lock = threading.RLock()
         self._index = SubscriptionIndex(self.limits.max_eval_seconds, self.limits.max_strikes)
         self._index.on_suspend = self._suspended
@@ -96,6 +107,12 @@ class ProviderCore:
                 f"max_rate must be a positive number of notifications per second, got {max_rate!r}",
                 element="subscription",
                 hint="e.g. max_rate=10, or None for no limit",
+            )
+        if max_rate is not None and self.inline:
+            raise SubscriptionError(
+                "max_rate is a wall-clock rate, and this provider delivers inline (virtual time)",
+                element="subscription",
+                hint="leave max_rate unset; rate-limit in the callback with the clock's time",
             )
         if isinstance(queue_size, bool) or not isinstance(queue_size, int) or queue_size < 1:
             raise SubscriptionError(

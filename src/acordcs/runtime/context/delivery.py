@@ -155,6 +155,9 @@ class DeliveryDispatcher:
             if not box.scheduled and not box.running:
                 self._schedule(sub, wake=True)
 
+    def flush(self) -> None:
+        """Nothing to do: the threads deliver (see :class:`InlineDelivery`)."""
+
     def cancel(self, sub: Subscription) -> None:
         """No more deliveries to ``sub`` (a callback already running finishes)."""
         with self._lock:
@@ -247,7 +250,7 @@ class DeliveryDispatcher:
                     self._in_callback[me] = time.monotonic()
                     self._lock.release()
                     try:
-                        self._deliver(sub, note)
+                        _deliver(sub, note)
                     finally:
                         self._lock.acquire()
                         del self._in_callback[me]
@@ -279,18 +282,56 @@ class DeliveryDispatcher:
                 else:
                     self._watch_cond.wait(self._delayed[0][0] - now if self._delayed else None)
 
-    @staticmethod
-    def _deliver(sub: Subscription, note: Notification) -> None:
-        try:
-            sub.callback(note)
-            sub.stats.delivered += 1
-        except Exception as err:  # a subscriber's bug must not stop delivery
-            sub.stats.errors += 1
-            sub.stats.last_error = f"{type(err).__name__}: {err}"
-            if sub.stats.errors & (sub.stats.errors - 1) == 0:
-                log.warning(
-                    "%r: callback raised %s (%d time(s))",
-                    sub,
-                    sub.stats.last_error,
-                    sub.stats.errors,
-                )
+
+def _deliver(sub: Subscription, note: Notification) -> None:
+    try:
+        sub.callback(note)
+        sub.stats.delivered += 1
+    except Exception as err:  # a subscriber's bug must not stop delivery
+        sub.stats.errors += 1
+        sub.stats.last_error = f"{type(err).__name__}: {err}"
+        if sub.stats.errors & (sub.stats.errors - 1) == 0:
+            log.warning(
+                "%r: callback raised %s (%d time(s))",
+                sub,
+                sub.stats.last_error,
+                sub.stats.errors,
+            )
+
+
+class InlineDelivery:
+    """Delivers in the publishing thread instead of a pool: every notification, in the order
+    matched, once the provider has released its lock (:meth:`flush`, called by ``publish``).
+
+    For virtual-time runs: with delivery threads, when a monitor sees a document would depend on
+    the thread scheduler, and a run would not repeat for its seed. A slow callback here slows its
+    publisher (that is the price); a raising one is counted and logged as with threads.
+    """
+
+    threads = 0
+
+    def __init__(self) -> None:
+        self._pending = threading.local()  # per publishing thread: [(subscription, notification)]
+
+    def offer(self, sub: Subscription, note: Notification) -> None:
+        if sub.mailbox.closed:
+            return
+        queue = getattr(self._pending, "queue", None)
+        if queue is None:
+            queue = self._pending.queue = []
+        queue.append((sub, note))
+
+    def flush(self) -> None:
+        """Run the callbacks of what this thread's publish matched (a callback that publishes
+        flushes its own matches first: they are delivered in causal order)."""
+        queue = getattr(self._pending, "queue", None)
+        self._pending.queue = None
+        for sub, note in queue or ():
+            if not sub.mailbox.closed:
+                _deliver(sub, note)
+
+    def cancel(self, sub: Subscription) -> None:
+        sub.mailbox.closed = True
+
+    def close(self, timeout: float = 5.0) -> None:
+        self._pending = threading.local()

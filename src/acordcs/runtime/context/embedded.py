@@ -12,10 +12,14 @@ class ContextProvider(ProviderCore):
     provider = ContextProvider()
     provider.subscribe(on_low_battery, "/robot/battery[. < 20]")
     provider.publish("robot1", "<robot><battery>15</battery></robot>")  # -> 1, the sequence number
+
+    ``inline=True`` delivers in the publishing thread, for deterministic virtual-time runs.
     """
 
-    def __init__(self, limits: Limits | None = None, *, delivery_threads: int = 64) -> None:
-        super().__init__(limits, delivery_threads)
+    def __init__(
+        self, limits: Limits | None = None, *, delivery_threads: int = 64, inline: bool = False
+    ) -> None:
+        super().__init__(limits, delivery_threads, inline=inline)
         self._seq: dict[str, int] = {}
 
     def publish(self, publisher: str, document: object) -> int:
@@ -31,4 +35,5 @@ class ContextProvider(ProviderCore):
             seq = self._seq.get(publisher, 0) + 1
             self._seq[publisher] = seq
             self._dispatch(publisher, seq, tree)
+        self._dispatcher.flush()  # inline delivery: the callbacks run now, outside the lock
         return seq
