@@ -137,7 +137,7 @@ def test_a_late_doctype_is_refused_in_recover_mode_too(tmp_path: Path) -> None:
         .replace("<component>", '<component name="a<b">')
     )
     said = model_file(text.encode())
-    assert said.startswith("X102 document type declaration refused") and SECRET not in said
+    assert said.startswith("X102 document type") and "refused" in said and SECRET not in said
 
 
 def _on_a_new_thread(work: Callable[[], object]) -> None:

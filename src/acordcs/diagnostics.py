@@ -92,6 +92,9 @@ CODES: dict[str, tuple[Severity, str]] = {
     ),
     "R206": (INFO, "free stereotype read as the ACORDCS stereotype of the same name"),
     "R207": (W, "element without an id"),
+    "R208": (E, "the file holds class-like elements but the reader found no classifier"),
+    "R209": (INFO, "exporter not among the known tools; the file read cleanly"),
+    "R210": (W, "exporter not among the known tools, and reading it found errors"),
     # T: stereotypes and tagged values
     "T301": (E, "ACORDCS stereotype applied to the wrong metaclass"),
     "T302": (E, "unknown ACORDCS stereotype"),

@@ -22,11 +22,19 @@ The options (:data:`OPTIONS`):
   of the real error in the parser's log.
 
 Before libxml2 sees the bytes, :func:`parse` refuses any ``<!DOCTYPE`` or ``<!ENTITY`` (in any letter
-case, also in UTF-16 and UTF-32 text): none of these documents needs one, and refusing it closes XXE
-and entity bombs (billion laughs) whatever libxml2 would do with them. The byte scan stops at
-``scan_end`` when a caller gives one, so the parsed tree is checked for a document type as well; a
-caller that then parses again in recover mode (which drops a misplaced declaration) scans all the
-bytes first (:func:`find_declaration`).
+case, also in UTF-16 and UTF-32 text) outside a comment: none of these documents needs one, and
+refusing it closes XXE and entity bombs (billion laughs) whatever libxml2 would do with them. The byte
+scan stops at ``scan_end`` when a caller gives one, so the parsed tree is checked for a document type
+as well; a caller that then parses again in recover mode (which drops a misplaced declaration) scans
+all the bytes first (:func:`find_declaration`).
+
+One exception, for model files only (``external_doctype=True``): old XMI 1.x exports (Rational Rose,
+early Enterprise Architect) begin with ``<!DOCTYPE XMI SYSTEM 'UML13.dtd'>``, an external identifier
+and no internal subset. That declaration is accepted and never acted on: libxml2 (2.14, through lxml
+6.1) still tries to open the DTD an external identifier names, whatever ``load_dtd`` says, so every
+parser made here carries a resolver that answers every request with an empty document: no file is
+opened and nothing is fetched. Without an internal subset there is nothing to expand. A declaration
+with an internal subset (``[...]``) stays refused.
 """
 
 from __future__ import annotations
@@ -49,6 +57,11 @@ OPTIONS = {
 }
 
 _DECLARATION = re.compile(rb"<!(?:DOCTYPE|ENTITY)", re.IGNORECASE)
+# ``<!DOCTYPE Name SYSTEM "uri">`` or ``PUBLIC "id" "uri"`` and nothing else: no internal subset.
+_EXTERNAL_ONLY = re.compile(
+    rb"""<!DOCTYPE\s+[^\s\[>]+(?:\s+(?:SYSTEM\s+("[^"]*"|'[^']*')|PUBLIC\s+("[^"]*"|'[^']*')"""
+    rb"""\s+("[^"]*"|'[^']*')))\s*>""",
+)
 
 
 def _wide(width: int, big_endian: bool) -> re.Pattern[bytes]:
@@ -69,6 +82,7 @@ def _wide(width: int, big_endian: bool) -> re.Pattern[bytes]:
 
 
 _WIDE_DECLARATIONS = [_wide(w, be) for w in (2, 4) for be in (False, True)]
+_WIDE_ENCODINGS = ["utf-16-le", "utf-16-be", "utf-32-le", "utf-32-be"]
 
 
 class Refused(Exception):
@@ -89,6 +103,14 @@ class Refused(Exception):
         self.column = column
 
 
+class _NothingExternal(etree.Resolver):
+    """Answers every external resource libxml2 asks for (a DTD named by a DOCTYPE) with nothing,
+    before libxml2's own loader could open a file or a URL."""
+
+    def resolve(self, system_url, public_id, context):
+        return self.resolve_string("", context)
+
+
 def parser(*, recover: bool = False, remove_blank_text: bool = False) -> etree.XMLParser:
     """A new parser with :data:`OPTIONS`, for one thread at a time. The two variants:
 
@@ -101,7 +123,9 @@ def parser(*, recover: bool = False, remove_blank_text: bool = False) -> etree.X
     4 MB export: a faster parse and walk). Context documents and descriptions are kept as sent: a
     subscriber's XPath may read their whitespace.
     """
-    return etree.XMLParser(recover=recover, remove_blank_text=remove_blank_text, **OPTIONS)
+    made = etree.XMLParser(recover=recover, remove_blank_text=remove_blank_text, **OPTIONS)
+    made.resolvers.add(_NothingExternal())
+    return made
 
 
 _local = threading.local()
@@ -126,8 +150,44 @@ def line_column(data: bytes, offset: int) -> tuple[int, int]:
     return line, offset - (data.rfind(b"\n", 0, offset) + 1) + 1
 
 
+def _declaration(data: bytes, start: int, end: int, external_doctype: bool) -> int | None:
+    """Offset of the first refused declaration in ``data[start:end]``, None if there is none.
+    Declarations inside comments are text, not declarations."""
+    while True:
+        found = _DECLARATION.search(data, start, end)
+        if found is None:
+            return None
+        at = found.start()
+        opened = data.rfind(b"<!--", 0, at)
+        if opened >= 0 and data.find(b"-->", opened + 4, at) < 0:  # inside a comment
+            start = at + 2
+            continue
+        if external_doctype:
+            allowed = _EXTERNAL_ONLY.match(data, at)
+            if allowed is not None:
+                start = allowed.end()
+                continue
+        return at
+
+
+def _refused_tree(root: etree._Element, external_doctype: bool) -> bool:
+    """Whether libxml2 saw a refused document type (the byte scan misses UTF-16 and friends)."""
+    dtd = root.getroottree().docinfo.internalDTD
+    if dtd is None:
+        return False
+    if not external_doctype:
+        return True  # set for internal subsets and external identifiers alike
+    external = dtd.system_url is not None or dtd.external_id is not None
+    # An ATTLIST-only subset is not visible here; without DTD attribute defaults it changes nothing.
+    return not external or next(dtd.iterentities(), None) is not None
+
+
 def parse(
-    data: bytes, parser: etree.XMLParser | None = None, *, scan_end: int | None = None
+    data: bytes,
+    parser: etree.XMLParser | None = None,
+    *,
+    scan_end: int | None = None,
+    external_doctype: bool = False,
 ) -> etree._Element | None:
     """Parse ``data`` with ``parser`` (default: :func:`thread_parser`).
 
@@ -135,9 +195,10 @@ def parse(
     default all of them, are scanned before parsing; the tree is checked after), and lets lxml's
     ``XMLSyntaxError`` (malformed, or past a libxml2 limit) and ``ValueError`` / ``LookupError`` (an
     unusable encoding declaration) through for the caller to word. None only from a recovering parser
-    that found nothing to keep.
+    that found nothing to keep. ``external_doctype``: accept a document type declaration that is an
+    external identifier alone (never loaded; see the module's docstring).
     """
-    found = find_declaration(data, scan_end)
+    found = find_declaration(data, scan_end, external_doctype=external_doctype)
     if found is not None:
         raise found
     if parser is None:
@@ -146,26 +207,39 @@ def parse(
             parser = thread_parser()
     root = etree.fromstring(data, parser)
     # the byte scan misses UTF-16 and friends: check what libxml2 saw as well
-    if root is not None and root.getroottree().docinfo.internalDTD is not None:
-        raise Refused()  # set for internal subsets and external identifiers alike
+    if root is not None and _refused_tree(root, external_doctype):
+        raise Refused()
     return root
 
 
-def find_declaration(data: bytes, scan_end: int | None = None) -> Refused | None:
-    """The :class:`Refused` for the first ``<!DOCTYPE`` or ``<!ENTITY`` in ``data[:scan_end]``
-    (any letter case; by default all of it), or None."""
+def find_declaration(
+    data: bytes, scan_end: int | None = None, *, external_doctype: bool = False
+) -> Refused | None:
+    """The :class:`Refused` for the first refused ``<!DOCTYPE`` or ``<!ENTITY`` in
+    ``data[:scan_end]`` (any letter case; by default all of it; outside comments; with
+    ``external_doctype``, an external identifier alone is not refused), or None."""
     end = len(data) if scan_end is None else scan_end
     start = data.find(b"<!", 0, end)  # a fast no for documents without comments or CDATA
     if start >= 0:
-        found = _DECLARATION.search(data, start, end)
-        if found:
-            return Refused(found.start(), *line_column(data, found.start()))
+        found = _declaration(data, start, end, external_doctype)
+        if found is not None:
+            return Refused(found, *line_column(data, found))
     if b"\x00" in data[:4]:  # UTF-16 or UTF-32: '<' (or a BOM) is padded with NULs
-        for pattern in _WIDE_DECLARATIONS:
-            found = pattern.search(data, 0, end)
-            if found:
-                return Refused(found.start())  # no line: the bytes are not the text's lines
+        for pattern, encoding in zip(_WIDE_DECLARATIONS, _WIDE_ENCODINGS, strict=True):
+            wide = pattern.search(data, 0, end)
+            if wide and not (external_doctype and _external_only(data[:end], encoding)):
+                return Refused(wide.start())  # no line: the bytes are not the text's lines
     return None
+
+
+def _external_only(data: bytes, encoding: str) -> bool:
+    """Whether wide text holds no refused declaration once decoded (an external identifier alone
+    is not refused); text that does not decode is refused."""
+    try:
+        narrow = data.decode(encoding).encode("utf-8")
+    except UnicodeError:
+        return False
+    return _declaration(narrow, 0, len(narrow), True) is None
 
 
 def exceeded_limit(message: str) -> str | None:

@@ -5,6 +5,7 @@ declaration, so the bytes are scanned whole before recovering."""
 from __future__ import annotations
 
 import pytest
+from lxml import etree
 
 from acordcs import safexml
 from acordcs.xmi.source import parse_bytes
@@ -21,8 +22,8 @@ SHAPES = {
     # inside the root, where recovery skips it and the tree then has no document type
     "inside the root": f"{HEAD}{PAD}{DOCTYPE}{BROKEN_NAME}</xmi:XMI>",
     "before the root": f'<?xml version="1.0"?>\n{PAD}{DOCTYPE}\n{HEAD}{BROKEN_NAME}</xmi:XMI>',
-    "system identifier": (
-        f'<?xml version="1.0"?>\n{PAD}<!DOCTYPE x SYSTEM "file:///etc/passwd">\n'
+    "system identifier with a subset": (
+        f'<?xml version="1.0"?>\n{PAD}<!DOCTYPE x SYSTEM "file:///etc/passwd" [<!ENTITY e "b">]>\n'
         f"{HEAD}{BROKEN_NAME}</xmi:XMI>"
     ),
     "entity alone": f'{HEAD}{PAD}<!ENTITY e "boom">{BROKEN_NAME}</xmi:XMI>',
@@ -38,6 +39,20 @@ def test_a_late_declaration_with_a_recoverable_error_is_refused(shape: str) -> N
     assert codes == ["X102"], [(d.code, d.message) for d in result.diagnostics]
     line = text[: text.upper().find("<!" + ("ENTITY" if shape == "entity alone" else "DOCTYPE"))]
     assert result.diagnostics[0].line == line.count("\n") + 1
+
+
+def test_a_late_external_identifier_alone_is_accepted_and_never_opened(tmp_path) -> None:
+    # issue 16: an external identifier alone (old XMI 1.x exports) is read as usual, never loaded
+    secret = tmp_path / "secret.dtd"
+    secret.write_text('<!ENTITY e "from the file">', encoding="utf-8")
+    text = (
+        f'<?xml version="1.0"?>\n{PAD}<!DOCTYPE x SYSTEM "{secret.as_uri()}">\n'
+        f'{HEAD}<uml:Model xmi:type="uml:Model" xmi:id="m" name="a<b"/></xmi:XMI>'
+    )
+    result = parse_bytes(text.encode(), "late.xmi")
+    assert result.root is not None
+    assert "X102" not in [d.code for d in result.diagnostics]
+    assert b"from the file" not in etree.tostring(result.root)
 
 
 @pytest.mark.parametrize("encoding", ["utf-16", "utf-16-be", "utf-16-le", "utf-32", "utf-32-be"])

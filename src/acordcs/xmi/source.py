@@ -2,8 +2,9 @@
 
 The parse itself is :mod:`acordcs.safexml`'s (no DTD, no entities, no network, libxml2's depth and size
 limits); this module adds the model-file policy: a 256 MiB size limit, the X101-X110 diagnostics, and
-the encoding checks. UML exports never contain a document type declaration, so one is refused outright
-(X102). A strict parse comes first; only a file that fails it for a reason recovery can repair (BOUML's
+the encoding checks. UML exports contain no internal DTD subset, so one is refused outright (X102); old
+XMI 1.x exports (Rational Rose) name an external DTD (``<!DOCTYPE XMI SYSTEM 'UML13.dtd'>``), which is
+accepted and never loaded. A strict parse comes first; only a file that fails it for a reason recovery can repair (BOUML's
 unescaped ``<`` in names) is read again in recover mode, with a warning saying so (X107). Truncated
 files, wrong encodings and undeclared prefixes are errors: recovery would silently drop or garble model
 elements.
@@ -156,9 +157,10 @@ def parse_bytes(data: bytes, path: str = "<input>") -> XmlInput:
     strict = safexml.parser(remove_blank_text=True)
     try:
         # Only a prefix is scanned: a 4 MB export is not searched twice; the tree check sees the rest.
-        root = safexml.parse(data, strict, scan_end=_SCAN_BYTES)
+        root = safexml.parse(data, strict, scan_end=_SCAN_BYTES, external_doctype=True)
     except safexml.Refused as refused:  # found in the tree: past the prefix, where?
-        return _refused(path, safexml.find_declaration(data) or refused)
+        located = safexml.find_declaration(data, external_doctype=True)
+        return _refused(path, located or refused)
     except etree.XMLSyntaxError as err:
         return _after_strict_failure(data, path, err, strict)
     except (ValueError, LookupError) as err:  # e.g. an unknown encoding name in the declaration
@@ -170,9 +172,13 @@ def parse_bytes(data: bytes, path: str = "<input>") -> XmlInput:
 
 def _refused(path: str, refused: safexml.Refused) -> XmlInput:
     if refused.line is None:  # a DOCTYPE past the scanned prefix, or in UTF-16
-        msg = "document type declaration refused: UML exports have none"
+        msg = "document type declaration refused: it has an internal subset or entities, which UML exports never have"
         return XmlInput(path, None, [diagnostic("X102", msg, file=path)])
-    msg = "document type declaration refused: UML exports have none, and it can read local files (XXE) or expand entities without bound"
+    msg = (
+        "document type or entity declaration refused: UML exports have no internal DTD subset, and one "
+        "can read local files (XXE) or expand entities without bound; remove it (an external identifier "
+        "alone, <!DOCTYPE XMI SYSTEM 'UML13.dtd'>, is accepted and never loaded)"
+    )
     where = {"line": refused.line, "column": refused.column}
     return XmlInput(path, None, [diagnostic("X102", msg, file=path, **where)])
 
@@ -215,7 +221,7 @@ def _after_strict_failure(
     # The strict parse scanned only a prefix for declarations, and failed before checking the tree.
     # A file that failed is rare: scan all of it, so that a declaration past the prefix is refused
     # (X102) whatever else is wrong, and recovery, which drops a misplaced one, never hides it.
-    found = safexml.find_declaration(data)
+    found = safexml.find_declaration(data, external_doctype=True)
     if found is not None:
         return _refused(path, found)
     first = parser.error_log[0] if len(parser.error_log) else None
@@ -238,7 +244,8 @@ def _after_strict_failure(
         )
     recovering = safexml.parser(recover=True, remove_blank_text=True)
     try:
-        root = safexml.parse(data, recovering)  # scanned whole again: cheap beside a recovery
+        # scanned whole again (cheap beside a recovery): recovery drops a misplaced declaration
+        root = safexml.parse(data, recovering, external_doctype=True)
     except safexml.Refused as refused:
         return _refused(path, refused)
     except etree.XMLSyntaxError:

@@ -154,9 +154,10 @@ class UmlModel:
     """Everything read from one file."""
 
     file: str
-    dialect: str  # bouml-xmi2, eclipse-uml2, bouml-xmi12
+    dialect: str  # bouml-xmi2, omg-xmi2, eclipse-uml2, bouml-xmi12, xmi1
     name: str = ""
-    exporter: str | None = None
+    exporter: str | None = None  # as the file states it: name and version
+    tool: str | None = None  # the known tool it names (see readers.exporters.KNOWN_TOOLS)
     elements: dict[str, Element] = field(default_factory=dict)  # by id
     packages: list[Package] = field(default_factory=list)
     classifiers: list[Classifier] = field(default_factory=list)

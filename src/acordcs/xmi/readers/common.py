@@ -246,6 +246,9 @@ def unknown_type_message(kind: str) -> str:
 
 def check_ids(model: UmlModel, ids: list[tuple[str, int]]) -> set[str]:
     """Report ids defined twice (R203); return the set of all ids."""
+    known = {ident for ident, _ in ids}
+    if len(known) == len(ids):  # the usual case: no line bookkeeping
+        return known
     lines: dict[str, list[int]] = defaultdict(list)
     for ident, line in ids:
         lines[ident].append(line)

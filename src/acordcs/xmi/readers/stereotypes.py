@@ -16,7 +16,13 @@ from lxml import etree
 from acordcs.diagnostics import diagnostic
 from acordcs.xmi.uml import Element, StereotypeApplication, UmlModel
 
-_PROFILE_NS = re.compile(r"^http:///schemas/([^/]+)/")
+# Where a profile's namespace URI names the profile: BOUML and Eclipse (http:///schemas/P/..),
+# Enterprise Architect (http://www.sparxsystems.com/profiles/P/1.0), MagicDraw (.../schemas/P.xmi).
+_PROFILE_NS = re.compile(
+    r"^http:///schemas/([^/]+)/"
+    r"|^https?://www\.sparxsystems\.com/profiles/([^/]+)/"
+    r"|^https?://www\.magicdraw\.com/schemas/([^/]+?)\.xmi$"
+)
 
 
 def local_name(tag: str) -> str:
@@ -29,7 +35,9 @@ class StereotypeApplications:
     def __init__(self, model: UmlModel, xmi_id: str) -> None:
         self.model = model
         self.XID = xmi_id
+        self.XIDREF = xmi_id[:-2] + "idref"
         self._profiles: dict[str, str | None] = {}  # profile named by a namespace URI, if any
+        self._references: list[tuple[str, str, int]] = []  # (stereotype id, base id, line)
 
     def application(
         self, profile: str | None, name: str, base: str, line: int
@@ -72,7 +80,10 @@ class StereotypeApplications:
 
     def extension(self, el: etree._Element, owner: Element) -> None:
         """A BOUML ``xmi:Extension`` block of ``owner``: its stereotypes and tagged values."""
-        if el.get("extender", "Bouml") != "Bouml":
+        extender = el.get("extender", "Bouml")
+        if extender == "Visual Paradigm":
+            self._visual_paradigm(el, owner)
+        if extender != "Bouml":
             return
         # BOUML marks its profile definitions with their own metaclass keyword (a Stereotype is
         # <<stereotype>>, a Profile <<profile>>): keywords, not stereotype applications.
@@ -103,6 +114,28 @@ class StereotypeApplications:
             else:
                 owner.tagged_values[tag] = value
 
+    def _visual_paradigm(self, el: etree._Element, owner: Element) -> None:
+        """Visual Paradigm's XMI 2.1 names the stereotypes of an element in its extension block,
+        ``<appliedStereotype xmi:value="Class_CtxMonitor_id"/>``, the id of a ``uml:Stereotype`` of
+        the model; resolved by :meth:`resolve_references` once every element is read."""
+        for applied in el.iterchildren("appliedStereotype"):
+            ref = next((v for k, v in applied.items() if k.endswith("value")), None)
+            if ref:
+                self._references.append((ref, owner.id, applied.sourceline or owner.line))
+
+    def resolve_references(self) -> None:
+        """Applications stated by reference to a stereotype (Visual Paradigm): the stereotype's
+        profile is the ``uml:Profile`` that owns it, none for a stereotype outside a profile."""
+        for ref, base, line in self._references:
+            stereo = self.model.elements.get(ref)
+            if stereo is None or stereo.kind != "Stereotype":
+                continue
+            owner = stereo.owner
+            while owner is not None and owner.kind not in ("Profile", "Model"):
+                owner = owner.owner
+            profile = owner.name if owner is not None and owner.kind == "Profile" else None
+            self.application(profile, stereo.name, base, line).places.add("extension")
+
     def root_application(self, el: etree._Element) -> None:
         """A stereotype application written at the document root (``Profile:Stereotype base_X=..``)."""
         items = el.items()
@@ -125,20 +158,22 @@ class StereotypeApplications:
         ns, _, name = tag[1:].rpartition("}") if tag[0] == "{" else ("", "", tag)
         if ns not in self._profiles:
             match = _PROFILE_NS.match(ns)
-            self._profiles[ns] = match.group(1) if match else None
+            self._profiles[ns] = next((g for g in match.groups() if g), None) if match else None
         # The namespace names the profile; a prefix is the writer's choice (xmlns:acs= works too).
         profile = self._profiles[ns] or el.prefix
         app = self.application(profile, name, base, line)
         app.id = el.get(self.XID)
         app.line = line or app.line
         for key, value in items:
-            if key.startswith(("base_", "{")):
+            if key.startswith(("base_", "{", "__EA")):  # EA's __EAStereoName: its display name
                 continue
             self.set_tag(app, key, value, line, "root")
         for child in el:  # Eclipse writes multi-valued and reference tags as child elements
             if isinstance(child.tag, str):
                 tag = local_name(child.tag)
-                value = child.text if child.text is not None else child.get("href", "")
+                value = child.text
+                if value is None:  # a reference: MagicDraw writes xmi:idref, Eclipse href
+                    value = child.get(self.XIDREF) or child.get("href", "")
                 old = app.tags.get(tag)
                 app.tags[tag] = value if old is None else f"{old}\n{value}"
                 app.tag_lines.setdefault(tag, child.sourceline or 0)

@@ -1,8 +1,25 @@
-"""Reader for XMI 1.2 (UML 1.4) as BOUML's old plug-out (1.4.x) writes it.
+"""Reader for XMI 1.1 and 1.2 (UML 1.3 and 1.4): BOUML's old plug-out (1.4.x), Umbrello, ArgoUML, Visual
+Paradigm, MagicDraw 9 and Rational Rose (Unisys exporter).
 
-Ids there are memory addresses (unstable across exports) and association ends have none: the reader
-gives each end an id derived from its association's. Stereotypes are free names
-(``<UML:ModelElement.stereotype><UML:Stereotype name=..>``) and tags are the element's tagged values.
+The tools agree on the structure (``XMI.content``, ``UML:Namespace.ownedElement``,
+``UML:Classifier.feature``) and differ in four ways, all read here:
+
+- the UML namespace: ``org.omg.xmi.namespace.UML`` (BOUML, ArgoUML), ``http://schema.omg.org/spec/UML/1.3``
+  (Umbrello), ``org.omg/UML/1.4`` (Visual Paradigm, MagicDraw 9), or unqualified elements (Rose's
+  ``<Model>``, with ``xmlns:UML`` declared but unused);
+- references: ``<UML:X.y><UML:Z xmi.idref=..>`` children (UML 1.4 form) or attributes holding ids
+  (``type=``, ``stereotype=``, ``child=``/``parent=``, ``client=``/``supplier=``: Umbrello, Visual
+  Paradigm);
+- stereotypes: by name (BOUML), by ``xmi.idref`` to a ``UML:Stereotype`` (ArgoUML, Visual Paradigm), by
+  a ``stereotype`` attribute holding its id (Umbrello), or from the stereotype's ``extendedElement``
+  list (UML 1.3); all are free stereotypes (UML 1.x has no profiles);
+- tagged values: ``tag=``/``value=`` attributes (UML 1.3, BOUML), ``TaggedValue.dataValue`` with a
+  ``TagDefinition`` reference (UML 1.4), or at the content's top level with ``modelElement=`` (Rose).
+
+``XMI.extension`` blocks (diagrams, tool options) are not model content: Umbrello's diagram widgets
+reuse the ids of the classes they show, which are therefore not duplicates. Ids of BOUML's plug-out are
+memory addresses (unstable across exports) and association ends may have none: the reader gives each
+end an id derived from its association's.
 """
 
 from __future__ import annotations
@@ -12,6 +29,7 @@ import difflib
 from lxml import etree
 
 from acordcs.diagnostics import diagnostic
+from acordcs.xmi.readers import ea
 from acordcs.xmi.readers.common import check_ids, dangling, primitive_from_href
 from acordcs.xmi.source import XmlInput
 from acordcs.xmi.uml import (
@@ -29,7 +47,7 @@ from acordcs.xmi.uml import (
     UmlModel,
 )
 
-NS = "org.omg.xmi.namespace.UML"
+NS = "org.omg.xmi.namespace.UML"  # BOUML's and ArgoUML's; other tools use other URIs (see above)
 # UML 1.4 metaclasses that may stand in a namespace: anything else is reported (R201).
 UML14_METACLASSES = frozenset(
     """Model Package Subsystem Class Interface DataType Primitive Enumeration
@@ -37,18 +55,27 @@ UML14_METACLASSES = frozenset(
     AssociationClass Generalization Dependency Abstraction Usage Permission Binding Comment
     Stereotype TagDefinition Collaboration Instance Object Link Stimulus StateMachine
     ActivityGraph Constraint ClassifierRole AssociationRole Artifact Include Extend
-    CallEvent SignalEvent TimeEvent ChangeEvent Flow""".split()
+    CallEvent SignalEvent TimeEvent ChangeEvent Flow TaggedValue TagDefinition EnumerationLiteral
+    Diagram Partition Pseudostate State SimpleState CompositeState FinalState Transition
+    ActionState ObjectFlowState Message Interaction Collaboration Attribute Operation Method
+    Exception Reception Parameter""".split()
 )
-U = f"{{{NS}}}"
-_CLASSIFIER_TAGS = {f"{U}{k}": k for k in CLASSIFIER_KINDS}
+
+
+# Read as classifiers; AssociationClass is read with the associations, and in UML 1.x a
+# Stereotype is a definition, no classifier.
+_CLASSIFIERS = CLASSIFIER_KINDS - {"AssociationClass", "Stereotype"}
 
 
 def accepts(root: etree._Element) -> bool:
-    return root.tag == "XMI" and NS in (root.nsmap or {}).values()
+    """XMI 1.x: an unqualified ``XMI`` root (XMI 2 puts it in the XMI namespace)."""
+    return root.tag == "XMI" and (
+        root.get("xmi.version") is not None or root.find("XMI.content") is not None
+    )
 
 
-def read(xml: XmlInput) -> UmlModel:
-    return _Reader(xml).read()
+def read(xml: XmlInput, exporter=None) -> UmlModel:
+    return _Reader(xml, exporter).read()
 
 
 def _idref(el: etree._Element | None) -> str | None:
@@ -60,13 +87,34 @@ def _idref(el: etree._Element | None) -> str | None:
     return None
 
 
+def _uml_prefix(content: etree._Element | None) -> str:
+    """``{namespace}`` of the UML elements as this file writes them ("" when unqualified)."""
+    for el in content if content is not None else ():
+        if isinstance(el.tag, str) and not el.tag.startswith("XMI."):
+            return el.tag.rpartition("}")[0] + "}" if el.tag[0] == "{" else ""
+    return f"{{{NS}}}"
+
+
 class _Reader:
-    def __init__(self, xml: XmlInput) -> None:
+    def __init__(self, xml: XmlInput, exporter=None) -> None:
         self.xml = xml
-        self.model = UmlModel(file=xml.path, dialect="bouml-xmi12")
+        root = xml.root
+        bouml = exporter is not None and exporter.tool == "bouml"
+        version = root.get("xmi.version", "1.x")
+        self.model = UmlModel(file=xml.path, dialect="bouml-xmi12" if bouml else f"xmi{version}")
         self.typed: list = []
         self.refs: list[tuple[str, str, int, Element]] = []
         self.ids: list[tuple[str, int]] = []
+        self.content = root.find("XMI.content")
+        self.U = U = _uml_prefix(self.content)
+        self.OWNED = f"{U}Namespace.ownedElement"
+        self.stereotype_refs: list[tuple[str, Element, int]] = []  # (Stereotype id, element, line)
+        self.stereotype_names: dict[str, str] = {}  # Stereotype id -> name
+        self.tag_names: dict[str, str] = {}  # TagDefinition id -> name
+        self.tag_refs: list[tuple[str, str, Element]] = []  # (TagDefinition id, value, element)
+        self.loose_tags: list[etree._Element] = []  # Rose: TaggedValue modelElement=".."
+        self.ea = exporter is not None and exporter.tool == "enterprise-architect"
+        self.profiled: set[tuple[str, str]] = set()  # (element, stereotype) EA gave a profile
 
     def read(self) -> UmlModel:
         root = self.xml.root
@@ -76,9 +124,12 @@ class _Reader:
             self.model.exporter = (
                 f"{exporter.text or ''} {version.text if version is not None else ''}".strip()
             )
-        content = root.find("XMI.content")
+        content = self.content
+        U = self.U
         for el in content if content is not None else ():
-            if el.tag == f"{U}Model":
+            if not isinstance(el.tag, str) or el.tag.startswith("XMI."):
+                continue  # XMI.extension: diagrams and tool options
+            if el.tag == f"{U}Model" and not self.model.name:
                 self.model.name = el.get("name", "")
             self._element(el, None)
         self._resolve()
@@ -92,56 +143,74 @@ class _Reader:
         cls=Element,
         ident: str | None = None,
     ):
-        ident = ident or el.get("xmi.id") or f"<line {el.sourceline}>"
-        if el.get("xmi.id"):
-            self.ids.append((ident, el.sourceline or 0))
-        obj = cls(
-            id=ident, kind=kind, name=el.get("name", ""), line=el.sourceline or 0, owner=owner
-        )
+        line = el.sourceline or 0
+        own = el.get("xmi.id")
+        ident = ident or own or f"<line {line}>"
+        if own:
+            self.ids.append((ident, line))
+        obj = cls(ident, kind, el.get("name", ""), line, owner)  # positional: half the cost
         self.model.elements.setdefault(ident, obj)
-        self._stereotypes(el, obj)
+        if len(el) or "stereotype" in el.attrib:
+            self._stereotypes(el, obj)
         return obj
 
     def _owned(self, el: etree._Element, owner: Element) -> None:
-        for child in el.iterchildren(f"{U}Namespace.ownedElement"):
+        for child in el.iterchildren(self.OWNED):
             for member in child:
-                if isinstance(member.tag, str):
+                if isinstance(member.tag, str) and not member.tag.startswith("XMI."):
                     self._element(member, owner)
 
     def _element(self, el: etree._Element, owner: Element | None) -> None:
         tag = el.tag
         model = self.model
-        if tag in (f"{U}Model", f"{U}Package"):
-            pkg = self._new(el, "Model" if tag == f"{U}Model" else "Package", owner, Package)
-            if pkg.kind == "Package":
+        U = self.U
+        if not tag.startswith(U):
+            return  # another namespace: a tool's own element
+        local = tag[len(U) :]  # compared as plain strings: a large export has thousands
+        if local in _CLASSIFIERS:
+            cls = self._new(el, local, owner, Classifier)
+            model.classifiers.append(cls)
+            if len(el):  # most data types and many classes of a large export have no children
+                self._features(el, cls)
+                if cls.kind == "Enumeration":
+                    self._literals(el, cls)
+                self._owned(el, cls)
+        elif local == "Model" or local == "Package":
+            pkg = self._new(el, local, owner, Package)
+            if local == "Package":
                 model.packages.append(pkg)
             self._owned(el, pkg)
-        elif tag == f"{U}Association" or tag == f"{U}AssociationClass":
+        elif local == "Association" or local == "AssociationClass":
             self._association(el, owner)
-        elif tag in _CLASSIFIER_TAGS:
-            cls = self._new(el, _CLASSIFIER_TAGS[tag], owner, Classifier)
-            model.classifiers.append(cls)
-            self._features(el, cls)
-            self._owned(el, cls)
-        elif tag == f"{U}Generalization":
+        elif local == "Stereotype":  # UML 1.x: a stereotype is no classifier
+            self._stereotype_definition(el)
+        elif local == "Generalization":
             gen = self._new(el, "Generalization", owner, Generalization)
-            gen.specific = _idref(el.find(f"{U}Generalization.child")) or ""
-            gen.general = _idref(el.find(f"{U}Generalization.parent")) or ""
+            gen.specific = self._ref(el, "child", "subtype") or ""
+            gen.general = self._ref(el, "parent", "supertype") or ""
             model.generalizations.append(gen)
             for ident in (gen.specific, gen.general):
                 if ident:
                     self.refs.append((ident, "generalization", gen.line, gen))
-        elif tag in (f"{U}Dependency", f"{U}Abstraction", f"{U}Usage"):
-            dep = self._new(el, etree.QName(el).localname, owner, Dependency)
-            dep.clients = [i for i in [_idref(el.find(f"{U}Dependency.client"))] if i]
-            dep.suppliers = [i for i in [_idref(el.find(f"{U}Dependency.supplier"))] if i]
+        elif local in ("Dependency", "Abstraction", "Usage"):
+            dep = self._new(el, local, owner, Dependency)
+            dep.clients = self._refs(el, "Dependency", "client")
+            dep.suppliers = self._refs(el, "Dependency", "supplier")
             model.dependencies.append(dep)
             for ident in dep.clients + dep.suppliers:
                 self.refs.append((ident, "dependency", dep.line, dep))
-        elif tag == f"{U}Comment" and owner is not None:
+        elif local == "Comment" and owner is not None:
             owner.comments.append(el.get("body", ""))
-        elif isinstance(tag, str) and tag.startswith(U) and tag[len(U) :] not in UML14_METACLASSES:
-            name = tag[len(U) :]
+        elif local == "TagDefinition":
+            self.tag_names[el.get("xmi.id", "")] = el.get("name") or el.get("tagType", "")
+        elif local == "TaggedValue" and el.get("modelElement"):
+            self.loose_tags.append(el)
+        elif (
+            not local.startswith("XMI.")
+            and local not in UML14_METACLASSES
+            and "." not in local  # XMI 1.0's Foundation.Core.Class: R208 speaks for it
+        ):
+            name = local
             close = difflib.get_close_matches(name, UML14_METACLASSES, n=1)
             hint = f" (did you mean UML:{close[0]}?)" if close else ""
             model.diagnostics.append(
@@ -154,7 +223,47 @@ class _Reader:
                 )
             )
 
+    def _ref(self, el: etree._Element, *names: str) -> str | None:
+        """The id a UML 1.x reference names: ``<UML:X.name><UML:Y xmi.idref=..>`` (UML 1.4) or an
+        attribute ``name=".."`` (UML 1.3, Umbrello)."""
+        kind = el.tag[len(self.U) :]
+        for name in names:
+            found = _idref(el.find(f"{self.U}{kind}.{name}")) or el.get(name)
+            if found:
+                return found.split()[0]
+        return None
+
+    def _refs(self, el: etree._Element, kind: str, name: str) -> list[str]:
+        holder = el.find(f"{self.U}{kind}.{name}")
+        found = (
+            [c.get("xmi.idref") for c in holder if isinstance(c.tag, str)]
+            if holder is not None
+            else []
+        )
+        return [i for i in found if i] or (el.get(name) or "").split()
+
+    def _literals(self, el: etree._Element, cls: Classifier) -> None:
+        U = self.U
+        for lit in [
+            *el.iterchildren(f"{U}EnumerationLiteral"),
+            *el.iterfind(f"{U}Enumeration.literal/{U}EnumerationLiteral"),
+        ]:
+            cls.literals.append(lit.get("name", ""))
+            self._new(lit, "EnumerationLiteral", cls)
+
+    def _stereotype_definition(self, el: etree._Element) -> None:
+        ident = el.get("xmi.id")
+        name = el.get("name", "")
+        if ident:
+            self.stereotype_names[ident] = name
+            self.ids.append((ident, el.sourceline or 0))
+        for target in (
+            el.get("extendedElement") or ""
+        ).split():  # UML 1.3: the stereotype lists them
+            self.stereotype_refs.append((ident or name, target, el.sourceline or 0))
+
     def _features(self, el: etree._Element, cls: Classifier) -> None:
+        U = self.U
         for feature in el.iterchildren(f"{U}Classifier.feature"):
             for f in feature:
                 if f.tag == f"{U}Attribute":
@@ -189,6 +298,7 @@ class _Reader:
             self.typed.append(obj)
 
     def _association(self, el: etree._Element, owner: Element | None) -> None:
+        U = self.U
         is_class = el.tag == f"{U}AssociationClass"
         cls = Classifier if is_class else Association
         assoc = self._new(el, "AssociationClass" if is_class else "Association", owner, cls)
@@ -210,25 +320,72 @@ class _Reader:
             if isinstance(assoc, Association):
                 assoc.owned_ends.append(prop)
 
+    def _apply(self, name: str, obj: Element, line: int, profile: str | None = None) -> None:
+        key = (obj.id, f"{profile}:{name}" if profile else name)
+        if name and key not in self.model.applications:
+            app = StereotypeApplication(profile=profile, name=name, base=obj.id, line=line)
+            app.places.add("xmi12")
+            self.model.applications[key] = app
+
     def _stereotypes(self, el: etree._Element, obj: Element) -> None:
+        U = self.U
+        if el.get("stereotype"):  # Umbrello, UML 1.3: the stereotype's id
+            for ident in el.get("stereotype").split():
+                self.stereotype_refs.append((ident, obj, el.sourceline or 0))
+        if not len(el):
+            return
         for holder in el.iterchildren(f"{U}ModelElement.stereotype"):
             for st in holder.iterchildren(f"{U}Stereotype"):
-                name = st.get("name", "")
-                key = (obj.id, name)
-                if name and key not in self.model.applications:
-                    app = StereotypeApplication(
-                        profile=None, name=name, base=obj.id, line=st.sourceline or 0
-                    )
-                    app.places.add("xmi12")
-                    self.model.applications[key] = app
+                if st.get("xmi.idref"):  # ArgoUML, Visual Paradigm: a reference
+                    self.stereotype_refs.append((st.get("xmi.idref"), obj, st.sourceline or 0))
+                else:
+                    self._apply(st.get("name", ""), obj, st.sourceline or 0)
         for holder in el.iterchildren(f"{U}ModelElement.taggedValue"):
             for tv in holder.iterchildren(f"{U}TaggedValue"):
                 tag = tv.get("tag", "")
-                if tag and tag != "stereotype":  # BOUML repeats the stereotype as a tag
-                    obj.tagged_values[tag] = tv.get("value", "")
+                value = tv.get("value")
+                if value is None:  # UML 1.4: <TaggedValue.dataValue> and a TagDefinition
+                    value = tv.findtext(f"{U}TaggedValue.dataValue") or ""
+                if not tag:
+                    definition = _idref(tv.find(f"{U}TaggedValue.type"))
+                    if definition:
+                        self.tag_refs.append((definition, value, obj))
+                    continue
+                if self.ea:
+                    self._ea_tag(tag, value, obj, tv.sourceline or 0)
+                elif tag != "stereotype":  # BOUML repeats the stereotype as a tag
+                    obj.tagged_values[tag] = value
+
+    def _ea_tag(self, tag: str, value: str, obj: Element, line: int) -> None:
+        """Enterprise Architect's XMI 1.1: profile stereotypes in ``$ea_xref_property``; its own
+        element properties (``ea_guid``, ...) are not the modeller's tags."""
+        if tag == ea.XREF_TAG:
+            for profile, name in ea.stereotypes(value):
+                self._apply(name, obj, line, profile)
+                if profile:  # EA also names it as a free stereotype: one application
+                    self.model.applications.pop((obj.id, name), None)
+                    self.profiled.add((obj.id, name))
+        elif not ea.own_tag(tag):
+            obj.tagged_values[tag] = value
+
+    def _resolve_stereotypes(self) -> None:
+        elements = self.model.elements
+        for ident, target, line in self.stereotype_refs:
+            obj = target if isinstance(target, Element) else elements.get(target)
+            if obj is not None:
+                self._apply(self.stereotype_names.get(ident, ident), obj, line)
+        for key in self.profiled:  # a free stereotype read after EA's profiled one
+            self.model.applications.pop(key, None)
+        for ident, value, obj in self.tag_refs:
+            obj.tagged_values[self.tag_names.get(ident, ident)] = value
+        for tv in self.loose_tags:  # Rose: tagged values listed after the model
+            obj = elements.get(tv.get("modelElement", ""))
+            if obj is not None and tv.get("tag"):
+                obj.tagged_values[tv.get("tag")] = tv.get("value", "")
 
     def _resolve(self) -> None:
         model = self.model
+        self._resolve_stereotypes()
         known = check_ids(model, self.ids)
         known |= set(model.elements)
         for obj in self.typed:

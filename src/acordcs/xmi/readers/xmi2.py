@@ -1,9 +1,14 @@
-"""Reader for XMI 2.x as BOUML (exporters 1.10 to 5.x, UML 2.0 to 2.3) and Eclipse UML2 / Papyrus write it.
+"""Reader for XMI 2.x as BOUML (exporters 1.10 to 5.x, UML 2.0 to 2.3), Eclipse UML2 / Papyrus, Modelio,
+Enterprise Architect, MagicDraw / Cameo and Visual Paradigm write it.
 
-Both follow the UML 2 XMI mapping, so one walker serves both; they differ in how they write references
+All follow the UML 2 XMI mapping, so one walker serves them; they differ in how they write references
 (BOUML: ``<type xmi:idref=..>`` children; Eclipse: ``type=".."`` attributes holding ids), comments
-(BOUML: a ``body`` attribute owned implicitly; Eclipse: a ``<body>`` child and ``annotatedElement``) and
-stereotype tags (BOUML also repeats them in ``xmi:Extension`` blocks). See ``shared/reference/bouml-xmi.md``.
+(BOUML: a ``body`` attribute owned implicitly; Eclipse: a ``<body>`` child and ``annotatedElement``),
+stereotype tags (BOUML also repeats them in ``xmi:Extension`` blocks) and where stereotype applications
+stand: after the model at the root (BOUML, Eclipse, MagicDraw) or inside ``uml:Model`` (Enterprise
+Architect). ``xmi:Extension`` blocks of other tools (EA's types and diagrams, MagicDraw's copies of its
+own profiles and its diagrams) are not model content and are not read. See
+``shared/reference/bouml-xmi.md`` and ``docs/uml-tools.md``.
 """
 
 from __future__ import annotations
@@ -13,6 +18,7 @@ import re
 from lxml import etree
 
 from acordcs.diagnostics import diagnostic
+from acordcs.xmi.readers import unread
 from acordcs.xmi.readers.common import (
     UML_METACLASSES,
     check_ids,
@@ -38,8 +44,10 @@ from acordcs.xmi.uml import (
 
 # Eclipse profile schemas (http://www.eclipse.org/uml2/schemas/Ecore/5) share the prefix: match only
 # the UML metamodel's own URI.
+# The metamodel's URI ends at its version: MagicDraw also binds .../UML/20131001/StandardProfile and
+# .../MagicDrawProfile, profiles whose elements are stereotype applications, not UML.
 _UML_NS = re.compile(
-    r"^https?://(schema\.omg\.org|www\.omg\.org)/spec/UML/"
+    r"^https?://(schema\.omg\.org|www\.omg\.org)/spec/UML/\d+(\.\d+)*/?$"
     r"|^http://www\.eclipse\.org/uml2/\d+(\.\d+)*/UML$"
 )
 _XMI_NS = re.compile(r"^https?://(schema\.omg\.org|www\.omg\.org)/(spec/)?XMI")
@@ -124,6 +132,7 @@ class _Reader:
         self.annotated: list[tuple[str, str]] = []  # (element id, comment body), Eclipse comments
         self.refs: list[tuple[str, str, int, Element]] = []  # (id, what, line, from element)
         self.type_refs: list[Element] = []
+        self._own_prefixes = (f"{{{self.uml_ns}}}", f"{{{self.xmi_ns}}}")
 
     # ------------------------------------------------------------------ entry
     def read(self) -> UmlModel:
@@ -140,6 +149,8 @@ class _Reader:
                         f"{child.get('exporter', '')} {child.get('exporterVersion', '')}".strip()
                         or None
                     )
+                elif local == "Diagram" and child.tag.startswith(f"{{{self.uml_ns}}}"):
+                    continue  # Visual Paradigm's diagrams after the model: not model content
                 elif child.tag.startswith(f"{{{self.uml_ns}}}"):
                     self._packageable(child, None)
                     if local == "Model" and not model.name:
@@ -171,6 +182,10 @@ class _Reader:
         line = el.sourceline or 0
         if ident is None:
             ident = f"<line {line}>"
+            if kind == "Model":  # Enterprise Architect writes none; nothing refers to the model
+                obj = cls(ident, kind, el.get("name", ""), line, owner)
+                self.elements.setdefault(ident, obj)
+                return obj
             self.model.diagnostics.append(
                 diagnostic(
                     "R207",
@@ -231,9 +246,18 @@ class _Reader:
             handler = handlers.get(child.tag) or _by_local_name(handlers, child.tag)
             if handler is not None:  # others (imports, profile applications, ...) are not read
                 handler(child, owner)
+            elif child.tag[0:1] == "{" and not child.tag.startswith(self._own_prefixes):
+                self._inner_application(child)
         member_ends = el.get("memberEnd")
         if member_ends and isinstance(owner, Association | Classifier):
             owner.member_ends.extend(member_ends.split())
+
+    def _inner_application(self, el: etree._Element) -> None:
+        """An element of a profile's namespace inside the model: Enterprise Architect writes its
+        stereotype applications there (``<thecustomprofile:boundary base_Class=".."/>`` as the last
+        children of ``uml:Model``), not after it."""
+        if any(key.startswith("base_") for key in el.attrib):
+            self.stereotypes.root_application(el)
 
     def _on_attribute(self, child: etree._Element, owner: Element) -> None:
         if isinstance(owner, Classifier):
@@ -377,20 +401,22 @@ class _Reader:
         """R203 for ids defined twice (their lines: a slow walk, rare)."""
         if len(known) == len(ids):
             return known
-        return check_ids(
-            self.model,
-            [
-                (el.get(self.XID), el.sourceline or 0)
-                for el in self.xml.root.iter(etree.Element)
-                if el.get(self.XID) is not None
-            ],
+        # Enterprise Architect's and MagicDraw's xmi:Extension blocks restate model ids (diagram
+        # objects, EA's element table): not definitions, so not duplicates.
+        return known | check_ids(
+            self.model, unread.ids_outside_extensions(self.xml.root, self.XID, self.EXTENSION)
         )
 
     def _resolve(self, ids: list[str], known: set[str]) -> None:
         model = self.model
         known = self._known_ids(ids, known)
+        self.stereotypes.resolve_references()
+        # types defined where the walk does not read (EA's own types, in its extension)
+        outside = self._outside(
+            {o.type_ref for o in self.type_refs if o.type_ref not in model.elements} & known
+        )
         for obj in self.type_refs:
-            target = model.elements.get(obj.type_ref)
+            target = model.elements.get(obj.type_ref) or outside.get(obj.type_ref)
             if target is not None:
                 obj.type_name = target.name
             elif obj.type_ref not in known:
@@ -414,7 +440,14 @@ class _Reader:
             target = model.elements.get(ident)
             if target is not None:
                 target.comments.append(body)
+        # applications to elements the walk keeps no object for (a MagicDraw diagram, an EA
+        # message): kept, on a plain element of that metaclass, instead of called dangling
+        bases = self._outside(
+            {a.base for a in model.applications.values() if a.base not in model.elements} & known
+        )
         for app in list(model.applications.values()):
+            if app.base in bases:
+                model.elements[app.base] = bases[app.base]
             if app.base == app.id or app.base not in model.elements:
                 del model.applications[(app.base, app.key)]
                 model.diagnostics.append(
@@ -427,6 +460,9 @@ class _Reader:
                         xmi_id=app.base,
                     )
                 )
+
+    def _outside(self, wanted: set[str]) -> dict[str, Element]:
+        return unread.elements_by_id(self.xml.root, self.XID, self.XTYPE, wanted)
 
 
 def _by_local_name(table: dict, tag: object):
