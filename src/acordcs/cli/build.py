@@ -26,7 +26,7 @@ from acordcs.diagnostics import printable
     multiple=True,
     metavar="NAME",
     help="Target to build (repeat, or separate with commas); default all. "
-    "Built in: config, python, rules; acordcs-gen build --list shows every installed one.",
+    "Built in: config, java, python, rules, shell; acordcs-gen build --list shows every installed one.",
 )
 @click.option(
     "--check", is_flag=True, help="Write nothing; exit 1 if the output is not up to date."
@@ -41,6 +41,12 @@ from acordcs.diagnostics import printable
     "--force",
     is_flag=True,
     help="Read the model and run the targets even when the manifest says nothing changed.",
+)
+@click.option(
+    "-q",
+    "--quiet",
+    is_flag=True,
+    help="Do not list the files written or deleted; warnings, notes and the summary line stay.",
 )
 @click.option(
     "--list",
@@ -58,6 +64,7 @@ def build(
     dry_run: bool,
     diff: bool,
     force: bool,
+    quiet: bool,
 ) -> int:
     """Generate the files of MODEL's application into --output: the deployment descriptor and its
     schema (config), a Python package with the components' classes and a module per container
@@ -68,7 +75,7 @@ def build(
     The model is validated first (an error stops the build, nothing written); only files whose
     bytes changed are written; generated files the model no longer makes are deleted (the manifest
     .acordcs-manifest.json says which files are generated: no other file is ever touched); files
-    written once for the user to edit (python's components/*.py, java's user subclasses) are never overwritten or deleted,
+    written once for the user to edit (python's components/*.py and monitors/*.py, java's user subclasses) are never overwritten or deleted,
     nor are the lines between BEGIN USER and END USER markers (shell's bin/env.sh).
 
     Exit 0 when built (or up to date), 1 when the model has errors, a target fails, or --check finds
@@ -119,7 +126,7 @@ def build(
     assert plan is not None
     if diff:
         _show_diff(plan)
-    elif dry_run or write:
+    elif dry_run or (write and not quiet):
         verbs = _WOULD if dry_run else _DONE
         for change in plan.changes:
             click.echo(f"{verbs[change.action]} {os.path.join(out, printable(change.path))}")

@@ -1,0 +1,153 @@
+"""``make demo`` tells the truth: the README's transcript is what the demo's commands print (but
+for the progress bar and the wall-clock figures), the experiment's claims hold, it writes the report
+files, and report.html shows the claims, the tables and every plot in a real browser."""
+
+from __future__ import annotations
+
+import json
+import re
+import shutil
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+from tests.support.browser import headless_chromium
+from tests.support.toolchain import ROOT, run_main
+
+from .conftest import SAMPLE_DIR
+
+README = (ROOT / "README.md").read_text(encoding="utf-8")
+TIMING = re.compile(r"simulated s in [\d.]+ wall s|^WebLab runs: |^report: ")
+
+
+def demo_block() -> list[str]:
+    return README.split("$ make demo\n", 1)[1].split("```", 1)[0].splitlines()
+
+
+@pytest.fixture(scope="module")
+def demo(tmp_path_factory, weblab_app) -> tuple[list[str], Path]:
+    """The experiment as make demo runs it (10 seeds, every condition and profile)."""
+    out = tmp_path_factory.mktemp("demo")
+    done = subprocess.run(
+        [sys.executable, "-m", "weblab_experiment", "--out", str(out), "--no-progress"],
+        cwd=SAMPLE_DIR,
+        capture_output=True,
+        text=True,
+        timeout=600,
+    )
+    assert done.returncode == 0, done.stdout + done.stderr
+    return done.stdout.splitlines(), out
+
+
+def test_the_readme_shows_the_commands_make_demo_runs():
+    recipe = (ROOT / "Makefile").read_text(encoding="utf-8").split("\ndemo:", 1)[1]
+    commands = [ln.strip() for ln in recipe.split("\n\n", 1)[0].splitlines()[1:]]
+    shown = [ln for ln in demo_block() if ln.startswith((".venv/bin/", "cd "))]
+    assert shown == [c.replace("$(BIN)", ".venv/bin") for c in commands]
+
+
+def test_the_readme_transcript_of_validate_and_build_is_real(tmp_path, monkeypatch):
+    block = demo_block()
+    monkeypatch.chdir(ROOT)
+    validated = run_main(["validate", "samples/weblab/weblab.xmi"])
+    assert validated.out.splitlines() == [block[1]]
+    # the build as on a fresh clone: only the WebLab's committed code in the output directory
+    tracked = subprocess.run(
+        ["git", "ls-files", "samples/weblab/app"], cwd=ROOT, capture_output=True, text=True
+    ).stdout.split()
+    assert tracked, "the WebLab's user classes are committed"
+    for rel in [*tracked, "samples/weblab/weblab.xmi"]:
+        (tmp_path / rel).parent.mkdir(parents=True, exist_ok=True)
+        shutil.copy(ROOT / rel, tmp_path / rel)
+    monkeypatch.chdir(tmp_path)
+    built = run_main(["build", "-q", "samples/weblab/weblab.xmi", "-o", "samples/weblab/app"])
+    assert built.code == 0, built.both
+    assert built.out.splitlines() == [block[3]]
+
+
+def test_the_readme_transcript_of_the_experiment_is_real(demo):
+    lines, _ = demo
+    block = demo_block()
+    shown = block[block.index(next(ln for ln in block if ln.startswith("cd "))) + 1 :]
+    assert [ln for ln in lines if not TIMING.search(ln)] == [
+        ln for ln in shown if not TIMING.search(ln)
+    ]
+
+
+def test_the_claims_hold_and_the_data_files_say_so(demo):
+    _, out = demo
+    data = json.loads((out / "results.json").read_text(encoding="utf-8"))
+    assert data["claims"] and all(c["holds"] for c in data["claims"]), data["claims"]
+    assert data["failed_runs"] == []
+    adaptive = data["results"]["adaptive"]
+    assert set(adaptive) == {"residential", "campus", "LAN"}
+    for metric in ("cycles_per_s", "speed_mm_s", "time_s", "recoveries", "fps"):
+        assert set(adaptive["LAN"][metric]) == {"mean", "spread", "n"}
+        assert adaptive["LAN"][metric]["n"] == 10
+    rows = (out / "results.csv").read_text(encoding="utf-8").splitlines()
+    assert rows[0] == "condition,profile,metric,mean,spread,n"
+    assert len(rows) == 1 + 6 * 3 * 10  # conditions x profiles x metrics
+
+
+def test_the_report_shows_claims_tables_and_plots_in_a_browser(demo):
+    _, out = demo
+    with headless_chromium(1200, 900) as browser:
+        browser.get((out / "report.html").as_uri())
+        claims = browser.find_elements("css selector", "#claims li")
+        assert len(claims) == 7 and all(c.text.startswith("holds") for c in claims)
+        assert len(browser.find_elements("css selector", "#table1 tbody tr")) == 6
+        assert len(browser.find_elements("css selector", "#conditions tbody tr")) == 18
+        images = browser.find_elements("css selector", "img")
+        assert len(images) == 4
+        for image in images:  # each plot loaded and drawn, not a broken image
+            assert browser.execute_script("return arguments[0].naturalWidth", image) > 400
+        browser.save_screenshot(str(out / "report-screenshot.png"))
+    assert (out / "report-screenshot.png").stat().st_size > 10_000
+
+
+def test_a_demo_without_the_built_application_says_how_to_build_it(tmp_path):
+    # run() finds no generated package where the demo builds it: exit 2 and the command to run
+    sample = tmp_path / "weblab"
+    shutil.copytree(SAMPLE_DIR / "weblab_sim", sample / "weblab_sim")
+    shutil.copytree(SAMPLE_DIR / "weblab_experiment", sample / "weblab_experiment")
+    done = subprocess.run(
+        [
+            sys.executable,
+            "-m",
+            "weblab_experiment",
+            "--seeds",
+            "1",
+            "--profiles",
+            "LAN",
+            "--conditions",
+            "adaptive",
+            "--no-progress",
+            "--out",
+            str(tmp_path / "out"),
+            "--jobs",
+            "1",
+        ],
+        cwd=sample,
+        capture_output=True,
+        text=True,
+        timeout=120,
+    )
+    assert done.returncode == 2, done.stdout + done.stderr
+    assert "Traceback" not in done.stderr
+    assert "acordcs-gen build samples/weblab/weblab.xmi -o samples/weblab/app" in (
+        done.stdout + done.stderr
+    )
+
+
+def test_bad_arguments_are_refused_with_the_choices():
+    done = subprocess.run(
+        [sys.executable, "-m", "weblab_experiment", "--profiles", "moon"],
+        cwd=SAMPLE_DIR,
+        capture_output=True,
+        text=True,
+        timeout=60,
+    )
+    assert done.returncode == 2
+    assert "unknown profile moon; the profiles are residential, campus, LAN" in done.stderr
