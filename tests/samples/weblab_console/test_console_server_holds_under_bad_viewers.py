@@ -15,6 +15,8 @@ from weblab_console.commands import MAX_MESSAGE, CommandError, parse
 from weblab_console.hub import EVENT, EVENTS_KEPT, ConsoleHub
 from weblab_console.server import STRIKES, create_app
 
+from tests.support.services import wait_for
+
 PROFILES = ("residential", "campus", "lan")
 
 
@@ -163,7 +165,7 @@ def test_a_viewer_sending_garbage_is_closed_after_its_strikes(console):
                 closed = message
                 break
         assert closed is not None and closed["code"] == 1008
-    assert wait_until(lambda: hub.viewers == 0)
+    assert wait_for(lambda: hub.viewers == 0)
 
 
 def test_the_viewer_cap_turns_the_next_connection_away(console):
@@ -180,7 +182,7 @@ def test_the_viewer_cap_turns_the_next_connection_away(console):
     finally:
         for c in opened:
             c.__exit__(None, None, None)
-    assert wait_until(lambda: hub.viewers == 0)
+    assert wait_for(lambda: hub.viewers == 0)
 
 
 def test_viewers_get_frames_as_binary_and_the_rest_as_json(console):
@@ -257,12 +259,3 @@ def test_publishing_from_many_threads_while_viewers_come_and_go():
     for w in workers:
         w.join(10)
     assert hub.viewers == 0 and hub.published == 20_000
-
-
-def wait_until(predicate, seconds: float = 5.0) -> bool:
-    deadline = time.monotonic() + seconds
-    while time.monotonic() < deadline:
-        if predicate():
-            return True
-        time.sleep(0.02)
-    return False
