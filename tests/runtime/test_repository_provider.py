@@ -374,3 +374,50 @@ def test_host_refusing_the_factory_leaves_nothing(
     assert _nothing_installed(registry, workdir, installer)
     with pytest.raises(RepositoryError, match="cannot host factories"):
         installer.install(object(), "LineFollower")
+
+
+def test_a_trickling_server_cannot_hold_an_install_past_its_deadline(
+    tmp_path: Path, workdir: Path
+) -> None:
+    """A server sending one byte every 0.5 s (each read within the timeout) for at most 30 s."""
+    import socket
+    import threading
+
+    listener = socket.create_server(("127.0.0.1", 0))
+    listener.settimeout(10)
+    stop = threading.Event()
+
+    def trickle() -> None:
+        try:
+            conn, _ = listener.accept()
+        except OSError:
+            return
+        with conn:
+            conn.recv(4096)
+            body = b"HTTP/1.0 200 OK\r\nContent-Length: 100000\r\n\r\n" + b"x" * 100000
+            for byte in body[:60]:
+                if stop.wait(0.5):
+                    return
+                try:
+                    conn.sendall(bytes([byte]))
+                except OSError:
+                    return
+
+    thread = threading.Thread(target=trickle, daemon=True)
+    thread.start()
+    package = build_package(tmp_path, "lf.zip", PLAIN_PACKAGE)
+    url = f"http://127.0.0.1:{listener.getsockname()[1]}/lf.zip"
+    repo = ComponentRepository()
+    repo.add(describe("LineFollower", "weblab.LineFollower", "1.0.0", url, package,
+                      "linefollower:make_factory"))  # fmt: skip
+    installer = FactoryInstaller(repo, workdir=workdir, timeout=2, deadline=3)
+    registry = Registry()
+    try:
+        with pytest.raises(RepositoryError, match="deadline of 3 s") as info:
+            installer.install(registry, "LineFollower")
+        assert "deadline" in info.value.hint
+        assert _nothing_installed(registry, workdir, installer)
+    finally:
+        stop.set()
+        listener.close()
+        thread.join(timeout=5)

@@ -1,6 +1,7 @@
 """Installing component factories found through the component provider into a container.
 
-``install``: download the package (urllib, with a timeout and a size limit), verify its sha256
+``install``: download the package (urllib, with a per-read timeout, an overall deadline and a size
+limit: :mod:`.fetch`), verify its sha256
 against the description, unpack it (wheel or zip; no absolute paths, no ``..``, no links, bounded
 size) into a private directory, import it under a unique module name without touching ``sys.path``,
 resolve the entry to a factory and hand it to the container. Any failure leaves nothing behind.
@@ -25,7 +26,6 @@ import sys
 import tempfile
 import threading
 import urllib.error
-import urllib.request
 import zipfile
 from dataclasses import dataclass
 from pathlib import Path, PurePosixPath
@@ -34,6 +34,7 @@ from typing import Any, Protocol, runtime_checkable
 from acordcs.runtime.repository.catalog import ComponentRepository
 from acordcs.runtime.repository.description import ComponentDescription
 from acordcs.runtime.repository.errors import RepositoryError
+from acordcs.runtime.repository.fetch import DeadlineExceeded, fetch
 
 log = logging.getLogger("acordcs.runtime.repository")
 
@@ -67,6 +68,7 @@ class FactoryInstaller:
         *,
         workdir: str | Path | None = None,
         timeout: float = 10.0,
+        deadline: float = 120.0,
         max_download_bytes: int = 50 * 1024 * 1024,
         max_unpacked_bytes: int = 200 * 1024 * 1024,
         max_files: int = 2000,
@@ -74,6 +76,7 @@ class FactoryInstaller:
         self.repository = repository
         self.workdir = Path(workdir) if workdir is not None else None
         self.timeout = timeout
+        self.deadline = deadline  # seconds for a whole download, however the server paces it
         self.max_download_bytes = max_download_bytes
         self.max_unpacked_bytes = max_unpacked_bytes
         self.max_files = max_files
@@ -153,10 +156,20 @@ class FactoryInstaller:
         url = description.location
         where = f"{description.name} {description.version}"
         try:
-            with urllib.request.urlopen(
-                url, timeout=self.timeout
-            ) as response:  # http(s) only: checked when parsed
-                data = response.read(self.max_download_bytes + 1)
+            # http(s) only: checked when the description was parsed
+            data = fetch(
+                url,
+                timeout=self.timeout,
+                deadline=self.deadline,
+                max_bytes=self.max_download_bytes,
+            )
+        except DeadlineExceeded as err:
+            raise RepositoryError(
+                f"factory package of {where}: download of {url} {err}",
+                file=description.source,
+                hint="the server is too slow (or stalling on purpose); raise the installer's "
+                "deadline if the package is large and the link slow",
+            ) from None
         except urllib.error.HTTPError as err:
             raise RepositoryError(
                 f"factory package of {where}: HTTP {err.code} {err.reason} from {url}",
