@@ -421,3 +421,63 @@ def test_a_trickling_server_cannot_hold_an_install_past_its_deadline(
         stop.set()
         listener.close()
         thread.join(timeout=5)
+
+
+@pytest.mark.parametrize(
+    ("init", "expected"),
+    [
+        ("import sys\nsys.exit(3)\n", "ended the process with exit 3"),
+        ("import sys\nsys.exit(0)\n", "ended the process"),
+        ("while True:\n    pass\n", "did not finish within 3 s"),
+        (
+            "import hashlib\n"
+            "hashlib.sha256 = lambda data=b'': type('H', (), {'hexdigest': lambda s: '0' * 64})()\n"
+            "raise ImportError('half-installed')\n",
+            "half-installed",
+        ),
+    ],
+)
+def test_a_hostile_import_is_tried_in_a_child_and_leaves_this_process_alone(
+    packages: Path, server: FactoryServer, workdir: Path, init: str, expected: str
+) -> None:
+    sha256 = hashlib.sha256
+    package = build_package(packages, "bad.zip", {"lf/__init__.py": init})
+    repo = ComponentRepository()
+    repo.add(describe("Bad", "weblab.LineFollower", "1.0", server.url("bad.zip"), package, "lf:f"))
+    installer, registry = FactoryInstaller(repo, workdir=workdir, import_deadline=3), Registry()
+    with pytest.raises(RepositoryError, match=expected):
+        installer.install(registry, "Bad")
+    assert hashlib.sha256 is sha256  # the patch never ran here
+    assert _nothing_installed(registry, workdir, installer)
+    # and the next, tampered, package is still refused
+    tampered = build_package(packages, "lf.zip", PLAIN_PACKAGE)
+    repo.add(describe("LF", "weblab.LineFollower", "1.0", server.url("lf.zip"), tampered, "lf:f"))
+    tampered.write_bytes(tampered.read_bytes() + b"tampered")
+    with pytest.raises(RepositoryError, match="has sha256"):
+        installer.install(registry, "LF")
+
+
+def test_installed_directories_are_deleted_when_the_process_exits(tmp_path: Path) -> None:
+    package = build_package(tmp_path, "lf.zip", PLAIN_PACKAGE)
+    workdir = tmp_path / "installed"
+    script = f"""
+import sys
+sys.path[:0] = {[str(Path(__file__).parents[2] / "src"), str(Path(__file__).parents[2])]!r}
+from pathlib import Path
+from acordcs.runtime.repository import ComponentRepository, FactoryInstaller, FactoryServer
+from tests.runtime.test_repository_provider import Registry, describe
+with FactoryServer(Path({str(tmp_path)!r})) as server:
+    repo = ComponentRepository()
+    package = Path({str(package)!r})
+    repo.add(describe("LF", "weblab.LineFollower", "1.0", server.url("lf.zip"), package,
+                      "linefollower:make_factory"))
+    installed = FactoryInstaller(repo, workdir={str(workdir)!r}).install(Registry(), "LF")
+    print(installed.directory.is_dir())
+"""
+    import subprocess
+
+    done = subprocess.run(
+        [sys.executable, "-c", script], capture_output=True, text=True, timeout=60
+    )
+    assert done.stdout.strip() == "True", done.stderr
+    assert workdir.is_dir() and list(workdir.iterdir()) == []
