@@ -1,6 +1,7 @@
 """The Pyro5 endpoint of a container under the attacks of issue 14 (loopback, bounded): no token,
 another serializer, a port's handler called directly, idle sockets held open, and TLS with client
-certificates (in a child process: Pyro5's SSL settings belong to the whole process)."""
+certificates and idle sockets (in a child process: Pyro5's SSL settings belong to the whole
+process)."""
 
 from __future__ import annotations
 
@@ -181,6 +182,8 @@ CHILD = textwrap.dedent(
     c = Container("tls")
     server = ContainerServer(c, token="t", tls=TLSFiles(f"{d}/server.pem", f"{d}/server.key", f"{d}/ca.pem"))
     client = RemoteConnector(timeout=5, token="t", tls=TLSFiles(f"{d}/client.pem", f"{d}/client.key", f"{d}/ca.pem"))
+    # idle TCP connections (no TLS handshake) must not hold the real caller up
+    idle = [socket.create_connection((server.host, server.port)) for _ in range(20)]
     print("with-cert", client.request(server.uri, "ping", where="child"))
     # A client without a certificate: the TLS session is refused.
     ctx = ssl.create_default_context(cafile=f"{d}/ca.pem")

@@ -397,6 +397,12 @@ class ContainerServer:
         if tls is not None:
             tls.configure(server=True)
         self.daemon = GatedDaemon(host=host, port=port, token=token)
+        if tls is not None:
+            # Pyro5 accepts in one thread; with the TLS handshake done at accept (ssl's default) a
+            # client that connects and stays silent would hold every other connection up (the
+            # accepted socket has no timeout yet). Deferred, the handshake runs in the
+            # connection's worker, on its first read, within handshake_timeout.
+            self.daemon.sock.do_handshake_on_connect = False
         self.host, self.port = host, int(self.daemon.locationStr.rsplit(":", 1)[1])
         self.uri = str(
             self.daemon.register(
