@@ -241,3 +241,17 @@ def test_secure_broker_refuses_strangers_and_keeps_publishers_to_their_topic(
     assert wait_for(lambda: inbox.texts() == ["1"]), inbox.texts()
     assert [n.publisher for n in inbox.notes] == ["robot1"]
     assert console.latest("console") is None
+
+
+def test_a_5000_digit_sequence_number_is_malformed_without_a_traceback(broker, clients, caplog):
+    console = clients()
+    attacker = Raw(broker.port)
+    try:
+        with caplog.at_level(logging.WARNING, logger="acordcs.runtime.context.mqtt"):
+            attacker.send(publisher_topic("robot"), b"ACX1 abcd " + b"9" * 5000 + b"\n<r/>")
+            assert wait_for(lambda: console.stats()["malformed"] == 1)
+        assert "not an acordcs context document" in caplog.text
+        assert not any(r.exc_info for r in caplog.records)
+        assert console.publishers() == []
+    finally:
+        attacker.close()
