@@ -122,8 +122,7 @@ def serpent_only(method: F) -> F:
         return method(*args, **kwargs)
 
     checked.__name__, checked.__doc__ = method.__name__, method.__doc__
-    checked._pyroExposed = True  # type: ignore[attr-defined]  # Pyro5's documented expose flag
-    return checked  # type: ignore[return-value]
+    return Pyro5.api.expose(checked)  # type: ignore[no-any-return]
 
 
 class QuietDaemonObject(Pyro5.server.DaemonObject):
