@@ -229,6 +229,7 @@ def test_the_weblab_scripts_start_check_and_stop_both_containers(tmp_path: Path)
         "ACORDCS_CLOCK": "real",
         "ACORDCS_STOP_TIMEOUT": "5",
     }
+    env.pop("ACORDCS_TOKEN", None)  # env.sh makes one, shared through the run directory
     for name, port in zip(("UserSide", "WebLabSide"), ports, strict=True):
         env[f"ACORDCS_{name}_HOST"] = "127.0.0.1"
         env[f"ACORDCS_{name}_PORT"] = str(port)
@@ -248,8 +249,13 @@ def test_the_weblab_scripts_start_check_and_stop_both_containers(tmp_path: Path)
             assert (run / f"{name}.pid").is_file()
         again = sh("UserSide-start")
         assert again.returncode == 2 and "already running" in again.stderr
-        # Each serves the endpoint the other was given with --remote.
+        # Each serves the endpoint the other was given with --remote, to callers presenting
+        # the application's token only.
         from Pyro5.api import Proxy
+        from Pyro5.errors import CommunicationError
+
+        token = (run / "token").read_text()
+        assert len(token) == 32 and (run / "token").stat().st_mode & 0o077 == 0
 
         deadline = time.monotonic() + 20
         for name, port in zip(("UserSide", "WebLabSide"), ports, strict=True):
@@ -258,7 +264,10 @@ def test_the_weblab_scripts_start_check_and_stop_both_containers(tmp_path: Path)
                 assert time.monotonic() < deadline, (run / f"{name}.log").read_text()
                 time.sleep(0.1)
             with Proxy(uri) as proxy:
+                proxy._pyroHandshake = token
                 proxy._pyroBind()
+            with Proxy(uri) as stranger, pytest.raises(CommunicationError, match="token"):
+                stranger._pyroBind()
         # The processes talk: frames from the WebLab reach the user's process as bytes, and
         # the moves reach the WebLab, where the speed policy (fed by the Control monitor that
         # intercepts them) has set maxSpeed away from the model's default of 200.

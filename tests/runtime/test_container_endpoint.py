@@ -69,3 +69,29 @@ def test_an_assembled_container_served_at_its_endpoint_is_reached_by_another_ass
             assert nav.port("NavPort").call("move", 42.0) == 42.0
         assert lab.container("WebLabSide").get_property("Locomotion", "speed") == 42.0
     assert lab.servers == {}  # closed with the application
+
+
+def test_assemble_token_is_required_by_serve_and_presented_to_remote(monkeypatch):
+    import pytest
+
+    from acordcs.runtime.errors import RemoteUnreachableError
+
+    monkeypatch.delenv("ACORDCS_TOKEN", raising=False)
+    with assemble(
+        weblab(),
+        only=["WebLabSide"],
+        factories={"Locomotion": Locomotion},
+        clock=VirtualClock(),
+        token="lab-token",
+    ) as lab:
+        server = lab.serve("WebLabSide", host="127.0.0.1")
+        with assemble(
+            weblab(), only=["UserSide"], remote={"WebLabSide": server.uri}, token="lab-token"
+        ) as user:
+            nav = user.container("UserSide").find("Navigator").instance
+            assert nav.port("NavPort").call("move", 7.0) == 7.0
+        with assemble(weblab(), only=["UserSide"], remote={"WebLabSide": server.uri}) as stranger:
+            nav = stranger.container("UserSide").find("Navigator").instance
+            with pytest.raises(RemoteUnreachableError, match="wrong or missing token"):
+                nav.port("NavPort").call("move", 9.0)
+        assert lab.container("WebLabSide").get_property("Locomotion", "speed") == 7.0

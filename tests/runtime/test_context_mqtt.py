@@ -197,3 +197,21 @@ def test_missing_mosquitto_skips_locally_but_fails_in_ci(monkeypatch: pytest.Mon
     monkeypatch.delenv("CI")
     with pytest.raises(pytest.skip.Exception, match="mosquitto not found"):
         ctx_helpers.mosquitto_binary()
+
+
+def test_inline_delivery_runs_callbacks_in_the_network_thread(clients) -> None:
+    publisher, subscriber = clients(), clients(mirror=False, inline=True)
+    threads: list[str] = []
+    inbox = Inbox()
+
+    def callback(note: Notification) -> None:
+        threads.append(threading.current_thread().name)
+        inbox(note)
+
+    subscriber.subscribe(callback, "/robot/battery", publisher="robot/1")
+    for level in (50, 40, 30):
+        publisher.publish("robot/1", f"<robot><battery>{level}</battery></robot>")
+    assert wait_for(lambda: len(inbox) == 3)
+    assert [n.seq for n in inbox.notes] == [1, 2, 3]
+    assert all(name.startswith("paho-mqtt") for name in threads), threads
+    assert subscriber.stats()["lost"] == 0

@@ -374,3 +374,110 @@ def test_host_refusing_the_factory_leaves_nothing(
     assert _nothing_installed(registry, workdir, installer)
     with pytest.raises(RepositoryError, match="cannot host factories"):
         installer.install(object(), "LineFollower")
+
+
+def test_a_trickling_server_cannot_hold_an_install_past_its_deadline(
+    tmp_path: Path, workdir: Path
+) -> None:
+    """A server sending one byte every 0.5 s (each read within the timeout) for at most 30 s."""
+    import socket
+    import threading
+
+    listener = socket.create_server(("127.0.0.1", 0))
+    listener.settimeout(10)
+    stop = threading.Event()
+
+    def trickle() -> None:
+        try:
+            conn, _ = listener.accept()
+        except OSError:
+            return
+        with conn:
+            conn.recv(4096)
+            body = b"HTTP/1.0 200 OK\r\nContent-Length: 100000\r\n\r\n" + b"x" * 100000
+            for byte in body[:60]:
+                if stop.wait(0.5):
+                    return
+                try:
+                    conn.sendall(bytes([byte]))
+                except OSError:
+                    return
+
+    thread = threading.Thread(target=trickle, daemon=True)
+    thread.start()
+    package = build_package(tmp_path, "lf.zip", PLAIN_PACKAGE)
+    url = f"http://127.0.0.1:{listener.getsockname()[1]}/lf.zip"
+    repo = ComponentRepository()
+    repo.add(describe("LineFollower", "weblab.LineFollower", "1.0.0", url, package,
+                      "linefollower:make_factory"))  # fmt: skip
+    installer = FactoryInstaller(repo, workdir=workdir, timeout=2, deadline=3)
+    registry = Registry()
+    try:
+        with pytest.raises(RepositoryError, match="deadline of 3 s") as info:
+            installer.install(registry, "LineFollower")
+        assert "deadline" in info.value.hint
+        assert _nothing_installed(registry, workdir, installer)
+    finally:
+        stop.set()
+        listener.close()
+        thread.join(timeout=5)
+
+
+@pytest.mark.parametrize(
+    ("init", "expected"),
+    [
+        ("import sys\nsys.exit(3)\n", "ended the process with exit 3"),
+        ("import sys\nsys.exit(0)\n", "ended the process"),
+        ("while True:\n    pass\n", "did not finish within 3 s"),
+        (
+            "import hashlib\n"
+            "hashlib.sha256 = lambda data=b'': type('H', (), {'hexdigest': lambda s: '0' * 64})()\n"
+            "raise ImportError('half-installed')\n",
+            "half-installed",
+        ),
+    ],
+)
+def test_a_hostile_import_is_tried_in_a_child_and_leaves_this_process_alone(
+    packages: Path, server: FactoryServer, workdir: Path, init: str, expected: str
+) -> None:
+    sha256 = hashlib.sha256
+    package = build_package(packages, "bad.zip", {"lf/__init__.py": init})
+    repo = ComponentRepository()
+    repo.add(describe("Bad", "weblab.LineFollower", "1.0", server.url("bad.zip"), package, "lf:f"))
+    installer, registry = FactoryInstaller(repo, workdir=workdir, import_deadline=3), Registry()
+    with pytest.raises(RepositoryError, match=expected):
+        installer.install(registry, "Bad")
+    assert hashlib.sha256 is sha256  # the patch never ran here
+    assert _nothing_installed(registry, workdir, installer)
+    # and the next, tampered, package is still refused
+    tampered = build_package(packages, "lf.zip", PLAIN_PACKAGE)
+    repo.add(describe("LF", "weblab.LineFollower", "1.0", server.url("lf.zip"), tampered, "lf:f"))
+    tampered.write_bytes(tampered.read_bytes() + b"tampered")
+    with pytest.raises(RepositoryError, match="has sha256"):
+        installer.install(registry, "LF")
+
+
+def test_installed_directories_are_deleted_when_the_process_exits(tmp_path: Path) -> None:
+    package = build_package(tmp_path, "lf.zip", PLAIN_PACKAGE)
+    workdir = tmp_path / "installed"
+    script = f"""
+import sys
+sys.path[:0] = {[str(Path(__file__).parents[2] / "src"), str(Path(__file__).parents[2])]!r}
+from pathlib import Path
+from acordcs.runtime.repository import ComponentRepository, FactoryInstaller, FactoryServer
+from tests.runtime.test_repository_provider import Registry, describe
+with FactoryServer(Path({str(tmp_path)!r})) as server:
+    repo = ComponentRepository()
+    package = Path({str(package)!r})
+    repo.add(describe("LF", "weblab.LineFollower", "1.0", server.url("lf.zip"), package,
+                      "linefollower:make_factory"))
+    installed = FactoryInstaller(repo, workdir={str(workdir)!r}).install(Registry(), "LF")
+    print(installed.directory.is_dir())
+"""
+    import subprocess
+
+    done = subprocess.run(
+        [sys.executable, "-c", script], capture_output=True, text=True, timeout=60
+    )
+    assert done.stdout.strip() == "True", done.stderr
+    assert workdir.is_dir() and list(workdir.iterdir()) == []

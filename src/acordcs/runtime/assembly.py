@@ -36,6 +36,7 @@ from acordcs.runtime.connectors import (
     ShapedConnector,
 )
 from acordcs.runtime.connectors.base import Connector
+from acordcs.runtime.connectors.pyrogate import TLSFiles
 from acordcs.runtime.container import Container
 from acordcs.runtime.errors import BindingError
 from acordcs.runtime.events import Event
@@ -89,6 +90,7 @@ class RunningApplication:
         *,
         feeds: tuple[Feed, ...] = (),
         release: Iterable[Callable[[], None]] = (),
+        token: str | None = None,
     ) -> None:
         self.descriptor = descriptor
         self.name = descriptor.name
@@ -97,6 +99,7 @@ class RunningApplication:
         self.feeds = feeds
         self.servers: dict[str, ContainerServer] = {}
         self._release = list(release)  # what else close() releases (the feeds' connector)
+        self._token = token  # the application's token, for serve() (None: $ACORDCS_TOKEN)
 
     @property
     def context(self) -> ProviderCore:
@@ -119,17 +122,23 @@ class RunningApplication:
                 f"(built: {', '.join(self.containers)})"
             ) from None
 
-    def serve(self, name: str, *, host: str | None = None, port: int = 0) -> ContainerServer:
+    def serve(
+        self, name: str, *, host: str | None = None, port: int = 0, tls: TLSFiles | None = None
+    ) -> ContainerServer:
         """Serve the container ``name`` to other processes at its endpoint,
         ``container_uri(name, host, port)`` (``server.uri``; port 0: any free one). ``host``
-        defaults to the container's host in the descriptor."""
+        defaults to the container's host in the descriptor. Callers must present the
+        application's token (``assemble(token=...)``, else ``$ACORDCS_TOKEN``); ``tls``: see
+        :class:`~acordcs.runtime.connectors.pyrogate.TLSFiles`."""
         container = self.container(name)
         if name in self.servers:
             raise BindingError(f"container {name!r} is already served at {self.servers[name].uri}")
         if host is None:
             found = next((c for c in self.descriptor.containers if c.name == name), None)
             host = (found.endpoint.host if found.endpoint else found.host) if found else "localhost"
-        self.servers[name] = server = ContainerServer(container, host=host, port=port)
+        self.servers[name] = server = ContainerServer(
+            container, host=host, port=port, token=self._token, tls=tls
+        )
         return server
 
     def close(self) -> None:
@@ -160,11 +169,13 @@ def assemble(
     remote: Mapping[str, str] | None = None,
     remote_timeout: float = 5.0,
     context: ProviderCore | None = None,
+    token: str | None = None,
 ) -> RunningApplication:
     """Build the containers of ``descriptor`` (all, or those named in ``only``) on one clock
     (default: a :class:`VirtualClock` with seed 0) and one context provider (default: an embedded
     one, inline on a virtual clock; give an MQTT one to share context between processes); see the
-    module's docstring."""
+    module's docstring. ``token``: the application's token, presented to the containers given by
+    ``remote`` and required by the ones this process serves (default: ``$ACORDCS_TOKEN``)."""
     clock = clock or VirtualClock()
     owned = context is None
     if context is None:
@@ -184,6 +195,7 @@ def assemble(
             remote=dict(remote or {}),
             remote_timeout=remote_timeout,
             context=provider,
+            token=token,
         ).run()
     except BaseException:
         if owned:
@@ -206,8 +218,10 @@ class _Assembler:
         remote: dict[str, str],
         remote_timeout: float,
         context: ProviderCore,
+        token: str | None = None,
     ) -> None:
         self.app = app
+        self.token = token
         self.context = context
         self.factories = factories
         self.monitors = monitors
@@ -295,7 +309,7 @@ class _Assembler:
                 target.add_policy_set(self.policy_set(ps, target))
         release = [self.relay.close] if self.relay is not None else []
         return RunningApplication(
-            self.app, self.clock, self.containers, feeds=feeds, release=release
+            self.app, self.clock, self.containers, feeds=feeds, release=release, token=self.token
         )
 
     def connect(self, conn: Connection) -> None:
@@ -342,7 +356,7 @@ class _Assembler:
             )
         transport: Connector
         if crosses:
-            transport = RemoteConnector(timeout=self.remote_timeout)
+            transport = RemoteConnector(timeout=self.remote_timeout, token=self.token)
         else:
             transport = InProcessConnector()
         if conn.connector == "shaped":
@@ -418,7 +432,7 @@ class _Assembler:
 
         else:
             if self.relay is None:
-                self.relay = RemoteConnector(timeout=self.remote_timeout)
+                self.relay = RemoteConnector(timeout=self.remote_timeout, token=self.token)
             uri, connector = self.remote[target], self.relay
 
             def relay(event: Event) -> None:

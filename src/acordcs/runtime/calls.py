@@ -102,6 +102,20 @@ class OperationCalls:
         kwargs: dict[str, Any],
         port: str | None,
     ) -> Any:
+        hosted.gate.enter()  # waits while the component is being replaced, then runs on the new one
+        try:
+            return self._invoke_entered(hosted, operation, args, kwargs, port)
+        finally:
+            hosted.gate.leave()
+
+    def _invoke_entered(
+        self,
+        hosted: Hosted,
+        operation: str,
+        args: tuple[Any, ...],
+        kwargs: dict[str, Any],
+        port: str | None,
+    ) -> Any:
         instance = hosted.instance
         name = instance.name
         if operation not in hosted.operations:

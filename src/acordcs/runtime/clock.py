@@ -67,6 +67,11 @@ class Clock(ABC):
     def call_at(self, when: float, fn: Callable[[], object]) -> Timer:
         """Implemented by each clock."""
 
+    real_time: bool = False
+    """Whether time passes by itself (a thread runs the timers): code that may block, such as a
+    monitor's ``acquire``, then runs off the clock's thread, so it cannot hold the other timers up.
+    A virtual clock runs everything in its caller's thread, in order (determinism)."""
+
     def call_later(self, delay: float, fn: Callable[[], object]) -> Timer:
         """Run ``fn`` once after ``delay`` seconds of this clock's time."""
         if delay < 0:
@@ -196,6 +201,8 @@ class VirtualClock(Clock):
 
 class RealClock(Clock):
     """Wall-clock time (monotonic); callbacks run on one scheduler thread, in time order."""
+
+    real_time = True
 
     def __init__(self, seed: int = 0) -> None:
         super().__init__(seed)

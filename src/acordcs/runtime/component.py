@@ -15,9 +15,10 @@ from __future__ import annotations
 
 import copy
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any, ClassVar, Protocol
 
+from acordcs.runtime.callgate import CallGate
 from acordcs.runtime.errors import ComponentDestroyedError, FactoryError, PortError
 from acordcs.runtime.ports import Port, PortHost, PortSpec
 
@@ -159,11 +160,12 @@ def attach_component(
 @dataclass(slots=True)
 class Hosted:
     """A container's record of a component it hosts: the instance (replaced in place by
-    ``replace``), the lineage its handles carry, and its operations."""
+    ``replace``), the lineage its handles carry, its operations, and the gate its calls pass."""
 
     instance: CtxComponent
     lineage: int
     operations: frozenset[str]
+    gate: CallGate = field(default_factory=CallGate)
 
 
 class ComponentFactory:

@@ -295,12 +295,31 @@ class Container(OperationCalls, Wiring):
                 instance.factory.destroy(instance)
         self.emit(ev.COMPONENT_DESTROYED, name, value=instance.factory.type_name)
 
-    def replace(self, name: str, type_name: str, **config: Any) -> ComponentRef:
+    def replace(
+        self, name: str, type_name: str, *, drain_timeout: float = 5.0, **config: Any
+    ) -> ComponentRef:
         """Replace a component by a new one of ``type_name``, keeping its name, state and connections.
 
         The new type must have every port the old one has connected (same name and kind). Handles on
-        the old component follow the new one.
+        the old component follow the new one. Calls running in the component are waited for (up
+        to ``drain_timeout`` seconds; still running then: ComponentError, nothing replaced), so
+        their writes reach the new instance; calls arriving meanwhile wait and run on the new one.
         """
+        hosted = self._hosted(name)
+        running = hosted.gate.hold(drain_timeout)
+        try:
+            if running:
+                raise ComponentError(
+                    f"cannot replace {name!r}: {running} call(s) still running in it after "
+                    f"{drain_timeout:g} s",
+                    where=self._where,
+                    hint="replace it when its operations have returned, or raise drain_timeout",
+                )
+            return self._replace_drained(name, type_name, config)
+        finally:
+            hosted.gate.release()
+
+    def _replace_drained(self, name: str, type_name: str, config: dict[str, Any]) -> ComponentRef:
         with self._lock:
             hosted = self._hosted(name)
             old = hosted.instance

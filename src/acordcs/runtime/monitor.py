@@ -10,11 +10,16 @@ through that port, which an interceptor on the port (:class:`PortTap`) hands ove
 new reading is news).
 
 A raising ``acquire`` or ``on_event`` is a fault: recorded and counted; the monitor keeps its rate.
+On a real-time clock, ``acquire`` runs in the monitor's own thread, not the clock's: a monitor
+blocking in it skips its own ticks meanwhile (counted in ``overruns``) and holds up no other monitor
+or timer; its values are published from the clock's thread, like every other update.
 The container attaches a monitor when it is added and detaches it when it is removed.
 """
 
 from __future__ import annotations
 
+import logging
+import threading
 from collections.abc import Callable, Iterable, Mapping
 from typing import TYPE_CHECKING, Any, Protocol
 
@@ -22,6 +27,8 @@ from acordcs.runtime import events as ev
 from acordcs.runtime.errors import ConfigurationError
 from acordcs.runtime.events import Event
 from acordcs.runtime.interceptors import Interceptor, Invocation
+
+log = logging.getLogger(__name__)
 
 if TYPE_CHECKING:
     from contextlib import AbstractContextManager
@@ -77,7 +84,9 @@ class Monitor:
         self.attributes: dict[str, object] = dict(attributes or {})
         self.container: MonitorHost | None = None
         self.ticks = 0
+        self.overruns = 0  # ticks skipped while the previous acquire was still running
         self._timer: Timer | None = None
+        self._busy = threading.Lock()  # held while an acquire runs off the clock's thread
 
     @property
     def event_sources(self) -> tuple[str, ...]:
@@ -111,10 +120,58 @@ class Monitor:
         container = self.container
         if container is None:
             return
+        if not container.clock.real_time:
+            self._acquire(container, publish=self._publish)
+            return
+        if not self._busy.acquire(blocking=False):
+            self.overruns += 1
+            if self.overruns & (self.overruns - 1) == 0:  # 1st, 2nd, 4th... only
+                log.warning(
+                    "monitor %r: acquire() still running at tick %d; tick skipped (%d so far)",
+                    self.name,
+                    self.ticks,
+                    self.overruns,
+                )
+            return
+        # A daemon thread per acquisition (at most one at a time per monitor): a blocked acquire
+        # never holds up the process's exit, and a quick one costs a thread start (~0.1 ms).
+        threading.Thread(
+            target=self._acquire_off_clock,
+            args=(container,),
+            name=f"acordcs-monitor-{self.name}",
+            daemon=True,
+        ).start()
+
+    def _acquire_off_clock(self, container: MonitorHost) -> None:
+        try:
+            self._acquire(
+                container,
+                publish=lambda values: container.clock.call_later(
+                    0.0, lambda: self._publish(values)
+                ),
+            )
+        finally:
+            self._busy.release()
+
+    def _acquire(
+        self, container: MonitorHost, publish: Callable[[Mapping[str, object]], object]
+    ) -> None:
         try:
             values = self.acquire()
-            if values:
-                self.update(**values)
+        except Exception as exc:
+            container.faults.record(
+                "monitor", self.name, exc, container.clock.now(), tick=self.ticks
+            )
+            return
+        if values:
+            publish(values)
+
+    def _publish(self, values: Mapping[str, object]) -> None:
+        container = self.container
+        if container is None:
+            return
+        try:
+            self.update(**values)
         except Exception as exc:
             container.faults.record(
                 "monitor", self.name, exc, container.clock.now(), tick=self.ticks

@@ -600,6 +600,9 @@ def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(
         prog={py:str('python -m ' || $pkg || '.' || @name)},
         description=f"Run container {{CONTAINER}} of application {{APPLICATION}}.",
+        epilog="ACORDCS_TOKEN: the application's token, the same in each of its processes; "
+        "--serve admits only callers presenting it, --remote presents it (required to serve a "
+        "host other than loopback).",
     )
     parser.add_argument("--clock", choices=("virtual", "real"), default="virtual",
                         help="virtual: simulated time, as fast as it runs (default); real: wall time")
@@ -626,7 +629,11 @@ def main(argv: list[str] | None = None) -> int:
         return 2
     with app:
         if args.serve is not None:
-            server = app.serve(CONTAINER, host=args.host, port=args.serve)
+            try:
+                server = app.serve(CONTAINER, host=args.host, port=args.serve)
+            except RuntimeFailure as err:
+                print(f"{{parser.prog}}: {{err}}", file=sys.stderr)
+                return 2
             print(f"{{CONTAINER}}: serving at {{server.uri}}", flush=True)
         signal.signal(signal.SIGTERM, _interrupt)  # kill, bin/*-stop: stop as on Ctrl-C
         try:

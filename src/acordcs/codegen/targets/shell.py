@@ -115,6 +115,18 @@ def env_file(context, app) -> str:
         "export PYTHONPATH\n",
         f"ACORDCS_PACKAGE={pkg}\n",
         '[ -n "${ACORDCS_RUN_DIR-}" ] || ACORDCS_RUN_DIR=./run\n',
+        "# The application's token: each of its processes presents it to the others "
+        "(ACORDCS_TOKEN\n# wins; else the one in $ACORDCS_RUN_DIR/token, made once from "
+        "128 random bits).\n",
+        'if [ -z "${ACORDCS_TOKEN-}" ]; then\n',
+        '    if [ ! -s "$ACORDCS_RUN_DIR/token" ]; then\n',
+        '        (umask 077 && mkdir -p -- "$ACORDCS_RUN_DIR" &&\n',
+        "            od -An -tx1 -N16 /dev/urandom | tr -d ' \\n' >\"$ACORDCS_RUN_DIR/token\") "
+        "|| exit 1\n",
+        "    fi\n",
+        '    ACORDCS_TOKEN=$(cat -- "$ACORDCS_RUN_DIR/token") || exit 1\n',
+        "fi\n",
+        "export ACORDCS_TOKEN\n",
         "# python -m " + pkg + ".<Container> options: --clock virtual|real, --duration "
         "SECONDS (empty: until stopped), --timeout SECONDS\n",
         '[ -n "${ACORDCS_CLOCK-}" ] || ACORDCS_CLOCK=real\n',

@@ -15,12 +15,16 @@ Transport choices, after the Pyro5 5.17 pitfalls (../shared/reference/context-an
   again once the remote container is back at the same URI (a fixed port and object id).
 
 The server side, :class:`ContainerServer`, exposes one endpoint per container; calls arriving there go
-through the container like local ones (interceptors, events). A remote failure comes back as a
+through the container like local ones (interceptors, events). Only the operations behind its provided
+synchronous ports are callable (:func:`remote_operations`), and deliveries reach only its provided
+asynchronous and stream ports. Who may connect (a token, a handshake deadline, serpent only, TLS) is
+:mod:`.pyrogate`'s. A remote failure comes back as a
 :class:`RemoteFault` and is raised as :class:`RemoteCallError` naming the remote component and operation.
 """
 
 from __future__ import annotations
 
+import logging
 import threading
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any, Protocol
@@ -30,8 +34,19 @@ import Pyro5.errors
 import serpent
 
 from acordcs.runtime.connectors.base import Connection, Connector
+from acordcs.runtime.connectors.pyrogate import (
+    HANDSHAKE_TIMEOUT,
+    MAX_CONNECTIONS,
+    GatedDaemon,
+    TLSFiles,
+    configure_server,
+    is_loopback,
+    resolve_token,
+    serpent_only,
+)
 from acordcs.runtime.errors import (
     ConfigurationError,
+    PortError,
     RemoteCallError,
     RemoteTimeoutError,
     RemoteUnreachableError,
@@ -41,6 +56,8 @@ from acordcs.runtime.errors import (
 if TYPE_CHECKING:
     from acordcs.runtime.monitor import Monitor
     from acordcs.runtime.ports import Port
+
+log = logging.getLogger(__name__)
 
 
 class ServedContainer(Protocol):
@@ -84,14 +101,23 @@ def container_uri(container: str, host: str, port: int) -> str:
 
 
 class RemoteConnector(Connector):
-    """Calls, notifications and stream items to a :class:`RemotePort` over Pyro5."""
+    """Calls, notifications and stream items to a :class:`RemotePort` over Pyro5.
+
+    ``token``: the application's token, sent in every connection's handshake (default:
+    ``$ACORDCS_TOKEN``); ``tls``: verify the server (and present a client certificate) over TLS.
+    """
 
     kind = "remote"
 
-    def __init__(self, *, timeout: float = 5.0) -> None:
+    def __init__(
+        self, *, timeout: float = 5.0, token: str | None = None, tls: TLSFiles | None = None
+    ) -> None:
         if not timeout > 0:
             raise ConfigurationError(f"RemoteConnector timeout must be > 0 seconds, not {timeout}")
         self.timeout = float(timeout)
+        self.token = resolve_token(token)
+        if tls is not None:
+            tls.configure(server=False)
         self._local = threading.local()
         self._all: list[tuple[threading.Thread, Pyro5.api.Proxy]] = []
         self._lock = threading.Lock()
@@ -111,6 +137,8 @@ class RemoteConnector(Connector):
             proxy._pyroSerializer = "serpent"
             proxy._pyroMaxRetries = 0
             proxy._pyroTimeout = self.timeout
+            if self.token is not None:
+                proxy._pyroHandshake = self.token
             proxies[uri] = proxy
             with self._lock:
                 self._all.append((threading.current_thread(), proxy))
@@ -241,19 +269,43 @@ def bytes_back(value: Any) -> Any:
     return value
 
 
-@Pyro5.api.expose
+def remote_operations(port: Port) -> frozenset[str]:
+    """The operations another process may call through ``port``: those it declares
+    (``PortSpec.operations``), else its component's operations less the methods its ports are
+    fed through (handlers such as ``on_<port>``, stream sources) and any other ``on_*`` hook, which
+    run from the port's queue, never from a caller."""
+    if port.spec.operations is not None:
+        return frozenset(port.spec.operations)
+    owner = port.component
+    fed_through = set()
+    for p in getattr(owner, "port_map", {}).values():
+        fed_through.update(n for n in (p.handler, p.spec.source) if n)
+    ops = type(owner).operation_names() if hasattr(type(owner), "operation_names") else ()
+    return frozenset(o for o in ops if o not in fed_through and not o.startswith("on_"))
+
+
+def _has(port: Port, operation: str) -> bool:
+    """Whether ``operation`` is a method of the port's component (one that is not exposed gets a
+    refusal; one that does not exist gets the container's "no operation" error)."""
+    return callable(getattr(port.component, operation, None))
+
+
 class ContainerEndpoint:
-    """What a container exposes over Pyro5; failures come back as :class:`RemoteFault`."""
+    """What a container exposes over Pyro5; failures come back as :class:`RemoteFault`. Every
+    method refuses a call made with another serializer than serpent."""
 
     def __init__(self, container: ServedContainer) -> None:
         self._container = container
 
+    @serpent_only
     def ping(self) -> str:
         return self._container.name
 
+    @serpent_only
     def describe(self) -> dict[str, Any]:
         return self._container.describe()
 
+    @serpent_only
     def call(
         self, component: str, port: str, operation: str, args: list[Any], kwargs: dict[str, Any]
     ) -> Any:
@@ -261,16 +313,39 @@ class ContainerEndpoint:
         args = [bytes_back(a) for a in args]
         kwargs = {k: bytes_back(v) for k, v in kwargs.items()}
         try:
-            return c.invoke_port(c.port_of(component, port), operation, tuple(args), kwargs)
+            target = c.port_of(component, port)
+            exposed = remote_operations(target)
+            if (
+                target.kind == "synchronous"
+                and operation not in exposed
+                and _has(target, operation)
+            ):
+                raise PortError(
+                    f"port {target.qualified_name} does not expose {operation!r} to other "
+                    f"processes (exposes: {', '.join(sorted(exposed)) or 'none'})",
+                    where=f"container {c.name!r}",
+                    hint="call an operation of the port's interface; handlers and hooks run "
+                    "from the port's queue",
+                )
+            return c.invoke_port(target, operation, tuple(args), kwargs)
         except Exception as exc:  # including faults in our own code: the worker must survive
             raise _fault(exc) from None
 
+    @serpent_only
     def deliver(self, component: str, port: str, message: Any) -> None:
         try:
-            self._container.port_of(component, port).deliver(bytes_back(message))
+            target = self._container.port_of(component, port)
+            if target.role != "provided" or target.kind == "synchronous":
+                raise PortError(
+                    f"deliveries arrive at provided asynchronous or stream ports; "
+                    f"{target.qualified_name} is {target.kind}/{target.role}",
+                    where=f"container {self._container.name!r}",
+                )
+            target.deliver(bytes_back(message))
         except Exception as exc:
             raise _fault(exc) from None
 
+    @serpent_only
     def update_monitor(self, monitor: str, values: dict[str, Any]) -> None:
         """A reading of a monitor of another process, for the replica of it here (which feeds
         the policy sets of this container)."""
@@ -282,13 +357,52 @@ class ContainerEndpoint:
 
 class ContainerServer:
     """Serves a container on ``host:port`` (port 0: any free one) with a Pyro5 daemon thread, at
-    :func:`container_uri` (``uri``)."""
+    :func:`container_uri` (``uri``).
+
+    ``token`` (default ``$ACORDCS_TOKEN``): connections must present it in the handshake; without
+    one, only a loopback host may be served (with a warning). ``handshake_timeout``: seconds a new
+    connection has to complete the handshake; ``max_connections``: connections served at once;
+    ``tls``: serve over TLS (:class:`~.pyrogate.TLSFiles`; with ``cacerts``, clients need a
+    certificate signed by it). The last three are Pyro5 settings of the whole process.
+    """
 
     def __init__(
-        self, container: ServedContainer, *, host: str = "127.0.0.1", port: int = 0
+        self,
+        container: ServedContainer,
+        *,
+        host: str = "127.0.0.1",
+        port: int = 0,
+        token: str | None = None,
+        handshake_timeout: float = HANDSHAKE_TIMEOUT,
+        max_connections: int = MAX_CONNECTIONS,
+        tls: TLSFiles | None = None,
     ) -> None:
         self.container = container
-        self.daemon = Pyro5.api.Daemon(host=host, port=port)
+        token = resolve_token(token)
+        if token is None:
+            if not is_loopback(host):
+                raise ConfigurationError(
+                    f"container {container.name!r} would be served at {host}:{port} without a "
+                    "token: any process reaching that address could call it",
+                    hint="set ACORDCS_TOKEN (the same in every process of the application) or "
+                    "pass token=",
+                )
+            log.warning(
+                "container %r is served on %s without a token: any local process may call it "
+                "(set ACORDCS_TOKEN)",
+                container.name,
+                host,
+            )
+        configure_server(handshake_timeout, max_connections)
+        if tls is not None:
+            tls.configure(server=True)
+        self.daemon = GatedDaemon(host=host, port=port, token=token)
+        if tls is not None:
+            # Pyro5 accepts in one thread; with the TLS handshake done at accept (ssl's default) a
+            # client that connects and stays silent would hold every other connection up (the
+            # accepted socket has no timeout yet). Deferred, the handshake runs in the
+            # connection's worker, on its first read, within handshake_timeout.
+            self.daemon.sock.do_handshake_on_connect = False
         self.host, self.port = host, int(self.daemon.locationStr.rsplit(":", 1)[1])
         self.uri = str(
             self.daemon.register(

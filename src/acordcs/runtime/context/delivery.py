@@ -5,7 +5,10 @@ one thread per subscription at a time (so each subscriber sees its notifications
 thread is busy, e.g. inside a slow callback, the pool grows (up to ``max_threads``), so a slow or
 raising subscriber delays only itself, and publishers never wait for callbacks: when a mailbox is full
 its oldest notification is dropped, counted and logged. Threads beyond the first retire when idle.
-Threads track how many callbacks run *at once*, not how many subscriptions exist.
+Threads track how many callbacks run *at once*, not how many subscriptions exist. A callback
+running longer than ``isolate_seconds`` (a subscriber blocking) has its thread set aside: it no
+longer counts against ``max_threads``, so subscribers that block cannot stop delivery to the others
+(at most one thread per subscription is ever set aside; it ends when its callback returns).
 """
 
 from __future__ import annotations
@@ -46,6 +49,7 @@ class SubscriptionStats:
     coalesced: int = 0  # max_rate: replaced by a newer one before delivery (latest wins)
     unchanged: int = 0  # on_change: suppressed because the selection was the same
     errors: int = 0  # the callback raised
+    isolated: int = 0  # the callback ran so long that its thread was set aside
     suspended: bool = False  # a fallback expression overran its time budget too often
     last_error: str | None = None
 
@@ -105,12 +109,16 @@ class DeliveryDispatcher:
         max_threads: int = 64,
         stall_seconds: float = 0.01,
         idle_seconds: float = 5.0,
+        isolate_seconds: float = 1.0,
     ) -> None:
         if max_threads < 1:
             raise ValueError(f"max_threads must be at least 1, got {max_threads!r}")
         self._name = name
         self._max = max_threads
         self._stall = stall_seconds
+        self._isolate_after = isolate_seconds
+        self._isolated: dict[threading.Thread, Subscription] = {}  # set aside, in a callback
+        self._current: dict[threading.Thread, Subscription] = {}  # whose callback each runs
         self._idle_seconds = idle_seconds
         self._lock = threading.Lock()
         self._work_cond = threading.Condition(self._lock)
@@ -248,13 +256,20 @@ class DeliveryDispatcher:
                         box.next_allowed = time.monotonic() + 1.0 / sub.max_rate
                     me = threading.current_thread()
                     self._in_callback[me] = time.monotonic()
+                    self._current[me] = sub
                     self._lock.release()
                     try:
                         _deliver(sub, note)
                     finally:
                         self._lock.acquire()
                         del self._in_callback[me]
+                        del self._current[me]
                         box.running = False
+                    if self._isolated.pop(me, None) is not None:
+                        # set aside while it blocked: the pool has replaced this thread
+                        if box.pending and not box.closed:
+                            self._schedule(sub, wake=True)
+                        return
                     if box.pending and not box.closed:
                         self._schedule(sub, wake=False)  # this thread comes back for it
             finally:
@@ -269,9 +284,10 @@ class DeliveryDispatcher:
                     waited = now - self._ready[0][0]
                     # a backlog of quick callbacks is load, which more threads would not speed up
                     # (the GIL); every thread stuck in one callback for a while is what needs help
-                    stuck = len(self._in_callback) == len(self._threads) and all(
-                        now - began >= self._stall for began in self._in_callback.values()
-                    )
+                    began = [self._in_callback.get(t) for t in self._threads]
+                    stuck = all(b is not None and now - b >= self._stall for b in began)
+                    if waited >= self._stall and stuck and len(self._threads) >= self._max:
+                        self._set_aside(now)
                     if waited >= self._stall and stuck and len(self._threads) < self._max:
                         self._spawn()
                         self._ready[0] = (now, self._ready[0][1])  # give the new thread its chance
@@ -281,6 +297,25 @@ class DeliveryDispatcher:
                     self._watch_cond.wait(max(self._stall - waited, self._stall / 4))
                 else:
                     self._watch_cond.wait(self._delayed[0][0] - now if self._delayed else None)
+
+    def _set_aside(self, now: float) -> None:
+        """Take the threads whose callback has run over ``isolate_seconds`` out of the pool (under
+        the lock): each finishes its callback, then ends; the pool may replace it."""
+        for thread in list(self._threads):
+            began = self._in_callback.get(thread)
+            if began is None or now - began < self._isolate_after:
+                continue
+            sub = self._current[thread]
+            self._threads.discard(thread)
+            self._isolated[thread] = sub
+            sub.stats.isolated += 1
+            log.warning(
+                "%r: callback running for %.1f s; its delivery thread is set aside so that the "
+                "other subscriptions keep receiving (%d thread(s) set aside)",
+                sub,
+                now - began,
+                len(self._isolated),
+            )
 
 
 def _deliver(sub: Subscription, note: Notification) -> None:

@@ -5,10 +5,19 @@ so that late subscribers get the latest one. A broker cannot filter on XML conte
 subscribes to the topics it needs and matches locally with the embedded index. Payloads carry the
 publishing process's epoch and a per-publisher sequence number: gaps are counted as losses (mosquitto
 drops messages for slow clients beyond ``max_queued_messages``, silently, even at QoS 1).
+
+Against hostile clients of the broker (docs/providers.md, "Security model: MQTT"): with a
+``payload_key`` (one per application) payloads carry an HMAC-SHA256 over topic, epoch, sequence
+number and document, and clients with the key drop any payload without a valid one; without it, a
+sequence jump larger than ``max_seq_jump`` is logged and ignored, and a publisher whose numbers go
+back for several documents in a row is resynchronised, so one forged number cannot silence it. A
+client keeps the documents of at most ``max_publishers`` publishers (one retained document each).
 """
 
 from __future__ import annotations
 
+import hashlib
+import hmac
 import logging
 import os
 import socket
@@ -25,7 +34,23 @@ from acordcs.runtime.context.xmlparse import Limits, parse_document
 
 log = logging.getLogger("acordcs.runtime.context.mqtt")
 
-_MAGIC = b"ACX1"
+_MAGIC = b"ACX1"  # header: ACX1 <epoch> <seq>
+_SIGNED = b"ACX2"  # header: ACX2 <epoch> <seq> <hmac-sha256 hex>
+_MAX_SEQ_DIGITS = 19  # a sequence number fits 63 bits; longer is not ours
+RESYNC_AFTER = 3
+"""Documents in a row, with rising numbers at or below the last one taken, after which a
+publisher's sequence is taken as restarted (the higher number was forged or a lost process's)."""
+
+
+def _mac(key: bytes, topic: str, epoch: bytes, seq: int, body: bytes) -> bytes:
+    mac = hmac.new(key, b"%s\n%s %d\n" % (topic.encode(), epoch, seq), hashlib.sha256)
+    mac.update(body)
+    return mac.hexdigest().encode()
+
+
+def _every_power_of_two(n: int) -> bool:
+    """Log the 1st, 2nd, 4th, 8th... occurrence only: a flood cannot flood the log."""
+    return n & (n - 1) == 0
 
 
 def publisher_topic(publisher: str, prefix: str = "acordcs/ctx") -> str:
@@ -38,6 +63,15 @@ class MqttContextProvider(ProviderCore):
 
     ``mirror=True`` (default) receives every publisher's documents so that :meth:`query` sees them
     all; with ``mirror=False`` only the topics that local subscriptions need are subscribed.
+
+    ``payload_key`` (bytes or str, the same in every process of the application): sign the
+    documents sent and accept only documents signed with it. ``max_publishers``: the publishers
+    whose documents this client keeps (others are ignored, counted in ``stats()["refused_publishers"]``).
+    ``max_seq_jump``: a larger jump in a publisher's sequence numbers is taken for a forgery.
+    ``inline=True``: callbacks run in paho's network thread, without the hand-over to a delivery
+    thread (about half the latency at 5,000 documents/s on 2 cores, see
+    ``benchmarks/bench_mqtt_load.py``); a slow callback then holds up every subscription of this
+    client and its acknowledgements to the broker.
     """
 
     def __init__(
@@ -58,8 +92,27 @@ class MqttContextProvider(ProviderCore):
         tls_ca_certs: str | None = None,
         limits: Limits | None = None,
         delivery_threads: int = 64,
+        payload_key: bytes | str | None = None,
+        max_publishers: int = 1000,
+        max_seq_jump: int = 1_000_000,
+        inline: bool = False,
     ) -> None:
-        super().__init__(limits, delivery_threads)
+        super().__init__(limits, delivery_threads, inline=inline)
+        if max_publishers < 1 or max_seq_jump < 1:
+            raise ContextError(
+                f"max_publishers and max_seq_jump must be >= 1, got {max_publishers}, {max_seq_jump}",
+                element="MqttContextProvider",
+            )
+        if isinstance(payload_key, str):
+            payload_key = payload_key.encode()
+        if payload_key is not None and len(payload_key) < 16:
+            raise ContextError(
+                "payload_key must have at least 16 bytes",
+                element="MqttContextProvider",
+                hint="use e.g. secrets.token_hex(32), the same in every process of the application",
+            )
+        self._key = payload_key
+        self.max_publishers, self.max_seq_jump = max_publishers, max_seq_jump
         if qos not in (0, 1, 2):
             raise ContextError(f"qos must be 0, 1 or 2, got {qos!r}", element="MqttContextProvider")
         if not prefix or any(c in prefix for c in "+#\x00") or prefix.endswith("/"):
@@ -74,6 +127,11 @@ class MqttContextProvider(ProviderCore):
         self.duplicates = 0
         self.malformed = 0  # payloads from the broker that were not ours or not acceptable XML
         self.reconnects = 0
+        self.forged = 0  # payloads without a valid signature (with a payload_key)
+        self.implausible = 0  # sequence jumps larger than max_seq_jump, ignored
+        self.resynchronised = 0  # publishers whose sequence was taken as restarted
+        self.refused_publishers = 0  # documents of publishers beyond max_publishers
+        self._behind: dict[str, tuple[int, int]] = {}  # publisher -> (last seq below, count)
         self._epoch = os.urandom(8).hex().encode()
         self._seq: dict[str, int] = {}
         self._seen: dict[str, tuple[bytes, int]] = {}  # publisher -> (epoch, last seq)
@@ -201,31 +259,40 @@ class MqttContextProvider(ProviderCore):
             with self._lock:
                 self._latest.pop(publisher, None)
                 self._seen.pop(publisher, None)
+                self._behind.pop(publisher, None)
             return
         header, _, body = payload.partition(b"\n")
         parts = header.split(b" ")
-        # a sequence number is at most 19 digits (it counts in 64 bits); int() of thousands of
-        # digits raises, and a long one costs quadratic time
-        if len(parts) != 3 or parts[0] != _MAGIC or not parts[2].isdigit() or len(parts[2]) > 19:
+        signed = len(parts) == 4 and parts[0] == _SIGNED
+        if (
+            not (signed or (len(parts) == 3 and parts[0] == _MAGIC))
+            or not parts[2].isdigit()
+            or len(parts[2]) > _MAX_SEQ_DIGITS
+            or not 0 < len(parts[1]) <= 64
+        ):
             self.malformed += 1
-            log.warning("ignoring a message on %s that is not an acordcs context document", topic)
+            if _every_power_of_two(self.malformed):
+                log.warning(
+                    "ignoring a message on %s that is not an acordcs context document (%d so far)",
+                    topic,
+                    self.malformed,
+                )
             return
         epoch, seq = parts[1], int(parts[2])
-        with self._lock:
-            previous = self._seen.get(publisher)
-            if previous is not None and previous[0] == epoch:
-                if seq <= previous[1]:
-                    self.duplicates += 1  # e.g. the retained copy after a re-subscribe
-                    return
-                if seq > previous[1] + 1:
-                    self.lost += seq - previous[1] - 1
-                    log.warning(
-                        "%s: %d document(s) lost before seq %d",
-                        publisher,
-                        seq - previous[1] - 1,
-                        seq,
-                    )
-            self._seen[publisher] = (epoch, seq)
+        if self._key is not None and not (
+            signed and hmac.compare_digest(parts[3], _mac(self._key, topic, epoch, seq, body))
+        ):
+            self.forged += 1
+            if _every_power_of_two(self.forged):
+                log.warning(
+                    "ignoring a document on %s without a valid signature (%d so far): another "
+                    "client of the broker wrote it, or its sender has another payload_key",
+                    topic,
+                    self.forged,
+                )
+            return
+        if not self._admit(publisher, epoch, seq):
+            return
         try:
             tree = parse_document(publisher, body, self.limits)
         except PublishError as err:
@@ -235,6 +302,73 @@ class MqttContextProvider(ProviderCore):
             return
         with self._publishing(publisher):
             self._dispatch(publisher, seq, tree)
+        self._dispatcher.flush()  # inline delivery: the callbacks run now, outside the lock
+
+    def _admit(self, publisher: str, epoch: bytes, seq: int) -> bool:
+        """Whether the document ``seq`` of ``publisher`` is new, counting losses, repeats, forged
+        jumps and publishers beyond the cap."""
+        with self._lock:
+            previous = self._seen.get(publisher)
+            if previous is None and len(self._seen) >= self.max_publishers:
+                self.refused_publishers += 1
+                if _every_power_of_two(self.refused_publishers):
+                    log.warning(
+                        "%s: ignoring the documents of publisher %r: this client already keeps "
+                        "max_publishers=%d publishers' documents (%d refused so far); raise "
+                        "max_publishers, retire() publishers that are gone, or restrict who may "
+                        "publish at the broker (acl_file)",
+                        self._where,
+                        publisher,
+                        self.max_publishers,
+                        self.refused_publishers,
+                    )
+                return False
+            if previous is not None and previous[0] == epoch:
+                last = previous[1]
+                if seq <= last:
+                    return self._behind_last(publisher, epoch, seq, last)
+                if seq - last > self.max_seq_jump:
+                    self.implausible += 1
+                    log.warning(
+                        "%s: ignoring seq %d after %d, a jump over max_seq_jump=%d (a forged "
+                        "message? sign documents with payload_key)",
+                        publisher,
+                        seq,
+                        last,
+                        self.max_seq_jump,
+                    )
+                    return False
+                if seq > last + 1:
+                    self.lost += seq - last - 1
+                    log.warning(
+                        "%s: %d document(s) lost before seq %d", publisher, seq - last - 1, seq
+                    )
+            self._behind.pop(publisher, None)
+            self._seen[publisher] = (epoch, seq)
+            return True
+
+    def _behind_last(self, publisher: str, epoch: bytes, seq: int, last: int) -> bool:
+        """A number at or below the last one taken: a repeat (the retained copy after a
+        re-subscribe), unless :data:`RESYNC_AFTER` rising ones come in a row: then the last number
+        was not the publisher's (forged), and its sequence goes on from ``seq``. Under the lock."""
+        below, count = self._behind.get(publisher, (-1, 0))
+        count = count + 1 if seq > below else 1
+        if count < RESYNC_AFTER:
+            self._behind[publisher] = (seq, count)
+            self.duplicates += 1
+            return False
+        del self._behind[publisher]
+        self.resynchronised += 1
+        log.warning(
+            "%s: %d documents in a row numbered below seq %d: taking seq %d as its sequence "
+            "(the higher number was forged, or sent by another process under this name)",
+            publisher,
+            count,
+            last,
+            seq,
+        )
+        self._seen[publisher] = (epoch, seq)
+        return True
 
     # -- topics ---------------------------------------------------------------------------------------
     def _wanted(self) -> set[str]:
@@ -287,7 +421,11 @@ class MqttContextProvider(ProviderCore):
         data, _ = self._parse(publisher, document)
         with self._mqtt_lock:
             seq = self._seq.get(publisher, 0) + 1
-            payload = b"%s %s %d\n%s" % (_MAGIC, self._epoch, seq, data)
+            if self._key is None:
+                payload = b"%s %s %d\n%s" % (_MAGIC, self._epoch, seq, data)
+            else:
+                mac = _mac(self._key, topic, self._epoch, seq, data)
+                payload = b"%s %s %d %s\n%s" % (_SIGNED, self._epoch, seq, mac, data)
             info = self._client.publish(topic, payload, qos=self.qos, retain=True)
             if info.rc == MQTTErrorCode.MQTT_ERR_SUCCESS or (
                 info.rc == MQTTErrorCode.MQTT_ERR_NO_CONN and self.qos > 0
@@ -334,6 +472,10 @@ class MqttContextProvider(ProviderCore):
             duplicates=self.duplicates,
             malformed=self.malformed,
             reconnects=self.reconnects,
+            forged=self.forged,
+            implausible=self.implausible,
+            resynchronised=self.resynchronised,
+            refused_publishers=self.refused_publishers,
         )
         return figures
 

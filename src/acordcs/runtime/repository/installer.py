@@ -1,10 +1,15 @@
 """Installing component factories found through the component provider into a container.
 
-``install``: download the package (urllib, with a timeout and a size limit), verify its sha256
+``install``: download the package (urllib, with a per-read timeout, an overall deadline and a size
+limit: :mod:`.fetch`), verify its sha256
 against the description, unpack it (wheel or zip; no absolute paths, no ``..``, no links, bounded
 size) into a private directory, import it under a unique module name without touching ``sys.path``,
 resolve the entry to a factory and hand it to the container. Any failure leaves nothing behind.
 ``remove`` takes the factory out of the container, forgets the modules and deletes the directory.
+
+The sha256 is checked before any package code runs; the import is first tried in a child process
+with a deadline (:mod:`.vetting`), so a package that exits, hangs or fails there is refused without
+touching this process; directories still installed are deleted when the process exits.
 
 Packages are imported by path, so they must refer to their own modules with relative imports
 (``from .component import LineFollower``): their top-level name is not importable.
@@ -12,6 +17,7 @@ Packages are imported by path, so they must refer to their own modules with rela
 
 from __future__ import annotations
 
+import atexit
 import hashlib
 import importlib
 import importlib.util
@@ -25,7 +31,6 @@ import sys
 import tempfile
 import threading
 import urllib.error
-import urllib.request
 import zipfile
 from dataclasses import dataclass
 from pathlib import Path, PurePosixPath
@@ -34,10 +39,21 @@ from typing import Any, Protocol, runtime_checkable
 from acordcs.runtime.repository.catalog import ComponentRepository
 from acordcs.runtime.repository.description import ComponentDescription
 from acordcs.runtime.repository.errors import RepositoryError
+from acordcs.runtime.repository.fetch import DeadlineExceeded, fetch
+from acordcs.runtime.repository.vetting import vet_import
 
 log = logging.getLogger("acordcs.runtime.repository")
 
 _unique = itertools.count(1)
+# Bound now: a package imported later cannot change what verifies the next one.
+_sha256 = hashlib.sha256
+_directories: set[Path] = set()  # unpacked and not yet removed: deleted at exit
+
+
+@atexit.register
+def _clean_up_at_exit() -> None:
+    for directory in list(_directories):
+        shutil.rmtree(directory, ignore_errors=True)
 
 
 @runtime_checkable
@@ -67,16 +83,21 @@ class FactoryInstaller:
         *,
         workdir: str | Path | None = None,
         timeout: float = 10.0,
+        deadline: float = 120.0,
         max_download_bytes: int = 50 * 1024 * 1024,
         max_unpacked_bytes: int = 200 * 1024 * 1024,
         max_files: int = 2000,
+        import_deadline: float | None = 30.0,
     ) -> None:
         self.repository = repository
         self.workdir = Path(workdir) if workdir is not None else None
         self.timeout = timeout
+        self.deadline = deadline  # seconds for a whole download, however the server paces it
         self.max_download_bytes = max_download_bytes
         self.max_unpacked_bytes = max_unpacked_bytes
         self.max_files = max_files
+        # seconds for the trial import in a child process; None: no trial (trusted packages)
+        self.import_deadline = import_deadline
         self._lock = threading.Lock()
         self._installed: dict[tuple[int, str], InstalledFactory] = {}
 
@@ -107,12 +128,14 @@ class FactoryInstaller:
         module_name = (
             f"_acordcs_factory_{next(_unique)}_{re.sub(r'[^A-Za-z0-9_]', '_', description.name)}"
         )
+        _directories.add(directory)
         try:
             factory = self._load(description, directory, module_name)
             host.install_factory(factory)
         except BaseException:
             _forget_modules(module_name)
             shutil.rmtree(directory, ignore_errors=True)
+            _directories.discard(directory)
             raise
         installed = InstalledFactory(description, factory, host, directory, module_name)
         with self._lock:
@@ -141,6 +164,7 @@ class FactoryInstaller:
             del self._installed[(id(host), type_name)]
         _forget_modules(installed.module_name)
         shutil.rmtree(installed.directory, ignore_errors=True)
+        _directories.discard(installed.directory)
         return installed.description
 
     def installed(self) -> list[InstalledFactory]:
@@ -153,10 +177,20 @@ class FactoryInstaller:
         url = description.location
         where = f"{description.name} {description.version}"
         try:
-            with urllib.request.urlopen(
-                url, timeout=self.timeout
-            ) as response:  # http(s) only: checked when parsed
-                data = response.read(self.max_download_bytes + 1)
+            # http(s) only: checked when the description was parsed
+            data = fetch(
+                url,
+                timeout=self.timeout,
+                deadline=self.deadline,
+                max_bytes=self.max_download_bytes,
+            )
+        except DeadlineExceeded as err:
+            raise RepositoryError(
+                f"factory package of {where}: download of {url} {err}",
+                file=description.source,
+                hint="the server is too slow (or stalling on purpose); raise the installer's "
+                "deadline if the package is large and the link slow",
+            ) from None
         except urllib.error.HTTPError as err:
             raise RepositoryError(
                 f"factory package of {where}: HTTP {err.code} {err.reason} from {url}",
@@ -176,7 +210,7 @@ class FactoryInstaller:
                 file=description.source,
                 hint="raise max_download_bytes if the package really is that large",
             )
-        digest = hashlib.sha256(data).hexdigest()
+        digest = _sha256(data).hexdigest()
         if digest != description.sha256:
             raise RepositoryError(
                 f"factory package of {where} at {url} has sha256 {digest}, "
@@ -250,6 +284,15 @@ class FactoryInstaller:
                 file=description.source,
                 hint=f"the archive must contain {top}/__init__.py or {top}.py at its top level",
             )
+        if self.import_deadline is not None:
+            problem = vet_import(directory, description.entry, self.import_deadline)
+            if problem is not None:
+                raise RepositoryError(
+                    f"{fail}: {problem}",
+                    file=description.source,
+                    hint="packages must use relative imports for their own modules; fix the "
+                    "package (it was tried in a child process, not imported here)",
+                )
         try:
             module = importlib.util.module_from_spec(spec)
             sys.modules[alias] = module
@@ -257,7 +300,7 @@ class FactoryInstaller:
             if rest:
                 module = importlib.import_module(f"{alias}.{rest}")
             target = getattr(module, attribute)
-        except Exception as err:
+        except (Exception, SystemExit) as err:  # SystemExit: sys.exit() at import
             raise RepositoryError(
                 f"{fail}: importing entry {description.entry!r} failed: {type(err).__name__}: {err}",
                 file=description.source,
@@ -275,7 +318,7 @@ class FactoryInstaller:
         elif not hasattr(target, "type_name") and callable(target):
             try:
                 target = target()
-            except Exception as err:
+            except (Exception, SystemExit) as err:
                 raise RepositoryError(
                     f"{fail} raised {type(err).__name__}: {err}",
                     file=description.source,

@@ -1,0 +1,272 @@
+"""MQTT load benchmark (issue 14). Standalone: ``.venv/bin/python benchmarks/bench_mqtt_load.py``.
+
+Over a mosquitto started here on loopback, QoS 1, retained, the publisher in another process:
+
+1. Saturation throughput: ``--count`` documents published as fast as the publisher can, received
+   by a subscriber in this process; our provider at both ends beside bare paho-mqtt at both ends
+   (same payload, QoS, retain, in-flight window and TCP_NODELAY), in the same run.
+2. Latency at a fixed rate (``--rate``, 5,000 documents/s, for ``--seconds``): p50/p99 from publish
+   to the subscriber's callback, and loss (documents sent but not received).
+
+``ours`` delivers through the provider's delivery threads (the default), ``ours-inline`` in paho's
+network thread (``inline=True``); both publish with the provider. Bare paho sends the same bytes.
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import random
+import socket
+import subprocess
+import sys
+import tempfile
+import threading
+import time
+from pathlib import Path
+
+import paho.mqtt.client as mqtt
+from paho.mqtt.enums import CallbackAPIVersion
+
+from acordcs.runtime.context import ContextError, MqttContextProvider
+
+MOSQUITTO_CONF = """\
+listener {port} 127.0.0.1
+allow_anonymous true
+set_tcp_nodelay true
+max_queued_messages 1000000
+max_inflight_messages 1000
+persistence false
+log_dest none
+"""
+TOPIC = "acordcs/ctx/robot0"
+
+
+def telemetry(stamp_marker: bytes = b"%d") -> bytes:
+    """A 300-byte robot telemetry document whose <stamp> is a monotonic_ns placeholder."""
+    rng = random.Random(9)
+    values = "".join(f"<v{i}>{rng.uniform(0, 100):.3f}</v{i}>" for i in range(10))
+    return b"<robot><stamp>" + stamp_marker + b"</stamp>" + values.encode() + b"</robot>"
+
+
+def stamp_of(document: bytes) -> int:
+    start = document.index(b"<stamp>") + 7
+    return int(document[start : document.index(b"<", start)])
+
+
+def paho_client() -> mqtt.Client:
+    client = mqtt.Client(CallbackAPIVersion.VERSION2, protocol=mqtt.MQTTv311)
+    client.max_inflight_messages_set(1000)
+    client.max_queued_messages_set(10_000)
+    client.on_socket_open = lambda c, u, sock: sock.setsockopt(
+        socket.IPPROTO_TCP, socket.TCP_NODELAY, 1
+    )
+    return client
+
+
+# -- publisher (child process) ----------------------------------------------------------------------
+def publish(kind: str, port: int, rate: int, count: int) -> None:
+    """Publish ``count`` documents at ``rate``/s (0: as fast as possible) with ``kind``'s client."""
+    template = telemetry()
+    # bare paho sends the bytes the provider sends (its header: magic, epoch, sequence number)
+    header = b"ACX1 0123456789abcdef %d\n" + template
+    interval = 1.0 / rate if rate else 0.0
+    if kind == "ours":
+        provider = MqttContextProvider("127.0.0.1", port, qos=1, mirror=False)
+
+        def send(data: bytes) -> None:
+            while True:  # the client's queue is full: wait for the broker
+                try:
+                    provider.publish("robot0", data)
+                    return
+                except ContextError:
+                    time.sleep(0.0005)
+
+    else:
+        client = paho_client()
+        client.connect("127.0.0.1", port)
+        client.loop_start()
+        infos: list[mqtt.MQTTMessageInfo] = []
+
+        def send(data: bytes) -> None:
+            while True:  # a full client queue: wait for the broker, as the provider's caller would
+                info = client.publish(TOPIC, data, qos=1, retain=True)
+                if info.rc == mqtt.MQTT_ERR_SUCCESS:
+                    infos.append(info)
+                    return
+                time.sleep(0.0005)
+
+    start = time.monotonic()
+    for i in range(count):
+        if interval:
+            delay = start + i * interval - time.monotonic()
+            if delay > 0:
+                time.sleep(delay)
+        send(
+            template % time.monotonic_ns()
+            if kind == "ours"
+            else header % (i + 1, time.monotonic_ns())
+        )
+    if kind == "ours":
+        time.sleep(5.0)  # the client's queue (up to 10,000 documents) empties
+        provider.close()
+    else:
+        for info in infos[-1000:]:
+            info.wait_for_publish(10)
+        client.disconnect()
+        client.loop_stop()
+
+
+# -- subscriber (this process) ------------------------------------------------------------------------
+class Receiver:
+    def __init__(self, count: int) -> None:
+        self.count = count
+        self.latencies: list[int] = []
+        self.first = self.last = 0.0
+        self.done = threading.Event()
+
+    def took(self, stamp: int) -> None:
+        now = time.monotonic_ns()
+        if not self.latencies:
+            self.first = now / 1e9
+        self.latencies.append(now - stamp)
+        self.last = now / 1e9
+        if len(self.latencies) >= self.count:
+            self.done.set()
+
+
+def subscribe(kind: str, port: int, receiver: Receiver):
+    """A subscriber of ``kind`` feeding ``receiver``; returns its closer."""
+    if kind.startswith("ours"):
+        provider = MqttContextProvider(
+            "127.0.0.1", port, qos=1, mirror=False, inline=kind == "ours-inline"
+        )
+        provider.subscribe(
+            lambda note: receiver.took(int(note.nodes[0].text)),
+            "/robot/stamp",
+            "robot0",
+            queue_size=1_000_000,
+        )
+        return provider.close, provider.stats
+    client = paho_client()
+    subscribed = threading.Event()
+    client.on_message = lambda c, u, m: receiver.took(stamp_of(m.payload))
+    client.on_subscribe = lambda *a: subscribed.set()
+    client.connect("127.0.0.1", port)
+    client.loop_start()
+    client.subscribe(TOPIC, qos=1)
+    subscribed.wait(5)
+
+    def close() -> None:
+        client.disconnect()
+        client.loop_stop()
+
+    return close, lambda: {}
+
+
+def run(
+    kind: str, port: int, rate: int, count: int, publisher: str | None = None
+) -> tuple[Receiver, dict]:
+    """``count`` documents from a ``publisher`` (default: ``kind``) client to a ``kind`` one."""
+    receiver = Receiver(count)
+    close, stats = subscribe(kind, port, receiver)
+    try:
+        child = subprocess.Popen(
+            [sys.executable, __file__, "--publisher", publisher or kind, str(port), str(rate),
+             str(count)]
+        )  # fmt: skip
+        child.wait(timeout=600)
+        receiver.done.wait(10)
+        return receiver, stats()
+    finally:
+        close()
+
+
+def percentile(samples: list[int], q: float) -> float:
+    ordered = sorted(samples)
+    return ordered[min(len(ordered) - 1, int(q * len(ordered)))] / 1e6
+
+
+def clear_retained(port: int) -> None:
+    client = paho_client()
+    client.connect("127.0.0.1", port)
+    client.loop_start()
+    client.publish(TOPIC, b"", qos=1, retain=True).wait_for_publish(5)
+    client.disconnect()
+    client.loop_stop()
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--publisher", nargs=4, metavar=("KIND", "PORT", "RATE", "COUNT"))
+    parser.add_argument("--count", type=int, default=20_000, help="documents for saturation")
+    parser.add_argument("--rate", type=int, default=5000, help="documents/s for the latency run")
+    parser.add_argument("--seconds", type=float, default=20.0, help="length of the latency run")
+    args = parser.parse_args()
+    if args.publisher:
+        kind, port, rate, count = args.publisher
+        publish(kind, int(port), int(rate), int(count))
+        return
+    mosquitto = "/usr/sbin/mosquitto"
+    if not os.access(mosquitto, os.X_OK):
+        print("mosquitto not installed (/usr/sbin/mosquitto): skipped")
+        return
+    print(f"cores: {os.cpu_count()}, load average at start: {os.getloadavg()[0]:.2f}")
+    with socket.socket() as sock:
+        sock.bind(("127.0.0.1", 0))
+        port = sock.getsockname()[1]
+    workdir = Path(tempfile.mkdtemp(prefix="bench-mqtt-load-"))
+    conf = workdir / "mosquitto.conf"
+    conf.write_text(MOSQUITTO_CONF.format(port=port))
+    broker = subprocess.Popen(
+        [mosquitto, "-c", str(conf)], stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL
+    )
+    try:
+        for _ in range(200):
+            try:
+                socket.create_connection(("127.0.0.1", port), timeout=0.1).close()
+                break
+            except OSError:
+                time.sleep(0.02)
+        print(f"== saturation, QoS 1, retained, {args.count} documents of {len(telemetry())} B ==")
+        rates = {}
+        kinds = ("paho", "ours", "ours-inline")
+        for kind in kinds + kinds:  # interleaved: the load may change
+            clear_retained(port)
+            receiver, _ = run(kind, port, 0, args.count, publisher=kind[:4])
+            got = len(receiver.latencies)
+            span = max(receiver.last - receiver.first, 1e-9)
+            rate = (got - 1) / span if got > 1 else 0.0
+            rates.setdefault(kind, []).append(rate)
+            print(f"{kind:>11}: received {got}/{args.count}, {rate:,.0f} documents/s")
+        best = {k: max(v) for k, v in rates.items()}
+        for kind in kinds[1:]:
+            print(
+                f"{kind} / bare paho (best of 2 each): {best[kind] / best['paho']:.2f} "
+                f"({best[kind]:,.0f} vs {best['paho']:,.0f} documents/s)"
+            )
+        count = int(args.rate * args.seconds)
+        print(f"== latency, QoS 1, {args.rate} documents/s for {args.seconds:g} s ==")
+        for kind in kinds:
+            clear_retained(port)
+            receiver, stats = run(kind, port, args.rate, count, publisher=kind[:4])
+            got = receiver.latencies
+            extra = f", lost (seq gaps) {stats['lost']}" if stats else ""
+            print(
+                f"{kind:>11}: sent {count}, received {len(got)} (missing {count - len(got)}{extra}); "
+                + (
+                    f"p50 {percentile(got, 0.5):.2f} ms, p99 {percentile(got, 0.99):.2f} ms"
+                    if got
+                    else "no samples"
+                )
+            )
+    finally:
+        broker.terminate()
+        broker.wait(timeout=5)
+        conf.unlink()
+        workdir.rmdir()
+    print(f"load average at end: {os.getloadavg()[0]:.2f}")
+
+
+if __name__ == "__main__":
+    main()

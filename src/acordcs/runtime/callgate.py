@@ -1,0 +1,57 @@
+"""The calls running in one hosted component, and a hold on new ones while it is replaced.
+
+``Container.replace`` holds the gate: calls from other threads wait at :meth:`CallGate.enter`
+until the new instance is in place (they then run on it), and the replacement waits until the
+calls already running have returned, so their writes are in the state handed to the new instance.
+A thread already running in the component may enter again (a call chain coming back to it), and
+the replacing thread's own calls do not count, so neither can deadlock the replacement.
+"""
+
+from __future__ import annotations
+
+import threading
+import time
+from collections import Counter
+
+
+class CallGate:
+    def __init__(self) -> None:
+        self._cond = threading.Condition()
+        self._running: Counter[int] = Counter()  # thread ident -> calls running in it
+        self._holder: int | None = None
+
+    def enter(self) -> None:
+        me = threading.get_ident()
+        with self._cond:
+            while self._holder not in (None, me) and not self._running[me]:
+                self._cond.wait()
+            self._running[me] += 1
+
+    def leave(self) -> None:
+        me = threading.get_ident()
+        with self._cond:
+            self._running[me] -= 1
+            if not self._running[me]:
+                del self._running[me]
+            self._cond.notify_all()
+
+    def hold(self, timeout: float) -> int:
+        """Stop new calls from other threads and wait up to ``timeout`` seconds for the running
+        ones; the number still running (0: drained). Always :meth:`release` afterwards."""
+        me = threading.get_ident()
+        deadline = time.monotonic() + timeout
+        with self._cond:
+            while self._holder not in (None, me):  # another replacement in progress
+                self._cond.wait()
+            self._holder = me
+            while True:
+                others = sum(n for thread, n in self._running.items() if thread != me)
+                remaining = deadline - time.monotonic()
+                if not others or remaining <= 0:
+                    return others
+                self._cond.wait(remaining)
+
+    def release(self) -> None:
+        with self._cond:
+            self._holder = None
+            self._cond.notify_all()
