@@ -6,7 +6,7 @@ STAMP := $(VENV)/.installed
 DEV_STAMP := $(VENV)/.installed-dev
 SYSTEM_PACKAGES := shellcheck mosquitto libeclipse-emf-ecore-java libeclipse-emf-ecore-xmi-java openjdk-17-jdk-headless
 
-.PHONY: demo test docs lint format bench system-packages clean
+.PHONY: demo live test docs lint format bench system-packages clean
 
 $(BIN)/python:
 	$(PY) -m venv $(VENV)
@@ -33,6 +33,12 @@ demo: $(STAMP)
 	$(BIN)/acordcs-gen validate samples/weblab/weblab.xmi
 	$(BIN)/acordcs-gen inspect samples/weblab/weblab.xmi
 	$(BIN)/python samples/weblab/run_policies.py samples/weblab/weblab.xmi
+
+# The same generated application as two processes over Pyro5 on loopback, in real time, started
+# and stopped by its generated scripts (samples/weblab/live.sh; WEBLAB_LIVE_SECONDS=60 caps the run).
+live: $(STAMP)
+	$(BIN)/acordcs-gen build samples/weblab/weblab.xmi -o samples/weblab/app
+	PYTHON=$(abspath $(BIN)/python) sh samples/weblab/live.sh
 
 test: $(DEV_STAMP) system-packages
 	$(BIN)/python -m pytest -q

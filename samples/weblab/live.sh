@@ -27,8 +27,12 @@ export PYTHON PYTHONPATH ACORDCS_RUN_DIR ACORDCS_CLOCK ACORDCS_UserSide_HOST \
 user_log=$ACORDCS_RUN_DIR/UserSide.log
 lab_log=$ACORDCS_RUN_DIR/WebLabSide.log
 
+# Stops both; while the Navigator may still be driving, the user's process first, so that its
+# calls do not meet a WebLab that is gone.
+finished=0
 stop() {
     trap - EXIT INT TERM
+    if [ "$finished" = 0 ]; then sh "$app/bin/UserSide-stop"; fi
     sh "$app/bin/stop-all"
 }
 trap stop EXIT
@@ -66,6 +70,7 @@ while :; do
 done
 grep '^Navigator t=' "$user_log" | sed -n "$((shown + 1)),\$p"
 
+grep -q -e '--run Navigator.run() returned' "$user_log" && finished=1
 stop
 trap - EXIT INT TERM
 echo
@@ -76,6 +81,17 @@ echo
 echo "== the WebLab's process (WebLabSide.log)"
 grep -e 'serving at' -e '^WebLab t=' -e 'stopped at' "$lab_log"
 grep -v -e 'serving at' -e '^WebLab t=' -e 'stopped at' "$lab_log" | head -n 20
+echo
+echo "== summary"
+grep '^Navigator:' "$user_log"
+awk -F 'maxSpeed +' '/^WebLab t=.*maxSpeed/ {
+    split($2, a, " "); v = a[1] + 0
+    if (n == 0 || v < lo) lo = v
+    if (n == 0 || v > hi) hi = v
+    n++
+} END { if (n) printf "SpeedLimiting: Locomotion.maxSpeed between %.1f and %.1f mm/s in %d status lines (model default 200)\n", lo, hi, n }' "$lab_log"
+echo "Recovering: $(grep -c 'Recovering: recover #' "$lab_log") recoveries, $(grep -c 'Recovering: askUser #' "$lab_log") user requests"
+echo "faults: UserSide $(sed -n 's/^UserSide: stopped at t=.*faults: //p' "$user_log"), WebLabSide $(sed -n 's/^WebLabSide: stopped at t=.*faults: //p' "$lab_log")"
 echo
 if grep -q -e '--run Navigator.run() returned' "$user_log" &&
     grep -q 'faults: 0$' "$user_log" && grep -q 'faults: 0$' "$lab_log"; then

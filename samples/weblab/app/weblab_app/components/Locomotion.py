@@ -43,6 +43,7 @@ class Locomotion(LocomotionBase):
         self._timer.cancel()
         if self._status is not None:
             self._status.cancel()
+            self._status = None
 
     def move(self, speed, turn):
         speed, turn = float(speed), float(turn)
@@ -73,6 +74,8 @@ class Locomotion(LocomotionBase):
         )
 
     def _print_status(self) -> None:
+        if self._status is None:  # stopped while this tick was due
+            return
         lab = world.current(self.clock)
         prop = self.container.get_property
         print(
