@@ -75,16 +75,18 @@ stop
 trap - EXIT INT TERM
 echo
 echo "== the user's process (UserSide.log)"
-grep -e 'serving at' -e '^Navigator:' -e '--run' -e 'stopped at' "$user_log"
+grep -e 'serving at' -e '^Navigator:' -e '--run' "$user_log"
 grep -v -e '^Navigator t=' -e 'serving at' -e '^Navigator:' -e '--run' -e 'stopped at' "$user_log" | head -n 20
+grep 'stopped at' "$user_log"
 echo
 echo "== the WebLab's process (WebLabSide.log)"
-grep -e 'serving at' -e '^WebLab t=' -e 'stopped at' "$lab_log"
+grep -e 'serving at' -e '^WebLab t=' "$lab_log"
 grep -v -e 'serving at' -e '^WebLab t=' -e 'stopped at' "$lab_log" | head -n 20
+grep 'stopped at' "$lab_log"
 echo
 echo "== summary"
 grep '^Navigator:' "$user_log"
-awk -F 'maxSpeed +' '/^WebLab t=.*maxSpeed/ {
+awk -F 'SpeedLimiting: maxSpeed +' '/^WebLab t=.*SpeedLimiting: maxSpeed/ {
     split($2, a, " "); v = a[1] + 0
     if (n == 0 || v < lo) lo = v
     if (n == 0 || v > hi) hi = v

@@ -107,6 +107,7 @@ def test_a_short_live_run_over_pyro5_on_loopback(weblab_app: None, tmp_path: Pat
     assert status, lab
     assert all(float(rate) > 0.5 for rate, _ in status)
     assert all(float(cap) < 200.0 for _, cap in status)
+    assert "faults: UserSide 0, WebLabSide 0" in done.stdout
     assert "live: done: the Navigator completed its run over Pyro5" in done.stdout
 
 
