@@ -6,7 +6,7 @@ STAMP := $(VENV)/.installed
 DEV_STAMP := $(VENV)/.installed-dev
 SYSTEM_PACKAGES := shellcheck mosquitto libeclipse-emf-ecore-java libeclipse-emf-ecore-xmi-java openjdk-17-jdk-headless chromium chromium-driver
 
-.PHONY: demo test docs lint format bench system-packages clean
+.PHONY: demo live test docs lint format bench system-packages clean
 
 $(BIN)/python:
 	$(PY) -m venv $(VENV)
@@ -35,6 +35,12 @@ demo: $(STAMP)
 	$(BIN)/acordcs-gen validate samples/weblab/weblab.xmi
 	$(BIN)/acordcs-gen build -q samples/weblab/weblab.xmi -o samples/weblab/app
 	cd samples/weblab && ../../$(BIN)/python -m weblab_experiment --out ../../build/weblab-demo
+
+# The same generated application as two processes over Pyro5 on loopback, in real time, started
+# and stopped by its generated scripts (samples/weblab/live.sh; WEBLAB_LIVE_SECONDS=60 caps the run).
+live: $(STAMP)
+	$(BIN)/acordcs-gen build samples/weblab/weblab.xmi -o samples/weblab/app
+	PYTHON=$(abspath $(BIN)/python) sh samples/weblab/live.sh
 
 test: $(DEV_STAMP) system-packages
 	$(BIN)/python -m pytest -q

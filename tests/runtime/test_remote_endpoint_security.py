@@ -120,10 +120,12 @@ def test_only_the_operations_behind_a_provided_port_are_callable(served):
     assert call(server, "robot", "admin", "status", [], {}) == "ok"
     with pytest.raises(RemoteCallError, match="does not expose 'move'"):
         call(server, "robot", "admin", "move", [7.0], {})
-    # deliveries go to provided asynchronous or stream ports only
+    # deliveries go to asynchronous or stream ports only, never a synchronous port's operations
     connector = RemoteConnector(timeout=3.0, token=TOKEN)
     try:
-        with pytest.raises(RemoteCallError, match="deliveries arrive at provided"):
+        with pytest.raises(
+            RemoteCallError, match="deliveries arrive at asynchronous or stream ports"
+        ):
             connector.request(server.uri, "deliver", "robot", "out", "x", where="test")
     finally:
         connector.close()

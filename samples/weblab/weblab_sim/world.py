@@ -2,8 +2,9 @@
 
 Components reach the simulator through one explicit hook: :func:`current` returns the installed
 :class:`World` (the experiment installs one per run with :func:`install`); a component started
-without one (a container run on its own) gets a default world on its own clock. Everything happens
-in the clock's time; randomness comes from ``clock.rng(purpose)``, one stream per purpose
+without one (a container run on its own) gets a default world on its own clock
+(:attr:`World.standalone`; on a real clock in live mode, where the physics advances to the clock's
+time when someone looks, and sleeps are real). Everything happens in the clock's time; randomness comes from ``clock.rng(purpose)``, one stream per purpose
 (start pose, motors, camera noise), so a run is deterministic for the clock's seed.
 """
 
@@ -11,6 +12,7 @@ from __future__ import annotations
 
 import copy
 import math
+import threading
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -58,6 +60,10 @@ class World:
         self, clock: Clock, net: Profile | None = None, script: Script | None = None
     ) -> None:
         self.clock = clock
+        self.standalone = False  # True for the default world of a container run on its own
+        # On a real clock the robot is touched from several threads at once (remote calls, the
+        # clock's timers): the physics advances under this lock. Uncontended on a virtual clock.
+        self._lock = threading.RLock()
         self.profile = net or profile("LAN")
         self.script = copy.deepcopy(script) if script is not None else Script()  # consumed
         self.path = floor.make_path()
@@ -79,18 +85,20 @@ class World:
     # ------------------------------------------------------------------------------ robot
     def drive(self, speed: float, turn_rate: float) -> None:
         """Command the wheels: forward ``speed`` mm/s and ``turn_rate`` rad/s, from now."""
-        rng = self.clock.rng("motor")
-        err_v, err_w = rng.normal(0.0, MOTOR_SPEED_SIGMA), rng.normal(0.0, MOTOR_TURN_SIGMA)
-        moving = speed != 0.0 or turn_rate != 0.0
-        self.robot.command(
-            self.clock.now(),
-            speed * (1.0 + err_v),
-            turn_rate + (err_w if moving else 0.0),
-        )
-        self.commanded = speed
+        with self._lock:
+            rng = self.clock.rng("motor")
+            err_v, err_w = rng.normal(0.0, MOTOR_SPEED_SIGMA), rng.normal(0.0, MOTOR_TURN_SIGMA)
+            moving = speed != 0.0 or turn_rate != 0.0
+            self.robot.command(
+                self.clock.now(),
+                speed * (1.0 + err_v),
+                turn_rate + (err_w if moving else 0.0),
+            )
+            self.commanded = speed
 
     def pose(self) -> tuple[float, float, float]:
-        return self.robot.pose(self.clock.now())
+        with self._lock:
+            return self.robot.pose(self.clock.now())
 
     def grab_frame(self) -> np.ndarray:
         """The on-board camera's frame now."""
@@ -104,16 +112,18 @@ class World:
         if corner is not None and corner - s < camera.NEAR_MM + PLACE_AHEAD_MM:
             s = corner + PLACE_AHEAD_MM
         x, y, heading = self.path.pose_at(s)
-        self.robot.place(self.clock.now(), x, y, heading)
-        self.commanded = 0.0
-        self.placements += 1
+        with self._lock:
+            self.robot.place(self.clock.now(), x, y, heading)
+            self.commanded = 0.0
+            self.placements += 1
 
     # --------------------------------------------------------------------------- sensors
     def telemetry(self) -> dict[str, float]:
         """Position, heading, sonar ranges and battery voltage now (the Telemetry monitor's fields)."""
-        now = self.clock.now()
-        x, y, heading = self.robot.pose(now)
-        ranges = self.robot.sonar(now, SONAR_BEARINGS, SONAR_RANGE_MM)
+        with self._lock:
+            now = self.clock.now()
+            x, y, heading = self.robot.pose(now)
+            ranges = self.robot.sonar(now, SONAR_BEARINGS, SONAR_RANGE_MM)
         volts = BATTERY_FULL_V - 0.002 * now - 0.05 * self.robot.distance / 1000.0
         noise = self.clock.rng("telemetry").normal(0.0, 0.01)
         return {
@@ -152,8 +162,9 @@ class World:
 
     # ---------------------------------------------------------------------------- progress
     def _sample(self) -> None:
-        now = self.clock.now()
-        x, y, heading = self.robot.pose(now)
+        with self._lock:
+            now = self.clock.now()
+            x, y, heading = self.robot.pose(now)
         dist, s = self.path.closest(x, y)
         # Progress only along the stripe near where the robot is: a nearby other segment must
         # not count as reached.
@@ -197,4 +208,10 @@ def current(clock: Clock | None = None) -> World:
                 "no simulated WebLab is installed: call weblab_sim.world.install(World(clock))"
             )
         _current = World(clock)
+        _current.standalone = True
+    return _current
+
+
+def installed() -> World | None:
+    """The installed world, or None (then :func:`current` would make a default one)."""
     return _current

@@ -560,7 +560,7 @@ from __future__ import annotations
 import argparse
 import signal
 import sys
-import time
+import threading
 from collections.abc import Mapping
 
 from acordcs.runtime.api import Clock, RealClock, RunningApplication, VirtualClock
@@ -596,6 +596,43 @@ def _interrupt(signum, frame) -> None:
     raise KeyboardInterrupt
 
 
+def _operation(text: str) -> tuple[str, str]:
+    component, sep, operation = text.partition(".")
+    if not sep or not component or not operation:
+        raise argparse.ArgumentTypeError(f"{{text!r}} is not COMPONENT.OPERATION")
+    return component, operation
+
+
+def _unknown_run(container, runs: list[tuple[str, str]]) -> str | None:
+    """What is wrong with the --run operations (None: each names an operation hosted here)."""
+    for component, operation in runs:
+        ops = container.operations_of(component)
+        if not ops:
+            hosted = ", ".join(c.name for c in container.components()) or "nothing"
+            return (f"--run {{component}}.{{operation}}: container {{CONTAINER}} hosts no component "
+                    f"{{component!r}} (it hosts: {{hosted}})")
+        if operation not in ops:
+            return (f"--run {{component}}.{{operation}}: component {{component!r}} has no operation "
+                    f"{{operation!r}} (operations: {{', '.join(sorted(ops))}})")
+    return None
+
+
+def _call(container, component: str, operation: str, failed: list[str],
+          stop: threading.Event) -> None:
+    """A --run operation, called through the container (its interceptors and monitors see the
+    call); a failure is reported as a line in ``failed`` and stops the container."""
+    what = f"{{component}}.{{operation}}()"
+    try:
+        result = container.find(component).call(operation)
+    except Exception as err:  # reported (what, where, when), never a traceback
+        if not stop.is_set():
+            failed.append(f"--run {{what}} failed at t={{container.clock.now():.3f}} s: {{err}}")
+            stop.set()
+        return
+    print(f"{{CONTAINER}}: --run {{what}} returned {{result!r:.200}} at "
+          f"t={{container.clock.now():.3f}} s", flush=True)
+
+
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(
         prog={py:str('python -m ' || $pkg || '.' || @name)},
@@ -615,6 +652,12 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--remote", type=_remote, action="append", default=[], metavar="NAME=URI",
                         help="the URI of another container (repeat for each)")
     parser.add_argument("--timeout", type=float, default=5.0, help="remote call timeout, s")
+    parser.add_argument("--run", type=_operation, action="append", default=[],
+                        metavar="COMPONENT.OPERATION",
+                        help="call this operation of a component hosted here once the container "
+                             "serves, in a worker thread (virtual clock: in turn, before the "
+                             "duration runs); its failure stops the container, exit 1 (repeat "
+                             "for each)")
     args = parser.parse_args(argv)
     clock: Clock = VirtualClock(args.seed) if args.clock == "virtual" else RealClock()
     try:
@@ -627,7 +670,14 @@ def main(argv: list[str] | None = None) -> int:
                   "address of each one this container reaches with --remote NAME=URI",
                   file=sys.stderr)
         return 2
+    stop = threading.Event()  # set by a failing --run operation
+    failed: list[str] = []
     with app:
+        container = app.container(CONTAINER)
+        unknown = _unknown_run(container, args.run)
+        if unknown is not None:
+            print(f"{{parser.prog}}: {{unknown}}", file=sys.stderr)
+            return 2
         if args.serve is not None:
             try:
                 server = app.serve(CONTAINER, host=args.host, port=args.serve)
@@ -638,21 +688,31 @@ def main(argv: list[str] | None = None) -> int:
         signal.signal(signal.SIGTERM, _interrupt)  # kill, bin/*-stop: stop as on Ctrl-C
         try:
             if isinstance(clock, VirtualClock):
-                clock.run_for(10.0 if args.duration is None else args.duration)
-            elif args.duration is not None:
-                time.sleep(args.duration)
+                for component, operation in args.run:  # in turn: simulated time is one thread's
+                    if not stop.is_set():
+                        _call(container, component, operation, failed, stop)
+                if not stop.is_set():
+                    clock.run_until(max(clock.now(), 10.0 if args.duration is None else args.duration))
             else:
-                while True:
-                    time.sleep(3600)
+                for component, operation in args.run:
+                    threading.Thread(target=_call, args=(container, component, operation, failed, stop),
+                                     name=f"run {{component}}.{{operation}}", daemon=True).start()
+                if args.duration is not None:
+                    stop.wait(args.duration)
+                else:
+                    while not stop.wait(3600):
+                        pass
         except KeyboardInterrupt:
             pass
-        container = app.container(CONTAINER)
+        stop.set()  # a --run operation failing from now on is the stop's doing, not reported
+        for line in failed:
+            print(f"{{parser.prog}}: {{line}}", file=sys.stderr, flush=True)
         print(
             f"{{CONTAINER}}: stopped at t={{clock.now():.3f}} s, "
             f"faults: {{container.faults.counts['total']}}",
             flush=True,
         )
-    return 0
+    return 1 if failed else 0
 
 
 if __name__ == "__main__":

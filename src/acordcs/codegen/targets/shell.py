@@ -151,6 +151,8 @@ def env_file(context, app) -> str:
                 if c.endpoint is not None and c.endpoint.port is not None
                 else f"ACORDCS_{c.name}_PORT=$((ACORDCS_PORT_BASE + {n}))\n"
             ),
+            "# Operations to call once it serves, COMPONENT.OPERATION blank-separated (--run).\n",
+            f"ACORDCS_{c.name}_RUN=${{ACORDCS_{c.name}_RUN-}}\n",
         ]
     return "".join(out)
 
@@ -194,6 +196,8 @@ def start_script(context, app, c) -> str:
         + "".join(remote)
         + '    --timeout "$ACORDCS_TIMEOUT" "$@"\n'
         + 'if [ -n "$ACORDCS_DURATION" ]; then set -- --duration "$ACORDCS_DURATION" "$@"; fi\n'
+        + f"# ACORDCS_{c.name}_RUN: operations to call once it serves (--run), blank-separated.\n"
+        + f'for op in ${{ACORDCS_{c.name}_RUN-}}; do set -- "$@" --run "$op"; done\n'
         + f'nohup "$PYTHON" -m "$ACORDCS_PACKAGE.{c.name}" "$@" >>"$logfile" 2>&1 </dev/null &\n'
         + "pid=$!\n"
         + 'echo "$pid" >"$pidfile"\n'

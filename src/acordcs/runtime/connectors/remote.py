@@ -335,9 +335,12 @@ class ContainerEndpoint:
     def deliver(self, component: str, port: str, message: Any) -> None:
         try:
             target = self._container.port_of(component, port)
-            if target.role != "provided" or target.kind == "synchronous":
+            # A delivery is a message or stream item for the receiving end of a connection: a
+            # required port of a provider's notifications or stream (a camera's frames), or a
+            # provided port that takes messages; never a synchronous port's operations.
+            if target.kind == "synchronous":
                 raise PortError(
-                    f"deliveries arrive at provided asynchronous or stream ports; "
+                    f"deliveries arrive at asynchronous or stream ports; "
                     f"{target.qualified_name} is {target.kind}/{target.role}",
                     where=f"container {self._container.name!r}",
                 )

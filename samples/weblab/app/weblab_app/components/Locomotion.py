@@ -12,6 +12,11 @@ while it stands or the lab backs it up. This matters: the model's
 Telemetry monitor feeds the Recovering policy set, whose rules count a retry (and recover) at
 every firing while the control's last speed is 0, so a reading of a stopped robot would start
 recoveries nobody asked for.
+
+``odometry()`` also says whether the robot has crossed the finish line (``finished``): how the
+Navigator in another process (live mode) knows the run is over. In live mode (a WebLab container
+run on its own, :attr:`weblab_sim.world.World.standalone`) a status line is printed every
+:data:`STATUS_PERIOD` seconds: the distance, the limits the policies set and the context they act on.
 """
 
 from __future__ import annotations
@@ -23,15 +28,22 @@ from weblab_sim import steering, world
 from weblab_app.base.Locomotion import LocomotionBase
 
 TELEMETRY_PERIOD = 0.5  # s
+STATUS_PERIOD = 5.0  # s between live mode's status lines
 
 
 class Locomotion(LocomotionBase):
     def on_start(self) -> None:
         self._turn = 0.0
         self._timer = self.clock.call_every(TELEMETRY_PERIOD, self._publish)
+        self._status = None
+        if world.current(self.clock).standalone:
+            self._status = self.clock.call_every(STATUS_PERIOD, self._print_status)
 
     def on_stop(self) -> None:
         self._timer.cancel()
+        if self._status is not None:
+            self._status.cancel()
+            self._status = None
 
     def move(self, speed, turn):
         speed, turn = float(speed), float(turn)
@@ -44,8 +56,9 @@ class Locomotion(LocomotionBase):
         world.current(self.clock).drive(0.0, 0.0)
 
     def odometry(self):
-        """JSON: x, y (mm), heading (degrees), distance travelled (mm), and the turn (degrees) of
-        the last forward move."""
+        """JSON: x, y (mm), heading (degrees), distance travelled (mm), the turn (degrees) of
+        the last forward move, progress along the stripe (mm) and whether the finish line is
+        crossed."""
         lab = world.current(self.clock)
         reading = lab.telemetry()
         return json.dumps(
@@ -55,7 +68,26 @@ class Locomotion(LocomotionBase):
                 "heading": round(reading["heading"], 2),
                 "distance": round(lab.robot.distance, 1),
                 "turn": self._turn,
+                "progress": round(lab.progress, 1),
+                "finished": lab.done,
             }
+        )
+
+    def _print_status(self) -> None:
+        if self._status is None:  # stopped while this tick was due
+            return
+        lab = world.current(self.clock)
+        prop = self.container.get_property
+        print(
+            f"WebLab t={self.clock.now():6.1f} s: distance {lab.robot.distance:6.0f} mm, "
+            f"progress {lab.progress:5.0f} of {lab.path.length:.0f} mm; "
+            f"Control: cycleRate {float(prop('Control', 'cycleRate')):.2f}/s, "
+            f"angle {float(prop('Control', 'angle')):4.1f} deg; "
+            f"SpeedLimiting: maxSpeed {float(self.get('maxSpeed')):5.1f} mm/s; "
+            f"BandwidthLimiting: fps {prop('PanoramicCamera', 'fps')} "
+            f"(users {prop('Usage', 'numUsers')}); "
+            f"Recovering: recoveries {prop('Recovery', 'recoveries')}",
+            flush=True,
         )
 
     def _publish(self) -> None:

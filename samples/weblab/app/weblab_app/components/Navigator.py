@@ -8,16 +8,31 @@ compute the turn towards the point ``lookAhead`` mm along the stripe; set ``forw
 turn. The image processing takes the user's CPU time (the simulator's network profile), in clock
 time. :meth:`run` authenticates and loops until the simulator says the finish line was crossed.
 The cycles are recorded in ``cycles``: (start, end, turn or None) for the experiment's figures.
+
+Live mode: when the simulated lab is not in this process (the user's container run on its own,
+``--run Navigator.run``), the CPU time is the real one spent here, and each cycle ends by asking the
+WebLab whether the finish line is crossed (``Locomotion.odometry()``, over the remote connector);
+:meth:`run` also stops after ``$WEBLAB_TIME_CAP`` seconds if set, drives at
+``$WEBLAB_FORWARD_SPEED`` mm/s if set, and prints a line every
+:data:`REPORT_EVERY` cycles and a summary at the end.
 """
 
 from __future__ import annotations
 
+import json
+import os
+
 import serpent
 from weblab_sim import detector, world
 
+from acordcs.runtime.errors import RemoteUnreachableError
 from weblab_app.base.Navigator import NavigatorBase
 
 USER = "navigator"
+TIME_CAP_ENV = "WEBLAB_TIME_CAP"  # seconds a live run drives at most
+SPEED_ENV = "WEBLAB_FORWARD_SPEED"  # live mode's forwardSpeed (the experiment sets it itself)
+REPORT_EVERY = 10  # cycles between live mode's progress lines
+WAIT_FOR_LAB = 30.0  # s live mode waits for the WebLab's process to answer (started after ours)
 
 
 class Navigator(NavigatorBase):
@@ -27,18 +42,49 @@ class Navigator(NavigatorBase):
         self.cycles: list[tuple[float, float, float | None]] = []
         self.misses_in_row = 0
         self.losses = 0  # stripe-loss events: a cycle without stripe after one with it
+        self.odometry: dict | None = None  # live mode: the WebLab's last odometry
+        self.frames = [0, 0]  # live mode: frames received as bytes, their total size
 
     def run(self):
-        self.port("NavAccessPort").call("authenticate", USER, "token")
+        self._authenticate()
+        if world.installed() is None and os.environ.get(SPEED_ENV):
+            self.set("forwardSpeed", float(os.environ[SPEED_ENV]))
+        start = self.clock.now()
+        cap = os.environ.get(TIME_CAP_ENV)
         while self.step():
-            pass
+            if self.odometry is None:  # the lab is in this process: it says when to stop
+                continue
+            if len(self.cycles) % REPORT_EVERY == 0:
+                self._report("cycle")
+            if cap and self.clock.now() - start >= float(cap):
+                self._report(f"time cap of {float(cap):g} s reached", start)
+                return
+        if self.odometry is not None:
+            self._report("finish line crossed", start)
+
+    def _authenticate(self) -> None:
+        """Log in at the lab; in live mode the WebLab's process may still be starting (start-all
+        starts the containers in the model's order, the user's first): wait for it."""
+        deadline = self.clock.now() + WAIT_FOR_LAB
+        while True:
+            try:
+                self.port("NavAccessPort").call("authenticate", USER, "token")
+                return
+            except RemoteUnreachableError:
+                if self.clock.now() >= deadline:
+                    raise
+                self.clock.sleep(0.5)
 
     def step(self):
         """One control cycle; False once the run is over (the finish line is crossed)."""
-        lab = world.current(self.clock)
         start = self.clock.now()
         frame = self.port("NavVisionPort").call("grab")  # 1. get an image
-        self.clock.sleep(lab.profile.cpu_time)  # the user's computer processes it
+        lab = world.installed()  # None: the lab is in another process (live mode)
+        if lab is not None:
+            self.clock.sleep(lab.profile.cpu_time)  # the user's computer processes it
+        elif isinstance(frame, bytes):
+            self.frames[0] += 1
+            self.frames[1] += len(frame)
         turn = self.findStripe(frame)  # 2. find the stripe
         locomotion = self.port("NavLocomotionPort")
         if turn is None:
@@ -58,7 +104,34 @@ class Navigator(NavigatorBase):
             port = self.port(name)
             while port.take() is not None:
                 pass
-        return not lab.done
+        if lab is not None:
+            return not lab.done
+        self.odometry = json.loads(locomotion.call("odometry"))
+        return not self.odometry.get("finished", False)
+
+    def _report(self, what: str, start: float | None = None) -> None:
+        """Live mode's lines: progress (``start`` None) or the run's summary."""
+        odo = self.odometry or {}
+        n = len(self.cycles)
+        if start is None:
+            last = self.cycles[-1][2]
+            turn = "no stripe" if last is None else f"turn {last:5.1f} deg"
+            print(
+                f"Navigator t={self.clock.now():6.1f} s: cycle {n}, {turn}, "
+                f"distance {odo.get('distance', 0.0):.0f} mm",
+                flush=True,
+            )
+            return
+        elapsed = self.clock.now() - start
+        moving = sum(1 for c in self.cycles if c[2] is not None)
+        print(
+            f"Navigator: {what}: {n} cycles in {elapsed:.1f} s = {n / max(elapsed, 1e-9):.2f} "
+            f"cycles/s ({moving} moving), {self.losses} stripe losses, distance "
+            f"{odo.get('distance', 0.0):.0f} mm, progress {odo.get('progress', 0.0):.0f} mm, "
+            f"{self.frames[0]} frames as bytes of {self.frames[1] / max(self.frames[0], 1):.0f} "
+            "B on average",
+            flush=True,
+        )
 
     def findStripe(self, frame):
         """The turn (degrees, + left) towards the stripe in a JPEG frame; None if there is none."""

@@ -9,6 +9,7 @@ stop, cap ``Locomotion.maxSpeed`` at :data:`SPEED_CAP`, and wait ``waitTime`` s;
 done: the control's ``stop()`` that fired the policy waits for it.
 ``askUser()``: a person puts the robot back on the stripe (:data:`weblab_sim.world.HUMAN_DELAY`
 seconds later); counted in ``user_requests``, and the retries start again.
+In live mode (:attr:`weblab_sim.world.World.standalone`) each action is also printed.
 """
 
 from __future__ import annotations
@@ -45,11 +46,19 @@ class Recovery(RecoveryBase):
         cap = min(float(self.container.get_property("Locomotion", "maxSpeed")), SPEED_CAP)
         self.container.set_property("Locomotion", "maxSpeed", cap)
         self.actions += 1
+        self._say(
+            f"recover #{self.actions}: backed up {distance:.0f} mm, maxSpeed capped at {cap:.0f}"
+        )
         self.clock.sleep(float(self.get("waitTime")))
 
     def askUser(self):
         self.user_requests += 1
         lab = world.current(self.clock)
+        self._say(f"askUser #{self.user_requests}: a person puts the robot back on the stripe")
         self.clock.sleep(world.HUMAN_DELAY)
         lab.place_on_stripe()
         self.set("retries", 0)
+
+    def _say(self, what: str) -> None:
+        if world.current(self.clock).standalone:
+            print(f"WebLab t={self.clock.now():6.1f} s: Recovering: {what}", flush=True)
