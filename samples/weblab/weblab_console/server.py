@@ -158,7 +158,9 @@ async def _receive(websocket: WebSocket, session: Session, viewer: _Viewer) -> N
         if message["type"] == "websocket.disconnect":
             return
         raw = message.get("text") if message.get("text") is not None else message.get("bytes")
-        reply = _handle(raw or "", session, viewer)
+        # In a worker thread: a command may wait for the experiment (start, stop, the access
+        # service), and the other viewers' senders must go on meanwhile.
+        reply = await asyncio.to_thread(_handle, raw or "", session, viewer)
         if reply is not None:
             try:
                 await websocket.send_text(json.dumps(reply))

@@ -27,6 +27,9 @@ class Navigator(NavigatorBase):
         self.cycles: list[tuple[float, float, float | None]] = []
         self.misses_in_row = 0
         self.losses = 0  # stripe-loss events: a cycle without stripe after one with it
+        # The last frame got and the turn found in it (None: no stripe), for a console to show.
+        self.last_frame: bytes | None = None
+        self.last_turn: float | None = None
 
     def run(self):
         self.port("NavAccessPort").call("authenticate", USER, "token")
@@ -40,6 +43,7 @@ class Navigator(NavigatorBase):
         frame = self.port("NavVisionPort").call("grab")  # 1. get an image
         self.clock.sleep(lab.profile.cpu_time)  # the user's computer processes it
         turn = self.findStripe(frame)  # 2. find the stripe
+        self.last_frame, self.last_turn = frame, turn
         locomotion = self.port("NavLocomotionPort")
         if turn is None:
             if self.misses_in_row == 0 and self.cycles:
