@@ -35,11 +35,11 @@ from typing import Any
 
 import cv2
 import numpy as np
+from weblab_sim import camera, detector, experiment, floor, world
+from weblab_sim.network import PROFILES
 
 from acordcs.runtime import events as ev
 from weblab_console.hub import EVENT, ConsoleHub
-from weblab_sim import camera, detector, experiment, floor, world
-from weblab_sim.network import PROFILES
 
 log = logging.getLogger("weblab.console")
 
@@ -352,9 +352,10 @@ class _Run:
     # ---------------------------------------------------------------------- publishing
     def _publish(self, *, force: bool = False) -> None:
         now = time.perf_counter()
-        if force or now - self.last_frame >= 1.0 / FRAME_HZ:
-            if self._publish_onboard() | self._publish_panorama():
-                self.last_frame = now
+        if (force or now - self.last_frame >= 1.0 / FRAME_HZ) and self._publish_onboard():
+            self.last_frame = now
+        if (force or now - self.last_panorama >= 1.0 / FRAME_HZ) and self._publish_panorama():
+            self.last_panorama = now
         if not force and now - self.last_publish < 1.0 / PUBLISH_HZ:
             return
         self.last_publish = now
