@@ -10,21 +10,14 @@ from __future__ import annotations
 import argparse
 import logging
 import secrets
-import socket
 import sys
 
 import uvicorn
 
 from weblab_console.hub import ConsoleHub
 from weblab_console.server import create_app
+from weblab_console.serving import free_port
 from weblab_console.session import ConsoleSession
-
-
-def free_port(host: str = "127.0.0.1") -> int:
-    """A TCP port nobody listens on now (the OS picks it)."""
-    with socket.socket() as s:
-        s.bind((host, 0))
-        return int(s.getsockname()[1])
 
 
 def main(argv: list[str] | None = None) -> int:
