@@ -240,7 +240,7 @@ class FuzzyEngine:
         """Each rule's firing strength in ``ruleset`` (label -> degree in 0..1, definition order):
         its condition's degree under the rule set's AND/OR, times its weight. On ``values``
         (variable -> number, missing ones from the engine's current values) or on the current
-        values; an input without a value gives 0. Read-only: nothing fires, no value changes.
+        values; a rule reading an input without a value gives 0 (it could not fire). Read-only: nothing fires, no value changes.
         Evaluated with an explicit stack, so a rule nested arbitrarily deep cannot recurse."""
         entries = self.rules(ruleset)
         sem = self.semantics_of(ruleset)
@@ -250,7 +250,12 @@ class FuzzyEngine:
             if isinstance(value, Real) and math.isfinite(float(value)):
                 var = self._vars[name]
                 current[name] = min(max(float(value), var.lo), var.hi)
-        return {e.label: _degree(e.condition, self._vars, current, sem) * e.weight for e in entries}
+        return {
+            e.label: 0.0
+            if any(current.get(v) is None for v in e.inputs())
+            else _degree(e.condition, self._vars, current, sem) * e.weight
+            for e in entries
+        }
 
     def defaulted(self, ruleset: str) -> tuple[str, ...]:
         """Outputs that took their DEFAULT (no rule fired for them) in the last fire of ``ruleset``."""
