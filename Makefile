@@ -4,9 +4,9 @@ VENV := .venv
 BIN := $(VENV)/bin
 STAMP := $(VENV)/.installed
 DEV_STAMP := $(VENV)/.installed-dev
-SYSTEM_PACKAGES := shellcheck mosquitto libeclipse-emf-ecore-java libeclipse-emf-ecore-xmi-java openjdk-17-jdk-headless
+SYSTEM_PACKAGES := shellcheck mosquitto libeclipse-emf-ecore-java libeclipse-emf-ecore-xmi-java openjdk-17-jdk-headless chromium chromium-driver
 
-.PHONY: demo test docs lint format bench system-packages clean
+.PHONY: demo console test docs lint format bench system-packages clean
 
 $(BIN)/python:
 	$(PY) -m venv $(VENV)
@@ -33,6 +33,13 @@ demo: $(STAMP)
 	$(BIN)/acordcs-gen validate samples/weblab/weblab.xmi
 	$(BIN)/acordcs-gen inspect samples/weblab/weblab.xmi
 	$(BIN)/python samples/weblab/run_policies.py samples/weblab/weblab.xmi
+
+# The WebLab console (docs/console.md): builds the application if needed, serves the console on
+# 127.0.0.1 and prints its URL with the session's token. CONSOLE_ARGS: e.g. --port 8765 --speed 2.
+CONSOLE_ARGS ?= --speed 1
+console: $(STAMP)
+	$(BIN)/acordcs-gen build samples/weblab/weblab.xmi -o samples/weblab/app > /dev/null
+	cd samples/weblab && exec ../../$(BIN)/python -m weblab_console $(CONSOLE_ARGS)
 
 test: $(DEV_STAMP) system-packages
 	$(BIN)/python -m pytest -q

@@ -63,8 +63,11 @@ def main(argv: list[str] | None = None) -> int:
     )
     try:
         uvicorn.Server(config).run()
+    except KeyboardInterrupt:  # uvicorn shut down cleanly, then passes Ctrl-C on
+        pass
     finally:
         session.close()
+    print("WebLab console stopped", flush=True)
     return 0
 
 
