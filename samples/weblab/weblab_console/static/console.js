@@ -87,6 +87,7 @@ function showState(s) {
   map.dataset.pose = s.pose.join(",");
   map.dataset.driver = s.driver;
   map.dataset.running = String(s.running);
+  map.dataset.t = String(s.t);
   drawMap();
 }
 
@@ -122,7 +123,7 @@ function showPolicy(p) {
   head.append(title, info);
   const outs = document.createElement("div");
   outs.className = "out";
-  outs.textContent = Object.entries(p.outputs).map(([k, v]) => `${k} = ${typeof v === "number" ? v.toFixed(1) : v}`).join(", ") || "no output";
+  outs.textContent = Object.entries(p.outputs).map(([k, v]) => `${k} = ${typeof v === "number" && !Number.isInteger(v) ? v.toFixed(1) : v}`).join(", ") || "no output";
   // The rules that fired, strongest first (at most 4); a set where none did lists its rules dimmed.
   const fired = p.rules.filter((r) => r.degree > 0).sort((a, b) => b.degree - a.degree);
   const shown = fired.length ? fired.slice(0, 4) : p.rules.slice(0, 4);
