@@ -90,6 +90,8 @@ def create_app(hub: ConsoleHub, session: Session) -> Starlette:
     async def status(request) -> JSONResponse:
         return JSONResponse({"profiles": list(session.profiles), **hub.stats()})
 
+    encode = _Encoded()  # shared by the viewers' senders, all on the server's event loop
+
     async def socket(websocket: WebSocket) -> None:
         await websocket.accept()
         loop = asyncio.get_running_loop()
@@ -115,7 +117,7 @@ def create_app(hub: ConsoleHub, session: Session) -> Starlette:
         viewer_id, box = joined
         pending.set()  # the current state first
         await websocket.send_text(json.dumps({"type": "hello", "profiles": list(session.profiles)}))
-        sender = asyncio.create_task(_send(websocket, hub, box, pending))
+        sender = asyncio.create_task(_send(websocket, hub, box, pending, encode))
         try:
             await _receive(websocket, session, _Viewer())
         finally:
@@ -134,19 +136,44 @@ def create_app(hub: ConsoleHub, session: Session) -> Starlette:
     )
 
 
-async def _send(websocket: WebSocket, hub: ConsoleHub, box, pending: asyncio.Event) -> None:
+class _Encoded:
+    """Each payload encoded once for all viewers (by identity: every mailbox holds the same object;
+    the object is kept with its encoding, so its id cannot be reused while cached)."""
+
+    def __init__(self, keep: int = 256) -> None:
+        self.keep = keep
+        self.cache: dict[int, tuple[Any, str | bytes]] = {}
+
+    def __call__(self, channel: str, payload: Any) -> str | bytes:
+        found = self.cache.get(id(payload))
+        if found is not None and found[0] is payload:
+            return found[1]
+        tag = FRAME_CHANNELS.get(channel)
+        if tag is not None:
+            encoded: str | bytes = bytes([tag]) + payload
+        else:
+            encoded = json.dumps({"type": channel, "data": payload})
+        if len(self.cache) >= self.keep:
+            self.cache.pop(next(iter(self.cache)))
+        self.cache[id(payload)] = (payload, encoded)
+        return encoded
+
+
+async def _send(
+    websocket: WebSocket, hub: ConsoleHub, box, pending: asyncio.Event, encode: _Encoded
+) -> None:
     while True:
         await pending.wait()
         pending.clear()
         latest, events = hub.take(box)
         for channel, payload in latest.items():
-            tag = FRAME_CHANNELS.get(channel)
-            if tag is not None:
-                await websocket.send_bytes(bytes([tag]) + payload)
+            message = encode(channel, payload)
+            if isinstance(message, bytes):
+                await websocket.send_bytes(message)
             else:
-                await websocket.send_text(json.dumps({"type": channel, "data": payload}))
+                await websocket.send_text(message)
         for event in events:
-            await websocket.send_text(json.dumps({"type": "event", "data": event}))
+            await websocket.send_text(encode("event", event))
 
 
 async def _receive(websocket: WebSocket, session: Session, viewer: _Viewer) -> None:

@@ -45,7 +45,7 @@ log = logging.getLogger("weblab.console")
 
 PACE = 0.05  # simulated seconds between pacing ticks
 PUBLISH_HZ = 10.0  # state, context, policies and series per wall second, at most
-FRAME_HZ = 15.0  # camera pictures per wall second and camera, at most
+FRAME_HZ = 25.0  # camera pictures per wall second and camera, at most (the policy sets at most 15 fps)
 SERIES_PERIOD = 0.5  # simulated seconds between points of the live plots
 SERIES_KEPT = 600
 TRAIL_STEP_MM = 20.0  # trajectory points closer than this to the last one are not sent
@@ -162,6 +162,12 @@ class ConsoleSession:
         run = self._current()
         if run is not None:
             run.anchor()
+
+    @property
+    def sim_time(self) -> float:
+        """The simulated time of the running (or the last) experiment, seconds; 0 before any."""
+        run = self._current()
+        return run.rig.clock.now() if run is not None and run.rig is not None else 0.0
 
     @property
     def running(self) -> bool:
