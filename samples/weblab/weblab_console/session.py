@@ -45,7 +45,9 @@ log = logging.getLogger("weblab.console")
 
 PACE = 0.05  # simulated seconds between pacing ticks
 PUBLISH_HZ = 10.0  # state, context, policies and series per wall second, at most
-FRAME_HZ = 25.0  # camera pictures per wall second and camera, at most (the policy sets at most 15 fps)
+FRAME_HZ = (
+    25.0  # camera pictures per wall second and camera, at most (the policy sets at most 15 fps)
+)
 SERIES_PERIOD = 0.5  # simulated seconds between points of the live plots
 SERIES_KEPT = 600
 TRAIL_STEP_MM = 20.0  # trajectory points closer than this to the last one are not sent
@@ -214,8 +216,7 @@ class _Run:
         self.series: dict[str, deque] = {
             k: deque(maxlen=SERIES_KEPT) for k in ("t", "max_speed", "fps")
         }
-        self.firings: dict[str, Any] = {}
-        self.shown_firings: dict[str, int] = {}
+        self.firings: set[str] = set()  # policy sets that fired since they were last shown
         self.counts: dict[str, int] = {}
         self.frames_shown = -1
         self.panorama_shown = 0
@@ -345,7 +346,7 @@ class _Run:
             future.set_exception(SessionError("the experiment has ended"))
 
     def _fired(self, event: ev.Event) -> None:
-        self.firings[event.element] = event.data["firing"]
+        self.firings.add(event.element)  # shown at the next publish, as its last firing then
 
     def _sample(self) -> None:
         weblab = self.rig.weblab
@@ -414,11 +415,12 @@ class _Run:
 
     def _publish_policies(self) -> None:
         weblab = self.rig.weblab
-        for name, firing in list(self.firings.items()):
+        fired, self.firings = self.firings, set()
+        for name in sorted(fired):
             policy_set = weblab.policy_set(name)
-            if self.shown_firings.get(name) == policy_set.fires:
+            firing = policy_set.last_firing
+            if firing is None:
                 continue
-            self.shown_firings[name] = policy_set.fires
             self.hub.publish(
                 f"policy:{name}",
                 {

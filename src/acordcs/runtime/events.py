@@ -20,7 +20,7 @@ OPERATION_CALLED = "operation.called"
 MONITOR_UPDATED = "monitor.updated"
 CONNECTION_CHANGED = "connection.changed"
 FACTORY_CHANGED = "factory.changed"
-POLICY_FIRED = "policy.fired"  # data["firing"]: the set's last Firing (policy.py)
+POLICY_FIRED = "policy.fired"  # element: the policy set; its last_firing says what it did
 
 EVENT_KINDS = frozenset(
     {

@@ -142,7 +142,8 @@ class PolicySet:
         self.operations: dict[str, Target] = {}
         self.reads: dict[str, Target] = {}
         self.fires = 0
-        self.last_firing: Firing | None = None
+        self._last: tuple[float, list, dict, dict | None] | None = None
+        self._firing: Firing | None = None
         # Crisp engines: read which rules fired after each fire (one more engine call per
         # policy, so off unless someone shows it, as the WebLab console does).
         self.trace_rules = False
@@ -341,15 +342,10 @@ class PolicySet:
                     current = container.get_property(element, attribute)
                     written[var] = _coerce(value, current)
                     container.set_property(element, attribute, written[var])
-            inputs = dict(values)
-            if self.engine_kind == "fuzzy":
-                explain = lambda: self._fuzzy_degrees(engine, inputs)  # noqa: E731
-            else:
-                explain = None if fired is None else (lambda: fired)
-            self.last_firing = Firing(container.clock.now(), inputs, written, explain)
-            container.emit(
-                ev.POLICY_FIRED, self.name, data={"firing": self.last_firing, "set": self.name}
-            )
+            # Kept raw: the Firing is built when someone asks (this is the adaptation hot path).
+            self._last = (container.clock.now(), values, written, fired)
+            self._firing = None
+            container.emit(ev.POLICY_FIRED, self.name)
             return True
         except Exception as exc:
             trigger = f"{event.kind} {event.element}" if event else "periodic"
@@ -359,6 +355,20 @@ class PolicySet:
             return False
         finally:
             container.origin = previous
+
+    @property
+    def last_firing(self) -> Firing | None:
+        """The set's last firing (None before the first): see :class:`Firing`."""
+        if self._firing is None and self._last is not None:
+            when, values, written, fired = self._last
+            inputs = dict(values)
+            engine = self.engine
+            if self.engine_kind == "fuzzy" and engine is not None:
+                explain = lambda: self._fuzzy_degrees(engine, inputs)  # noqa: E731
+            else:
+                explain = None if fired is None else (lambda: fired)
+            self._firing = Firing(when, inputs, written, explain)
+        return self._firing
 
     def _fuzzy_degrees(
         self, engine: RuleEngine, inputs: dict[str, object]
