@@ -77,9 +77,10 @@ def watch(url: str, seconds: float, hub: TimedHub) -> dict[str, object]:
                     if raw[0] == 2:
                         panoramic.append(now)
                 else:
-                    message = json.loads(raw)
-                    if message["type"] == "state" and message["data"]["running"]:
-                        fps_seen.append(int(message["data"]["fps"]))
+                    decoded = json.loads(raw)
+                    for message in decoded if isinstance(decoded, list) else [decoded]:
+                        if message["type"] == "state" and message["data"]["running"]:
+                            fps_seen.append(int(message["data"]["fps"]))
 
     asyncio.run(page())
     span = (panoramic[-1] - panoramic[0]) if len(panoramic) > 1 else 0.0
@@ -108,21 +109,44 @@ def real_time(profile: str, seconds: float) -> None:
 
 
 def _viewers(url: str, count: int, ready, stop) -> None:  # in a child process
-    async def one() -> None:
-        async with websockets.connect(url, max_size=None) as ws:
-            while not stop.is_set():
-                try:
-                    await asyncio.wait_for(ws.recv(), 0.5)
-                except TimeoutError:
-                    continue
+    """``count`` viewers that open the WebSocket (a real handshake) and then read every byte the
+    server sends, without decoding it: a browser on another machine costs this one nothing, and
+    on a 2-core host a decoding client would take the experiment's core."""
+    import base64
+    import os
+    import selectors
+    import socket
+    from urllib.parse import urlsplit
 
-    async def main() -> None:
-        tasks = [asyncio.create_task(one()) for _ in range(count)]
-        await asyncio.sleep(1.0)
-        ready.set()
-        await asyncio.gather(*tasks, return_exceptions=True)
-
-    asyncio.run(main())
+    where = urlsplit(url)
+    selector = selectors.DefaultSelector()
+    for _ in range(count):
+        sock = socket.create_connection((where.hostname, where.port))
+        key = base64.b64encode(os.urandom(16)).decode()
+        sock.sendall(
+            (
+                f"GET {where.path} HTTP/1.1\r\nHost: {where.netloc}\r\nUpgrade: websocket\r\n"
+                f"Connection: Upgrade\r\nSec-WebSocket-Key: {key}\r\n"
+                "Sec-WebSocket-Version: 13\r\n\r\n"
+            ).encode()
+        )
+        head = b""
+        while b"\r\n\r\n" not in head:
+            head += sock.recv(4096)
+        if b" 101 " not in head.split(b"\r\n", 1)[0]:
+            raise RuntimeError(f"no WebSocket: {head[:80]!r}")
+        sock.setblocking(False)
+        selector.register(sock, selectors.EVENT_READ)
+    ready.set()
+    while not stop.is_set():
+        for key, _ in selector.select(0.2):
+            try:
+                if not key.fileobj.recv(1 << 20):  # type: ignore[union-attr]
+                    selector.unregister(key.fileobj)
+            except BlockingIOError:
+                pass
+    for key in list(selector.get_map().values()):
+        key.fileobj.close()  # type: ignore[union-attr]
 
 
 def unthrottled(viewers: int, seeds: range, url: str, hub: ConsoleHub, session) -> float:

@@ -2,7 +2,8 @@
 
 ``GET /`` is the page (``static/index.html``, an ES module and a style sheet, no build step);
 ``/ws`` streams what the :class:`~weblab_console.hub.ConsoleHub` publishes: camera frames as binary
-messages (one byte naming the camera, then the JPEG), everything else as JSON text. A viewer sends
+messages (one byte naming the camera, then the JPEG), everything else as JSON text: an object
+``{"type", "data"}``, or an array of such objects when several were pending. A viewer sends
 commands (:mod:`weblab_console.commands`); those that change the experiment need the session's token,
 which the application's access service checks (:class:`Session.authorize`).
 
@@ -166,14 +167,20 @@ async def _send(
         await pending.wait()
         pending.clear()
         latest, events = hub.take(box)
+        texts: list[str] = []
         for channel, payload in latest.items():
             message = encode(channel, payload)
             if isinstance(message, bytes):
                 await websocket.send_bytes(message)
             else:
-                await websocket.send_text(message)
-        for event in events:
-            await websocket.send_text(encode("event", event))
+                texts.append(message)
+        texts.extend(encode("event", event) for event in events)  # type: ignore[misc]
+        # What is pending goes as one JSON array (the page reads an array as its messages in
+        # order): one WebSocket message per wake, not one per payload.
+        if len(texts) == 1:
+            await websocket.send_text(texts[0])
+        elif texts:
+            await websocket.send_text("[" + ",".join(texts) + "]")
 
 
 async def _receive(websocket: WebSocket, session: Session, viewer: _Viewer) -> None:

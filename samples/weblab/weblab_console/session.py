@@ -44,11 +44,10 @@ from weblab_console.hub import EVENT, ConsoleHub
 log = logging.getLogger("weblab.console")
 
 PACE = 0.05  # simulated seconds between pacing ticks
-PUBLISH_HZ = 10.0  # state, context, policies and series per wall second, at most
-FRAME_HZ = (
-    25.0  # camera pictures per wall second and camera, at most (the policy sets at most 15 fps)
-)
+PUBLISH_HZ = 10.0  # state, context and policies per wall second, at most
+FRAME_HZ = 25.0  # camera pictures per wall second and camera, at most (policies set <= 15)
 SERIES_PERIOD = 0.5  # simulated seconds between points of the live plots
+SERIES_HZ = 2.0  # the plots and the viewer statistics per wall second, at most
 SERIES_KEPT = 600
 TRAIL_STEP_MM = 20.0  # trajectory points closer than this to the last one are not sent
 TRAIL_KEPT = 2000
@@ -370,9 +369,9 @@ class _Run:
         self._publish_context()
         self._publish_policies()
         self._publish_events()
-        self.hub.publish("series", {k: list(v) for k, v in self.series.items()})
-        if now - self.last_stats >= 1.0:
+        if force or now - self.last_stats >= 1.0 / SERIES_HZ:  # plots need no more
             self.last_stats = now
+            self.hub.publish("series", {k: list(v) for k, v in self.series.items()})
             self.hub.publish("stats", self.hub.stats())
 
     def _publish_state(self) -> None:

@@ -37,10 +37,12 @@ def messages(ws, until, timeout: float = 20.0) -> list[dict]:
         raw = ws.recv(timeout=deadline - time.monotonic())
         if isinstance(raw, bytes):
             continue
-        message = json.loads(raw)
-        seen.append(message)
-        if until(message):
-            return seen
+        decoded = json.loads(raw)
+        # Several pending messages come as one array, in order.
+        for message in decoded if isinstance(decoded, list) else [decoded]:
+            seen.append(message)
+            if until(message):
+                return seen
     raise AssertionError(f"never came; last messages: {seen[-5:]}")
 
 

@@ -39,7 +39,8 @@ function connect() {
     if (event.data instanceof ArrayBuffer) return showFrame(new Uint8Array(event.data));
     let message;
     try { message = JSON.parse(event.data); } catch { return; }
-    handle(message);
+    if (Array.isArray(message)) message.forEach(handle);  // several pending at once, in order
+    else handle(message);
   };
 }
 
