@@ -43,8 +43,9 @@ def serving(
     try:
         yield f"http://{host}:{port}"
     finally:
-        stop = getattr(session, "stop", None)
-        if stop is not None:
-            stop()
+        # close() also drops the idle application the session keeps for the access service.
+        end = getattr(session, "close", None) or getattr(session, "stop", None)
+        if end is not None:
+            end()
         server.should_exit = True
         thread.join(10)
