@@ -1,6 +1,5 @@
-"""A real browser for tests: Debian's chromium, headless, driven by selenium through Debian's
-chromedriver of the same version (never a downloaded browser build). Skips when they are missing,
-except in CI (``CI=true``), where ``make test`` installs them and a missing one fails the test."""
+"""Debian's chromium, headless, driven by selenium through Debian's chromedriver (never a
+downloaded browser build). Skips outside CI when either is missing; fails with CI=true."""
 
 from __future__ import annotations
 
@@ -11,46 +10,52 @@ from collections.abc import Iterator
 
 import pytest
 
-CHROMIUM = ("/usr/bin/chromium", shutil.which("chromium"))
-CHROMEDRIVER = ("/usr/bin/chromedriver", shutil.which("chromedriver"))
+CHROMIUM_CANDIDATES = ("/usr/bin/chromium", shutil.which("chromium"))
+DRIVER_CANDIDATES = ("/usr/bin/chromedriver", shutil.which("chromedriver"))
+WINDOW = (1400, 900)
 
 
 def _found(candidates: tuple[str | None, ...]) -> str | None:
     return next((c for c in candidates if c and os.access(c, os.X_OK)), None)
 
 
-def chromium_paths() -> tuple[str, str]:
+def browser_binaries() -> tuple[str, str]:
     """(chromium, chromedriver); skip without them, except in CI where they must be there."""
-    browser, driver = _found(CHROMIUM), _found(CHROMEDRIVER)
-    if browser and driver:
-        return browser, driver
+    chromium, driver = _found(CHROMIUM_CANDIDATES), _found(DRIVER_CANDIDATES)
+    if chromium and driver:
+        return chromium, driver
+    missing = [n for n, p in (("chromium", chromium), ("chromedriver", driver)) if not p]
     message = (
-        "Debian's chromium and chromium-driver are not installed "
-        "(make test installs them: apt-get install chromium chromium-driver)"
+        f"{' and '.join(missing)} not found (install the Debian packages 'chromium' and "
+        "'chromium-driver': /usr/bin/chromium, /usr/bin/chromedriver)"
     )
     if os.environ.get("CI") == "true":
-        pytest.fail(message + "; the browser tests must run in CI")
+        pytest.fail(message + "; browser tests must run in CI")
     pytest.skip(message)
 
 
-@contextlib.contextmanager
-def headless_chromium(width: int = 1400, height: int = 900) -> Iterator[object]:
-    """A selenium WebDriver on headless chromium, quit afterwards."""
-    from selenium import webdriver
-    from selenium.webdriver.chrome.service import Service
-
-    browser, driver_path = chromium_paths()
+def chromium_driver(width: int = WINDOW[0], height: int = WINDOW[1]):
+    """A headless chromium WebDriver, window ``width`` x ``height``; quit it when done."""
+    webdriver = pytest.importorskip("selenium.webdriver")
+    chromium, driver = browser_binaries()
     options = webdriver.ChromeOptions()
-    options.binary_location = browser
-    for argument in (
+    options.binary_location = chromium
+    for arg in (
         "--headless=new",
-        "--no-sandbox",  # root in a container: the sandbox cannot start
+        "--no-sandbox",
         "--disable-gpu",
         "--disable-dev-shm-usage",
         f"--window-size={width},{height}",
     ):
-        options.add_argument(argument)
-    driver = webdriver.Chrome(service=Service(driver_path), options=options)
+        options.add_argument(arg)
+    service = webdriver.ChromeService(executable_path=driver)
+    return webdriver.Chrome(options=options, service=service)
+
+
+@contextlib.contextmanager
+def headless_chromium(width: int = WINDOW[0], height: int = WINDOW[1]) -> Iterator[object]:
+    """:func:`chromium_driver` for a ``with`` block, quit at its end."""
+    driver = chromium_driver(width, height)
     try:
         yield driver
     finally:

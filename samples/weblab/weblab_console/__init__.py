@@ -3,7 +3,10 @@ teleoperation controls, plus what the paper's console never showed: the monitore
 policy set's last firing with its rules' degrees, the speed limit and frame rate over time, and
 recoveries and user requests on a timeline.
 
-:mod:`.hub` fans the experiment's output out to viewers without ever waiting for one;
-:mod:`.commands` reads what a viewer sends, strictly; :mod:`.server` is the Starlette application
-(one page, one WebSocket) served by uvicorn.
+:mod:`.session` runs the experiment (the generated application on a paced virtual clock) and
+publishes what it shows; :mod:`.pictures` draws the cameras' pictures; :mod:`.hub` fans the
+experiment's output out to viewers without ever waiting for one; :mod:`.commands` reads what a
+viewer sends, strictly; :mod:`.server` is the Starlette application (one page, one WebSocket);
+:mod:`.serving` runs it on uvicorn in a thread (tests, benchmark, screenshot);
+``python -m weblab_console`` is ``make console``; :mod:`.screenshot` makes the docs' picture.
 """

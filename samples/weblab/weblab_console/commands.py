@@ -8,7 +8,7 @@ Commands:
 - ``{"cmd": "auth", "token": "..."}``: present the session's token (the access service decides);
 - ``{"cmd": "start", "profile": "residential", "seed": 3}``: start an experiment (token needed);
 - ``{"cmd": "stop"}``: stop it (token needed);
-- ``{"cmd": "drive", "speed": 80, "turn": -10}``: take manual control, mm/s and degrees/s (token);
+- ``{"cmd": "drive", "speed": 80, "turn": -10}``: take manual control: mm/s, and the bearing in degrees (+ left) to head for (token);
 - ``{"cmd": "release"}``: hand control back to the Navigator (token needed);
 - ``{"cmd": "ping"}``: answered with ``pong`` (no token).
 """
@@ -27,7 +27,7 @@ MAX_SPEED = 500.0
 """mm/s, the largest manual speed accepted (the robot's own cap applies after)."""
 
 MAX_TURN = 180.0
-"""degrees/s, either way."""
+"""degrees either way: the bearing of the point the robot heads for."""
 
 CONTROL = frozenset({"start", "stop", "drive", "release"})
 """Commands that change the experiment: refused without the session's token."""

@@ -66,8 +66,13 @@ class ConsoleHub:
                 self._recent_events.append(payload)
             else:
                 self._current[channel] = payload
-            boxes = list(self._viewers.values())
-            for box in boxes:
+            boxes = []
+            for box in self._viewers.values():
+                if not box.latest and not box.events:
+                    # Only a mailbox that was empty needs waking: one that holds something has a
+                    # wake pending, and its sender takes everything at once (a wake per publish
+                    # was a cross-thread call per viewer per payload, which slowed the experiment).
+                    boxes.append(box)
                 if channel == EVENT:
                     if len(box.events) == box.events.maxlen:
                         box.dropped += 1

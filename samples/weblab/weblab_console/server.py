@@ -2,7 +2,8 @@
 
 ``GET /`` is the page (``static/index.html``, an ES module and a style sheet, no build step);
 ``/ws`` streams what the :class:`~weblab_console.hub.ConsoleHub` publishes: camera frames as binary
-messages (one byte naming the camera, then the JPEG), everything else as JSON text. A viewer sends
+messages (one byte naming the camera, then the JPEG), everything else as JSON text: an object
+``{"type", "data"}``, or an array of such objects when several were pending. A viewer sends
 commands (:mod:`weblab_console.commands`); those that change the experiment need the session's token,
 which the application's access service checks (:class:`Session.authorize`).
 
@@ -90,6 +91,8 @@ def create_app(hub: ConsoleHub, session: Session) -> Starlette:
     async def status(request) -> JSONResponse:
         return JSONResponse({"profiles": list(session.profiles), **hub.stats()})
 
+    encode = _Encoded()  # shared by the viewers' senders, all on the server's event loop
+
     async def socket(websocket: WebSocket) -> None:
         await websocket.accept()
         loop = asyncio.get_running_loop()
@@ -115,7 +118,7 @@ def create_app(hub: ConsoleHub, session: Session) -> Starlette:
         viewer_id, box = joined
         pending.set()  # the current state first
         await websocket.send_text(json.dumps({"type": "hello", "profiles": list(session.profiles)}))
-        sender = asyncio.create_task(_send(websocket, hub, box, pending))
+        sender = asyncio.create_task(_send(websocket, hub, box, pending, encode))
         try:
             await _receive(websocket, session, _Viewer())
         finally:
@@ -134,19 +137,50 @@ def create_app(hub: ConsoleHub, session: Session) -> Starlette:
     )
 
 
-async def _send(websocket: WebSocket, hub: ConsoleHub, box, pending: asyncio.Event) -> None:
+class _Encoded:
+    """Each payload encoded once for all viewers (by identity: every mailbox holds the same object;
+    the object is kept with its encoding, so its id cannot be reused while cached)."""
+
+    def __init__(self, keep: int = 256) -> None:
+        self.keep = keep
+        self.cache: dict[int, tuple[Any, str | bytes]] = {}
+
+    def __call__(self, channel: str, payload: Any) -> str | bytes:
+        found = self.cache.get(id(payload))
+        if found is not None and found[0] is payload:
+            return found[1]
+        tag = FRAME_CHANNELS.get(channel)
+        if tag is not None:
+            encoded: str | bytes = bytes([tag]) + payload
+        else:
+            encoded = json.dumps({"type": channel, "data": payload})
+        if len(self.cache) >= self.keep:
+            self.cache.pop(next(iter(self.cache)))
+        self.cache[id(payload)] = (payload, encoded)
+        return encoded
+
+
+async def _send(
+    websocket: WebSocket, hub: ConsoleHub, box, pending: asyncio.Event, encode: _Encoded
+) -> None:
     while True:
         await pending.wait()
         pending.clear()
         latest, events = hub.take(box)
+        texts: list[str] = []
         for channel, payload in latest.items():
-            tag = FRAME_CHANNELS.get(channel)
-            if tag is not None:
-                await websocket.send_bytes(bytes([tag]) + payload)
+            message = encode(channel, payload)
+            if isinstance(message, bytes):
+                await websocket.send_bytes(message)
             else:
-                await websocket.send_text(json.dumps({"type": channel, "data": payload}))
-        for event in events:
-            await websocket.send_text(json.dumps({"type": "event", "data": event}))
+                texts.append(message)
+        texts.extend(encode("event", event) for event in events)  # type: ignore[misc]
+        # What is pending goes as one JSON array (the page reads an array as its messages in
+        # order): one WebSocket message per wake, not one per payload.
+        if len(texts) == 1:
+            await websocket.send_text(texts[0])
+        elif texts:
+            await websocket.send_text("[" + ",".join(texts) + "]")
 
 
 async def _receive(websocket: WebSocket, session: Session, viewer: _Viewer) -> None:
@@ -158,7 +192,9 @@ async def _receive(websocket: WebSocket, session: Session, viewer: _Viewer) -> N
         if message["type"] == "websocket.disconnect":
             return
         raw = message.get("text") if message.get("text") is not None else message.get("bytes")
-        reply = _handle(raw or "", session, viewer)
+        # In a worker thread: a command may wait for the experiment (start, stop, the access
+        # service), and the other viewers' senders must go on meanwhile.
+        reply = await asyncio.to_thread(_handle, raw or "", session, viewer)
         if reply is not None:
             try:
                 await websocket.send_text(json.dumps(reply))

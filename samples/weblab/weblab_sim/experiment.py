@@ -29,6 +29,8 @@ import importlib
 import itertools
 import sys
 import time
+from collections.abc import Iterator
+from contextlib import contextmanager
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -83,23 +85,40 @@ def _registry() -> Any:
     return registry
 
 
-def run(
+@dataclass
+class Rig:
+    """One assembled run: the clock, the lab, the running application and what :func:`run`
+    reads from them (``record``: (t, fps, maxSpeed, cycleRate, numUsers) every RECORD_PERIOD s)."""
+
+    clock: VirtualClock
+    lab: World
+    app: Any
+    user: Any
+    weblab: Any
+    link: AccessLink
+    navigator: Any
+    recovery: Any
+    record: list[tuple[float, float, float, float, int]]
+
+
+@contextmanager
+def rig(
     profile_name: str,
     seed: int,
     condition: str = "adaptive",
     *,
     time_cap: float = TIME_CAP,
     script: Script | None = None,
-    series: bool = False,
-) -> dict[str, Any]:
-    """One run; the metrics (see the module docstring), plus ``series`` (trajectory, speed, fps
-    over time) when asked."""
+) -> Iterator[Rig]:
+    """The generated application assembled for one run, as :func:`run` uses it: the lab installed
+    (:func:`weblab_sim.world.install`), the user's links shaped by the profile, the condition's
+    policy sets removed, the person at the lab watching, the finish forced at ``time_cap``.
+    Nothing has run yet; leaving the block closes the application and uninstalls the lab."""
     if condition not in CONDITIONS:
         raise ValueError(f"no condition {condition!r} (conditions: {', '.join(CONDITIONS)})")
     cond = CONDITIONS[condition]
     net = profile(profile_name)
     registry = _registry()
-    wall0 = time.perf_counter()  # the harness's own timing, outside the simulation
     clock = VirtualClock(seed)
     lab = World(clock, net, script)
     world.install(lab)
@@ -133,16 +152,32 @@ def run(
             clock.call_every(RECORD_PERIOD, sample, start=0.0)
             clock.call_every(1.0, _Person(navigator, recovery).look)
             clock.call_at(time_cap, lambda: setattr(lab, "done", True))
-            navigator.run()
-            metrics = _metrics(lab, navigator.instance, recovery, record, time_cap)
-            metrics["faults"] = sum(c.faults.counts["total"] for c in app.containers.values())
-            metrics["frames_dropped"] = link.dropped_frames
-            metrics["sim_s"] = clock.now()
-            if series:
-                metrics["series"] = _series(lab, record)
+            yield Rig(clock, lab, app, user, weblab, link, navigator, recovery, record)
     finally:
         world.install(None)
         lab.close()
+
+
+def run(
+    profile_name: str,
+    seed: int,
+    condition: str = "adaptive",
+    *,
+    time_cap: float = TIME_CAP,
+    script: Script | None = None,
+    series: bool = False,
+) -> dict[str, Any]:
+    """One run; the metrics (see the module docstring), plus ``series`` (trajectory, speed, fps
+    over time) when asked."""
+    wall0 = time.perf_counter()  # the harness's own timing, outside the simulation
+    with rig(profile_name, seed, condition, time_cap=time_cap, script=script) as r:
+        r.navigator.run()
+        metrics = _metrics(r.lab, r.navigator.instance, r.recovery, r.record, time_cap)
+        metrics["faults"] = sum(c.faults.counts["total"] for c in r.app.containers.values())
+        metrics["frames_dropped"] = r.link.dropped_frames
+        metrics["sim_s"] = r.clock.now()
+        if series:
+            metrics["series"] = _series(r.lab, r.record)
     metrics["wall_s"] = time.perf_counter() - wall0
     metrics["sim_per_wall"] = metrics["sim_s"] / metrics["wall_s"]
     return metrics

@@ -20,6 +20,7 @@ OPERATION_CALLED = "operation.called"
 MONITOR_UPDATED = "monitor.updated"
 CONNECTION_CHANGED = "connection.changed"
 FACTORY_CHANGED = "factory.changed"
+POLICY_FIRED = "policy.fired"  # element: the policy set; its last_firing says what it did
 
 EVENT_KINDS = frozenset(
     {
@@ -31,6 +32,7 @@ EVENT_KINDS = frozenset(
         MONITOR_UPDATED,
         CONNECTION_CHANGED,
         FACTORY_CHANGED,
+        POLICY_FIRED,
     }
 )
 

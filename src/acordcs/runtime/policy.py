@@ -23,7 +23,8 @@ element in scope has. With neither ``adapts`` nor ``fed_by``, every element of t
 from __future__ import annotations
 
 from collections import Counter
-from collections.abc import Iterable, Mapping, Sequence
+from collections.abc import Callable, Iterable, Mapping, Sequence
+from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any, Protocol
 
 from acordcs.rules import Assign, Call, Name, RuleSyntaxError, names_in, parse_rule, split_rules
@@ -75,6 +76,27 @@ class PolicyHost(Protocol):
     def invoke(self, name: str, operation: str, args: tuple[Any, ...] = ()) -> Any: ...
 
 
+@dataclass
+class Firing:
+    """A policy set's firing: when, the inputs it was given and the outputs it wrote. :attr:`rules`
+    gives per ``(policy, rule label)`` its degree: fuzzy, the rule's firing strength on these
+    inputs (computed when first asked, off the hot path); crisp, 1.0 if the rule fired, 0.0 if not
+    (read after each fire when the set's ``trace_rules`` is on, else empty); empty when the engine
+    cannot explain itself."""
+
+    time: float
+    inputs: dict[str, object]
+    outputs: dict[str, object]
+    explain: Callable[[], dict[tuple[str, str], float]] | None = field(default=None, repr=False)
+    _rules: dict[tuple[str, str], float] | None = field(default=None, repr=False)
+
+    @property
+    def rules(self) -> dict[tuple[str, str], float]:
+        if self._rules is None:
+            self._rules = self.explain() if self.explain is not None else {}
+        return self._rules
+
+
 class PolicySet:
     def __init__(
         self,
@@ -120,6 +142,11 @@ class PolicySet:
         self.operations: dict[str, Target] = {}
         self.reads: dict[str, Target] = {}
         self.fires = 0
+        self._last: tuple[float, list, dict, dict | None] | None = None
+        self._firing: Firing | None = None
+        # Crisp engines: read which rules fired after each fire (one more engine call per
+        # policy, so off unless someone shows it, as the WebLab console does).
+        self.trace_rules = False
         self._timer: Timer | None = None
 
     def __repr__(self) -> str:
@@ -300,15 +327,25 @@ class PolicySet:
         try:
             for var, value in values:
                 engine.set(var, value)
+            fired: dict[tuple[str, str], float] | None = None
             for policy in self.policies:
                 engine.fire(policy)
+                if self.trace_rules and self.engine_kind != "fuzzy":
+                    fired = fired if fired is not None else {}
+                    fired.update(_explained(engine, policy))
             self.fires += 1
             container.stats["policy_fires"] += 1
+            written: dict[str, object] = {}
             for var, (element, attribute) in self.outputs.items():
                 value = engine.get(var)
                 if value is not None:
                     current = container.get_property(element, attribute)
-                    container.set_property(element, attribute, _coerce(value, current))
+                    written[var] = _coerce(value, current)
+                    container.set_property(element, attribute, written[var])
+            # Kept raw: the Firing is built when someone asks (this is the adaptation hot path).
+            self._last = (container.clock.now(), values, written, fired)
+            self._firing = None
+            container.emit(ev.POLICY_FIRED, self.name)
             return True
         except Exception as exc:
             trigger = f"{event.kind} {event.element}" if event else "periodic"
@@ -319,12 +356,42 @@ class PolicySet:
         finally:
             container.origin = previous
 
+    @property
+    def last_firing(self) -> Firing | None:
+        """The set's last firing (None before the first): see :class:`Firing`."""
+        if self._firing is None and self._last is not None:
+            when, values, written, fired = self._last
+            inputs = dict(values)
+            engine = self.engine
+            if self.engine_kind == "fuzzy" and engine is not None:
+                explain = lambda: self._fuzzy_degrees(engine, inputs)  # noqa: E731
+            else:
+                explain = None if fired is None else (lambda: fired)
+            self._firing = Firing(when, inputs, written, explain)
+        return self._firing
+
+    def _fuzzy_degrees(
+        self, engine: RuleEngine, inputs: dict[str, object]
+    ) -> dict[tuple[str, str], float]:
+        out: dict[tuple[str, str], float] = {}
+        for policy in self.policies:
+            out.update(_explained(engine, policy, inputs))
+        return out
+
     def _call(self, target: str, args: tuple[Any, ...]) -> Any:
         container = self.container
         if container is None:
             raise BindingError(f"policy set {self.name!r} is not attached to a container")
         component, operation = self.operations.get(target) or target.rpartition(".")[::2]
         return container.invoke(component, operation, tuple(args))
+
+
+def _explained(engine: RuleEngine, policy: str, *args: object) -> dict[tuple[str, str], float]:
+    """``engine.explain(policy, ...)`` keyed by (policy, label); {} for an engine without one."""
+    explain = getattr(engine, "explain", None)
+    if explain is None:
+        return {}
+    return {(policy, label): degree for label, degree in explain(policy, *args).items()}
 
 
 def _action_reads(rule: Any) -> list[Name]:

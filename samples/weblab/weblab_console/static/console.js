@@ -39,7 +39,8 @@ function connect() {
     if (event.data instanceof ArrayBuffer) return showFrame(new Uint8Array(event.data));
     let message;
     try { message = JSON.parse(event.data); } catch { return; }
-    handle(message);
+    if (Array.isArray(message)) message.forEach(handle);  // several pending at once, in order
+    else handle(message);
   };
 }
 
@@ -82,7 +83,12 @@ function showState(s) {
   $("profile-shown").textContent = s.profile ? `${s.profile}, seed ${s.seed}${s.running ? "" : " (stopped)"}` : "";
   $("fps-shown").textContent = `${s.fps} fps`;
   $("driver").textContent = s.driver === "manual" ? "You drive (manual control)." : "Navigator drives.";
-  $("map").dataset.points = String(s.trajectory.length);
+  const map = $("map");
+  map.dataset.points = String(s.trajectory.length);
+  map.dataset.pose = s.pose.join(",");
+  map.dataset.driver = s.driver;
+  map.dataset.running = String(s.running);
+  map.dataset.t = String(s.t);
   drawMap();
 }
 
@@ -94,7 +100,7 @@ function showContext(values) {
     const cell = document.createElement("td");
     label.textContent = name;
     cell.className = "value";
-    cell.textContent = typeof value === "number" ? value.toFixed(2) : String(value);
+    cell.textContent = typeof value !== "number" ? String(value) : Number.isInteger(value) ? String(value) : value.toFixed(2);
     row.append(label, cell);
     return row;
   }));
@@ -111,13 +117,20 @@ function showPolicy(p) {
   }
   const head = document.createElement("div");
   head.className = "head";
-  head.textContent = `${p.set} (${p.engine}) · t = ${p.t.toFixed(1)} s · fired ${p.fires}×`;
+  const title = document.createElement("b");
+  title.textContent = p.set;
+  const info = document.createElement("span");
+  info.textContent = `${p.engine} · t = ${p.t.toFixed(1)} s · ${p.fires} firings`;
+  head.append(title, info);
   const outs = document.createElement("div");
   outs.className = "out";
-  outs.textContent = Object.entries(p.outputs).map(([k, v]) => `${k} = ${typeof v === "number" ? v.toFixed(1) : v}`).join(", ") || "no output";
-  const rules = p.rules.filter((r) => r.degree > 0).slice(0, 6).map((r) => {
+  outs.textContent = Object.entries(p.outputs).map(([k, v]) => `${k} = ${typeof v === "number" && !Number.isInteger(v) ? v.toFixed(1) : v}`).join(", ") || "no output";
+  // The rules that fired, strongest first (at most 4); a set where none did lists its rules dimmed.
+  const fired = p.rules.filter((r) => r.degree > 0).sort((a, b) => b.degree - a.degree);
+  const shown = fired.length ? fired.slice(0, 4) : p.rules.slice(0, 4);
+  const rules = shown.map((r) => {
     const row = document.createElement("div");
-    row.className = `rule ${p.engine === "clips" ? "crisp" : ""}`;
+    row.className = `rule${p.engine === "fuzzy" ? "" : " crisp"}${r.degree > 0 ? "" : " zero"}`;
     const name = document.createElement("span");
     const bar = document.createElement("div");
     const value = document.createElement("span");
@@ -125,6 +138,7 @@ function showPolicy(p) {
     bar.className = "bar";
     bar.style.width = `${Math.round(100 * r.degree)}%`;
     value.textContent = r.degree.toFixed(2);
+    row.dataset.degree = String(r.degree);
     row.append(name, bar, value);
     return row;
   });
@@ -168,7 +182,7 @@ function drawMap() {
   line(s.trajectory, "#4fb3ff", 2);
   const [x, y, heading] = s.pose;
   const a = (heading * Math.PI) / 180;
-  ctx.strokeStyle = "rgba(210, 153, 34, .7)";
+  ctx.strokeStyle = "rgba(210, 153, 34, .45)";
   ctx.lineWidth = 1;
   for (const [angle, range] of s.sonar) {
     const b = a + (angle * Math.PI) / 180;

@@ -280,6 +280,29 @@ class ClipsEngine:
         target = self._rulesets.sets.get(ruleset)
         return list(target.rules) if target else []
 
+    def explain(self, ruleset: str) -> dict[str, float]:
+        """Per rule of ``ruleset`` (definition order): 1.0 if it fired in the engine's last fire,
+        0.0 if not. Meaningful right after ``fire(ruleset)``: each fire starts a new cycle, so a
+        fire of another rule set of this engine leaves every rule here at 0.0. A native rule is
+        always 0.0 (CLIPS keeps no record of its firings that we read)."""
+        target = self._rulesets.sets.get(ruleset)
+        if target is None:
+            raise RuleError(f"no rule set {ruleset!r}; define its rules with defrule first")
+        crisp = [e for e in target.rules.values() if e.kind == "crisp" and e.rule_id]
+        fired: set[str] = set()
+        if crisp:
+            # One evaluation for the whole set: the cycle, then each rule's "fired" global.
+            globals_ = " ".join(f"?*acord-f{e.rule_id}*" for e in crisp)
+            values = self._bridge.env.eval(f"(create$ ?*acord-cycle* {globals_})")
+            cycle = values[0]
+            # Before the first fire the cycle and every global are 0: nothing fired yet.
+            fired = (
+                set()
+                if cycle == 0
+                else {e.label for e, v in zip(crisp, values[1:], strict=True) if v == cycle}
+            )
+        return {label: 1.0 if label in fired else 0.0 for label in target.rules}
+
     def construct(self, ruleset: str, label: str) -> str:
         """The CLIPS text a rule was built from (what a crisp rule compiled to)."""
         return self._rulesets.sets[ruleset].rules[label].constructs[-1]

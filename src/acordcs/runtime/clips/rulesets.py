@@ -32,6 +32,7 @@ class Entry:
     source: str
     constructs: tuple[str, ...]
     position: int
+    rule_id: int = 0  # crisp rules: the number in their "fired" global ?*acord-f<id>*
 
 
 @dataclass(slots=True)
@@ -121,7 +122,7 @@ class RuleSets:
                 self.bridge.run(f"(bind ?*acord-vf{index}* (assert (acord-var (i {index}))))")
                 self.read.add(index)
         entry = Entry(
-            label, "crisp", f"{target.name}::{label}", text, compiled.constructs, position
+            label, "crisp", f"{target.name}::{label}", text, compiled.constructs, position, rule_id
         )
         self._install(target, entry, old)
         if not keep:

@@ -236,6 +236,27 @@ class FuzzyEngine:
             columns[name] = column
         return run_batch(compiled, columns, self._values, self._warn_clamp)
 
+    def explain(self, ruleset: str, values: Mapping[str, object] | None = None) -> dict[str, float]:
+        """Each rule's firing strength in ``ruleset`` (label -> degree in 0..1, definition order):
+        its condition's degree under the rule set's AND/OR, times its weight. On ``values``
+        (variable -> number, missing ones from the engine's current values) or on the current
+        values; a rule reading an input without a value gives 0 (it could not fire). Read-only: nothing fires, no value changes.
+        Evaluated with an explicit stack, so a rule nested arbitrarily deep cannot recurse."""
+        entries = self.rules(ruleset)
+        sem = self.semantics_of(ruleset)
+        current: dict[str, float | None] = dict(self._values)
+        for written, value in (values or {}).items():
+            name = self._canonical(written)
+            if isinstance(value, Real) and math.isfinite(float(value)):
+                var = self._vars[name]
+                current[name] = min(max(float(value), var.lo), var.hi)
+        return {
+            e.label: 0.0
+            if any(current.get(v) is None for v in e.inputs())
+            else _degree(e.condition, self._vars, current, sem) * e.weight
+            for e in entries
+        }
+
     def defaulted(self, ruleset: str) -> tuple[str, ...]:
         """Outputs that took their DEFAULT (no rule fired for them) in the last fire of ``ruleset``."""
         return self._defaulted.get(ruleset, ())
@@ -327,3 +348,51 @@ class FuzzyEngine:
         while f"rule{n}" in entries:
             n += 1
         return f"rule{n}"
+
+
+def _combine(op: str, a: float, b: float) -> float:
+    if op in ("MIN", "MAX"):
+        return min(a, b) if op == "MIN" else max(a, b)
+    if op == "PROD":
+        return a * b
+    if op == "ASUM":
+        return a + b - a * b
+    if op == "BDIF":
+        return max(0.0, a + b - 1.0)
+    return min(1.0, a + b)  # BSUM
+
+
+def _degree(
+    condition: tuple,
+    variables: Mapping[str, LinguisticVariable],
+    values: Mapping[str, float | None],
+    sem: Semantics,
+) -> float:
+    """A resolved condition's degree (see RuleEntry), post-order with an explicit stack."""
+    stack: list[tuple[tuple, bool]] = [(condition, False)]
+    results: list[float] = []
+    while stack:
+        node, expanded = stack.pop()
+        kind = node[0]
+        if kind == "is":
+            _, name, hedges, term = node
+            x = values.get(name)
+            mu = 0.0 if x is None else float(variables[name].terms[term](x))
+            for hedge in reversed(hedges):
+                mu = (
+                    mu * mu
+                    if hedge == "very"
+                    else math.sqrt(mu)
+                    if hedge == "somewhat"
+                    else 1.0 - mu
+                )
+            results.append(mu)
+        elif not expanded:
+            stack.append((node, True))
+            stack.extend((child, False) for child in reversed(node[1:]))
+        elif kind == "not":
+            results.append(1.0 - results.pop())
+        else:
+            b, a = results.pop(), results.pop()
+            results.append(_combine(sem.and_ if kind == "and" else sem.or_, a, b))
+    return results[0]

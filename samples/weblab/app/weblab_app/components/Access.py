@@ -5,16 +5,33 @@ sessions plus any spike the simulator's script adds (:class:`weblab_sim.world.Sc
 
 from __future__ import annotations
 
+import hmac
+
 from weblab_sim import world
 
 from weblab_app.base.Access import AccessBase
 
 
 class Access(AccessBase):
+    def on_start(self) -> None:
+        # Users holding a reservation: their token must match (compared in constant time). The
+        # WebLab console reserves the user "console" with the random token it prints in its URL.
+        self.reservations: dict[str, str] = {}
+
+    def reserve(self, user: str, token: str) -> None:
+        """Reserve the experiment for ``user``: from now on only ``token`` authenticates them."""
+        self.reservations[str(user)] = str(token)
+
     def authenticate(self, user, token):
-        """True for a user with a non-empty token while there is room (``maxUsers``)."""
+        """True for a user with a non-empty token (the reserved one, if the user holds a
+        reservation) while there is room (``maxUsers``)."""
         lab = world.current(self.clock)
-        if not user or not token or len(lab.sessions) >= int(self.get("maxUsers")):
+        if not user or not token or not isinstance(token, str):
+            return False
+        reserved = self.reservations.get(str(user))
+        if reserved is not None and not hmac.compare_digest(reserved.encode(), token.encode()):
+            return False
+        if str(user) not in lab.sessions and len(lab.sessions) >= int(self.get("maxUsers")):
             return False
         lab.sessions.add(str(user))
         return True

@@ -44,6 +44,9 @@ class Navigator(NavigatorBase):
         self.losses = 0  # stripe-loss events: a cycle without stripe after one with it
         self.odometry: dict | None = None  # live mode: the WebLab's last odometry
         self.frames = [0, 0]  # live mode: frames received as bytes, their total size
+        # The last frame got and the turn found in it (None: no stripe), for a console to show.
+        self.last_frame: bytes | None = None
+        self.last_turn: float | None = None
 
     def run(self):
         self._authenticate()
@@ -86,6 +89,7 @@ class Navigator(NavigatorBase):
             self.frames[0] += 1
             self.frames[1] += len(frame)
         turn = self.findStripe(frame)  # 2. find the stripe
+        self.last_frame, self.last_turn = frame, turn
         locomotion = self.port("NavLocomotionPort")
         if turn is None:
             if self.misses_in_row == 0 and self.cycles:

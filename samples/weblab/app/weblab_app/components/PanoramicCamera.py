@@ -17,8 +17,10 @@ IDLE_CHECK = 1.0  # s between looks at the rate while it is 0
 
 
 class PanoramicCamera(PanoramicCameraBase):
+    sent = 0  # frames pushed so far (a console shows one picture per frame)
+
     def on_start(self) -> None:
-        self._sent = 0
+        self.sent = 0
         self._timer = self.clock.call_later(0.0, self._frame)
 
     def on_stop(self) -> None:
@@ -30,8 +32,8 @@ class PanoramicCamera(PanoramicCameraBase):
     def _frame(self) -> None:
         fps = float(self.get("fps"))
         if fps > 0:
-            self._sent += 1
+            self.sent += 1
             self.port("CameraStreamPort").push(
-                {"seq": self._sent, "t": self.clock.now()}, size=camera.PANORAMA_FRAME_BYTES
+                {"seq": self.sent, "t": self.clock.now()}, size=camera.PANORAMA_FRAME_BYTES
             )
         self._timer = self.clock.call_later(1.0 / fps if fps > 0 else IDLE_CHECK, self._frame)

@@ -1,0 +1,214 @@
+"""The WebLab console's speed (standalone; prints figures, asserts nothing). About 2 minutes.
+
+1. Throttled to real time (speed 1), one page (a ``websockets`` client in this process) watching a
+   residential and a LAN run: the panoramic camera's frames received per wall second against the
+   rate the Bandwidth limiting policy sets, and the server's added latency, publish (the
+   experiment's thread hands a frame to the hub) to receive (the client has the whole message),
+   p50 and p95 over every camera frame. Target: p50 under 50 ms.
+2. Unthrottled (speed 0): the experiment's simulated seconds per wall second (residential runs to
+   the finish line, three seeds) with 0 viewers and with 10 viewers reading everything (10 ``websockets`` clients in a child process, so that the
+   figure is the server's cost, not the clients'), alternated, median of the repeats. Target: a
+   drop under 10 %.
+
+Usage: PYTHONPATH=samples/weblab python benchmarks/bench_console.py [--quick]
+(the generated application must be built: ``acordcs-gen build samples/weblab/weblab.xmi -o
+samples/weblab/app``; ``make console`` builds it too).
+"""
+
+from __future__ import annotations
+
+import argparse
+import asyncio
+import hashlib
+import multiprocessing
+import statistics
+import sys
+import threading
+import time
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[1]
+sys.path.insert(0, str(ROOT / "samples" / "weblab"))
+
+import websockets  # noqa: E402
+from weblab_console.hub import ConsoleHub  # noqa: E402
+from weblab_console.serving import serving  # noqa: E402
+from weblab_console.session import ConsoleSession  # noqa: E402
+
+FRAME_TAGS = {1: "frame:onboard", 2: "frame:panoramic"}
+
+
+class TimedHub(ConsoleHub):
+    """A hub that notes when each camera frame was published (by its digest)."""
+
+    def __init__(self) -> None:
+        super().__init__()
+        self.published_at: dict[bytes, float] = {}
+
+    def publish(self, channel: str, payload: object) -> None:
+        if channel.startswith("frame:"):
+            self.published_at[hashlib.blake2b(payload, digest_size=12).digest()] = (
+                time.perf_counter()
+            )  # type: ignore[arg-type]
+        super().publish(channel, payload)
+
+
+def watch(url: str, seconds: float, hub: TimedHub) -> dict[str, object]:
+    """One page for ``seconds``: latencies of camera frames, panoramic frames and fps seen."""
+    latencies: list[float] = []
+    panoramic: list[float] = []
+    fps_seen: list[int] = []
+
+    async def page() -> None:
+        import json
+
+        async with websockets.connect(url, max_size=None) as ws:
+            end = time.perf_counter() + seconds
+            while (left := end - time.perf_counter()) > 0:
+                try:
+                    raw = await asyncio.wait_for(ws.recv(), left)
+                except TimeoutError:
+                    break
+                now = time.perf_counter()
+                if isinstance(raw, bytes):
+                    sent = hub.published_at.get(hashlib.blake2b(raw[1:], digest_size=12).digest())
+                    if sent is not None:
+                        latencies.append(now - sent)
+                    if raw[0] == 2:
+                        panoramic.append(now)
+                else:
+                    decoded = json.loads(raw)
+                    for message in decoded if isinstance(decoded, list) else [decoded]:
+                        if message["type"] == "state" and message["data"]["running"]:
+                            fps_seen.append(int(message["data"]["fps"]))
+
+    asyncio.run(page())
+    span = (panoramic[-1] - panoramic[0]) if len(panoramic) > 1 else 0.0
+    return {
+        "latencies": latencies,
+        "panoramic_per_s": (len(panoramic) - 1) / span if span > 0 else 0.0,
+        "fps_set": statistics.median(fps_seen[len(fps_seen) // 2 :]) if fps_seen else 0,
+    }
+
+
+def real_time(profile: str, seconds: float) -> None:
+    hub = TimedHub()
+    session = ConsoleSession(hub, "bench", speed=1.0)
+    with serving(hub, session) as url:
+        session.start(profile, 1)
+        time.sleep(5.0)  # let the bandwidth policy settle (it fires every 2 s)
+        seen = watch(url.replace("http", "ws") + "/ws", seconds, hub)
+    lat = sorted(seen["latencies"])  # type: ignore[arg-type]
+    p50 = statistics.median(lat) * 1000 if lat else float("nan")
+    p95 = lat[int(0.95 * (len(lat) - 1))] * 1000 if lat else float("nan")
+    print(
+        f"  {profile:<12} panoramic frames {seen['panoramic_per_s']:5.2f}/s at a policy rate of "
+        f"{seen['fps_set']} fps; added latency p50 {p50:5.1f} ms, p95 {p95:5.1f} ms "
+        f"({len(lat)} camera frames, target p50 < 50 ms)"
+    )
+
+
+def _viewers(url: str, count: int, ready, stop) -> None:  # in a child process
+    """``count`` viewers that open the WebSocket (a real handshake) and then read every byte the
+    server sends, without decoding it: a browser on another machine costs this one nothing, and
+    on a 2-core host a decoding client would take the experiment's core."""
+    import base64
+    import os
+    import selectors
+    import socket
+    from urllib.parse import urlsplit
+
+    where = urlsplit(url)
+    selector = selectors.DefaultSelector()
+    for _ in range(count):
+        sock = socket.create_connection((where.hostname, where.port))
+        key = base64.b64encode(os.urandom(16)).decode()
+        sock.sendall(
+            (
+                f"GET {where.path} HTTP/1.1\r\nHost: {where.netloc}\r\nUpgrade: websocket\r\n"
+                f"Connection: Upgrade\r\nSec-WebSocket-Key: {key}\r\n"
+                "Sec-WebSocket-Version: 13\r\n\r\n"
+            ).encode()
+        )
+        head = b""
+        while b"\r\n\r\n" not in head:
+            head += sock.recv(4096)
+        if b" 101 " not in head.split(b"\r\n", 1)[0]:
+            raise RuntimeError(f"no WebSocket: {head[:80]!r}")
+        sock.setblocking(False)
+        selector.register(sock, selectors.EVENT_READ)
+    ready.set()
+    while not stop.is_set():
+        for key, _ in selector.select(0.2):
+            try:
+                if not key.fileobj.recv(1 << 20):  # type: ignore[union-attr]
+                    selector.unregister(key.fileobj)
+            except BlockingIOError:
+                pass
+    for key in list(selector.get_map().values()):
+        key.fileobj.close()  # type: ignore[union-attr]
+
+
+def unthrottled(viewers: int, seeds: range, url: str, hub: ConsoleHub, session) -> float:
+    """Simulated seconds per wall second of residential runs (one per seed, to the finish line)
+    with ``viewers`` watching; each run's wall time counts from its start (assembled), so
+    assembling the application is left out."""
+    ctx = multiprocessing.get_context("spawn")
+    stop, ready = ctx.Event(), ctx.Event()
+    child = None
+    if viewers:
+        child = ctx.Process(target=_viewers, args=(url, viewers, ready, stop), daemon=True)
+        child.start()
+        ready.wait(30)
+        deadline = time.monotonic() + 10
+        while hub.viewers < viewers and time.monotonic() < deadline:
+            time.sleep(0.05)
+    simulated = wall = 0.0
+    try:
+        for seed in seeds:
+            session.start("residential", seed)
+            t0 = time.perf_counter()
+            while session.running:
+                time.sleep(0.005)
+            wall += time.perf_counter() - t0
+            simulated += session.sim_time
+    finally:
+        stop.set()
+        if child is not None:
+            child.join(10)
+    return simulated / wall
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser()
+    parser.add_argument("--quick", action="store_true")
+    args = parser.parse_args()
+    watch_s = 8.0 if args.quick else 20.0
+    seeds, repeats = (range(1, 2), 1) if args.quick else (range(1, 4), 5)
+    print("1. throttled to real time, one page:")
+    for profile in ("residential", "LAN"):
+        real_time(profile, watch_s)
+    print(
+        f"2. unthrottled, residential runs to the finish line, seeds {seeds.start}-{seeds.stop - 1}:"
+    )
+    hub = ConsoleHub()
+    session = ConsoleSession(hub, "bench", speed=0.0)
+    rates: dict[int, list[float]] = {0: [], 10: []}
+    with serving(hub, session) as url:
+        ws_url = url.replace("http", "ws") + "/ws"
+        unthrottled(0, range(9, 10), ws_url, hub, session)  # warm-up: imports, caches
+        for _ in range(repeats):
+            for n in (0, 10):
+                rates[n].append(unthrottled(n, seeds, ws_url, hub, session))
+    r0, r10 = statistics.median(rates[0]), statistics.median(rates[10])
+    print(
+        f"  0 viewers: {r0:6.1f} sim s per wall s; 10 viewers: {r10:6.1f} "
+        f"(runs: {', '.join(f'{r:.0f}' for r in rates[0])} / {', '.join(f'{r:.0f}' for r in rates[10])})"
+    )
+    print(f"  drop with 10 viewers: {100 * (1 - r10 / r0):5.1f} % (target < 10 %)")
+    print(f"  hub: {hub.stats()}")
+
+
+if __name__ == "__main__":
+    threading.current_thread().name = "bench"
+    main()

@@ -1,0 +1,69 @@
+"""``python -m weblab_console.screenshot OUT.png [--profile residential] [--seed 0] [--at 90]``:
+a screenshot of the console (1400 x 900) during a run, taken by Debian's chromium (headless,
+driven by selenium through chromedriver) once the run reaches ``--at`` simulated seconds. The
+run is sped up (``--speed``) so that this takes seconds; the console looks the same."""
+
+from __future__ import annotations
+
+import argparse
+import sys
+import time
+from pathlib import Path
+
+from weblab_console.hub import ConsoleHub
+from weblab_console.serving import serving
+from weblab_console.session import ConsoleSession
+
+TOKEN = "screenshot"
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(prog="python -m weblab_console.screenshot")
+    parser.add_argument("out", type=Path)
+    parser.add_argument("--profile", default="residential")
+    parser.add_argument("--seed", type=int, default=0)
+    parser.add_argument("--at", type=float, default=90.0, help="simulated seconds into the run")
+    parser.add_argument("--speed", type=float, default=8.0)
+    parser.add_argument("--chromium", default="/usr/bin/chromium")
+    parser.add_argument("--chromedriver", default="/usr/bin/chromedriver")
+    args = parser.parse_args(argv)
+    from selenium import webdriver
+    from selenium.webdriver.support.ui import Select, WebDriverWait
+
+    options = webdriver.ChromeOptions()
+    options.binary_location = args.chromium
+    for arg in ("--headless=new", "--no-sandbox", "--disable-gpu", "--window-size=1400,900"):
+        options.add_argument(arg)
+    hub = ConsoleHub()
+    session = ConsoleSession(hub, TOKEN, speed=args.speed)
+    browser = webdriver.Chrome(options=options, service=webdriver.ChromeService(args.chromedriver))
+    try:
+        # The page's viewport is 1400 x 900 (the window would be that size with its frame).
+        browser.execute_cdp_cmd(
+            "Emulation.setDeviceMetricsOverride",
+            {"width": 1400, "height": 900, "deviceScaleFactor": 1, "mobile": False},
+        )
+        with serving(hub, session) as url:
+            browser.get(f"{url}/?token={TOKEN}")
+            wait = WebDriverWait(browser, 60, poll_frequency=0.1)
+            wait.until(lambda d: d.find_elements("css selector", "#profile option"))
+            Select(browser.find_element("id", "profile")).select_by_value(args.profile)
+            seed = browser.find_element("id", "seed")
+            seed.clear()
+            seed.send_keys(str(args.seed))
+            browser.find_element("id", "start").click()
+            wait.until(
+                lambda d: float(d.find_element("id", "map").get_attribute("data-t") or 0) >= args.at
+            )
+            session.set_speed(1.0)  # hold still while the picture is taken
+            time.sleep(1.0)
+            args.out.parent.mkdir(parents=True, exist_ok=True)
+            browser.get_screenshot_as_file(str(args.out))
+    finally:
+        browser.quit()
+    print(f"wrote {args.out}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,490 @@
+"""The console's session: one WebLab experiment at a time, run in a background thread and shown
+through the hub (implements :class:`weblab_console.server.Session`).
+
+The experiment is :func:`weblab_sim.experiment.rig`: the generated application assembled in one
+process on a :class:`~acordcs.runtime.clock.VirtualClock`. A pacing timer on that clock (every
+:data:`PACE` simulated seconds) keeps it to ``speed`` times real time (``speed=0``: as fast as
+it runs), serves the requests of viewers (everything that touches the application runs on the
+experiment's thread) and publishes, at most :data:`PUBLISH_HZ` times per wall second: the robot's
+state, the monitored context, each policy set's last firing, the series of the speed limit and
+the frame rate, and events (recoveries, user requests, stripe losses, faults, the finish); the
+Navigator's last on-board frame with the detected stripe drawn, and a panoramic picture for each
+frame the panoramic camera sends (so at the rate the bandwidth policy sets).
+
+Manual control (:meth:`ConsoleSession.drive`) pauses the Navigator between cycles; the speed and
+turn go to Locomotion through the Navigator's own port, so the Control monitor and the policies
+see them as they see the Navigator's (a speed of 0 is a stop, which the Recovering policy answers
+as it answers the Navigator's). :meth:`release` hands control back.
+
+Who may drive is the application's decision: at each start the session reserves the user
+``console`` in the Access component with the token given to it, and :meth:`authorize` asks
+``Access.authenticate("console", token)``.
+"""
+
+from __future__ import annotations
+
+import concurrent.futures
+import contextlib
+import logging
+import math
+import threading
+import time
+from collections import deque
+from collections.abc import Callable
+from typing import Any
+
+from weblab_sim import experiment, world
+from weblab_sim.network import PROFILES
+
+from acordcs.runtime import events as ev
+from weblab_console import pictures
+from weblab_console.hub import EVENT, ConsoleHub
+
+log = logging.getLogger("weblab.console")
+
+PACE = 0.05  # simulated seconds between pacing ticks
+PUBLISH_HZ = 10.0  # state, context and policies per wall second, at most
+FRAME_HZ = 25.0  # camera pictures per wall second and camera, at most (policies set <= 15)
+SERIES_PERIOD = 0.5  # simulated seconds between points of the live plots
+SERIES_HZ = 2.0  # the plots and the viewer statistics per wall second, at most
+SERIES_KEPT = 600
+TRAIL_STEP_MM = 20.0  # trajectory points closer than this to the last one are not sent
+TRAIL_KEPT = 2000
+MANUAL_PERIOD = 0.2  # simulated seconds the Navigator waits between looks while paused
+MANUAL_RESEND = 1.0  # simulated seconds between repeats of a manual forward move
+TIME_CAP = 900.0  # simulated seconds before a run is ended (the finish is usually at 100-250)
+REQUEST_TIMEOUT = 5.0  # wall seconds a viewer's request may wait for the experiment's thread
+CONSOLE_USER = "console"
+CONTEXT = (
+    ("cycle rate (cycles/s)", "Control", "cycleRate"),
+    ("trajectory angle (°)", "Control", "angle"),
+    ("speed set (mm/s)", "Control", "speed"),
+    ("users", "Usage", "numUsers"),
+    ("battery (V)", "Telemetry", "batteryVoltage"),
+    ("nearest sonar (mm)", "Telemetry", "sonarRange"),
+    ("speed limit (mm/s)", "Locomotion", "maxSpeed"),
+    ("panoramic fps", "PanoramicCamera", "fps"),
+    ("recovery retries", "Recovery", "retries"),
+    ("recoveries", "Recovery", "recoveries"),
+)
+
+
+class SessionError(RuntimeError):
+    """A request the session cannot carry out now; ``str()`` says why and what to do."""
+
+
+class ConsoleSession:
+    """Runs experiments for the console; ``token`` is the one the console's URL carries."""
+
+    profiles: tuple[str, ...] = tuple(PROFILES)
+
+    def __init__(
+        self, hub: ConsoleHub, token: str, *, speed: float = 1.0, time_cap: float = TIME_CAP
+    ) -> None:
+        if not speed >= 0 or not math.isfinite(speed):
+            raise ValueError(f"speed must be a finite factor >= 0 (0: unthrottled), not {speed}")
+        self.hub = hub
+        self.token = token
+        self.speed = float(speed)
+        self.time_cap = time_cap
+        self._lock = threading.Lock()
+        self._thread: threading.Thread | None = None
+        self._run: _Run | None = None
+        self._idle: tuple[contextlib.ExitStack, Any] | None = None
+        hub.publish("path", pictures.path())
+
+    # ------------------------------------------------------------------ server.Session
+    def authorize(self, token: str) -> bool:
+        """Whether the application's Access component authenticates the console with ``token``:
+        through the running experiment's, or a fresh one when none runs."""
+        run = self._current()
+        if run is not None:
+            try:
+                return bool(run.request(lambda: run.authenticate(token)))
+            except SessionError:
+                pass  # it ended meanwhile: ask a fresh application
+        with self._lock:  # no run starts while the idle application is used
+            if self._idle is None:
+                # No experiment runs: an application assembled but not run answers (kept until
+                # the next start; assembling one takes about a second).
+                stack = contextlib.ExitStack()
+                idle = stack.enter_context(experiment.rig("LAN", 0, time_cap=1.0))
+                idle.weblab.find("Access").instance.reserve(CONSOLE_USER, self.token)
+                self._idle = (stack, idle)
+            access = self._idle[1].weblab.find("Access")
+            return bool(access.authenticate(CONSOLE_USER, token))
+
+    def _close_idle(self) -> None:
+        if self._idle is not None:
+            self._idle[0].close()
+            self._idle = None
+
+    def start(self, profile: str, seed: int) -> None:
+        if profile not in self.profiles:
+            raise SessionError(f"no network profile {profile!r}: one of {', '.join(self.profiles)}")
+        self.stop()
+        with self._lock:
+            self._close_idle()
+            run = _Run(self, profile, int(seed))
+            self._run = run
+            self._thread = threading.Thread(target=run.main, name="weblab-experiment", daemon=True)
+            self._thread.start()
+        if not run.ready.wait(30.0):
+            raise SessionError("the experiment did not start within 30 s")
+        if run.failure is not None:
+            raise SessionError(f"the experiment could not start: {run.failure}")
+
+    def stop(self) -> None:
+        """Stop the running experiment (if any) and wait for its thread."""
+        with self._lock:
+            run, thread = self._run, self._thread
+        if run is None or thread is None:
+            return
+        run.stopping = True
+        run.wake.set()
+        thread.join(30.0)
+        if thread.is_alive():  # never expected: the run races to its end once stopping
+            log.error("the experiment's thread did not stop within 30 s")
+
+    def drive(self, speed: float, turn: float) -> None:
+        run = self._running()
+        run.manual = (float(speed), float(turn))
+        run.wake.set()
+
+    def release(self) -> None:
+        run = self._running()
+        run.manual = None
+        run.wake.set()
+
+    def set_speed(self, speed: float) -> None:
+        """Change the speed factor (0: unthrottled), also for the running experiment."""
+        self.speed = float(speed)
+        run = self._current()
+        if run is not None:
+            run.anchor()
+
+    @property
+    def sim_time(self) -> float:
+        """The simulated time of the running (or the last) experiment, seconds; 0 before any."""
+        run = self._current()
+        return run.rig.clock.now() if run is not None and run.rig is not None else 0.0
+
+    @property
+    def running(self) -> bool:
+        run = self._current()
+        return run is not None and not run.ended
+
+    def close(self) -> None:
+        self.stop()
+        with self._lock:
+            self._close_idle()
+
+    # -------------------------------------------------------------------------- internals
+    def _current(self) -> _Run | None:
+        with self._lock:
+            return self._run
+
+    def _running(self) -> _Run:
+        run = self._current()
+        if run is None or run.ended:
+            raise SessionError("no experiment is running: start one first")
+        return run
+
+
+class _Run:
+    """One experiment on its own thread (:meth:`main`), and what it has shown so far."""
+
+    def __init__(self, session: ConsoleSession, profile: str, seed: int) -> None:
+        self.session = session
+        self.hub = session.hub
+        self.profile = profile
+        self.seed = seed
+        self.stopping = False
+        self.ended = False
+        self.failure: str | None = None
+        self.ready = threading.Event()
+        self.wake = threading.Event()
+        self.manual: tuple[float, float] | None = None
+        self.applied: tuple[float, float] | None = None
+        self.sent_at = 0.0
+        self.requests: deque[tuple[Callable[[], Any], concurrent.futures.Future]] = deque()
+        self.rig: Any = None
+        self.last_state: dict[str, Any] | None = None
+        self.trail: list[list[float]] = []
+        self.series: dict[str, deque] = {
+            k: deque(maxlen=SERIES_KEPT) for k in ("t", "max_speed", "fps")
+        }
+        self.firings: set[str] = set()  # policy sets that fired since they were last shown
+        self.counts: dict[str, int] = {}
+        self.frames_shown = -1
+        self.panorama_shown = 0
+        self.last_publish = self.last_frame = self.last_panorama = self.last_stats = 0.0
+        self.sim0 = self.wall0 = 0.0
+
+    # ------------------------------------------------------------------ viewers' side
+    def request(self, fn: Callable[[], Any]) -> Any:
+        """Run ``fn`` on the experiment's thread and return its result (SessionError: ended)."""
+        if self.ended:
+            raise SessionError("the experiment has ended")
+        future: concurrent.futures.Future = concurrent.futures.Future()
+        self.requests.append((fn, future))
+        self.wake.set()
+        try:
+            return future.result(REQUEST_TIMEOUT)
+        except concurrent.futures.TimeoutError:
+            raise SessionError("the experiment did not answer in time; try again") from None
+
+    def authenticate(self, token: str) -> bool:
+        return bool(self.rig.weblab.find("Access").authenticate(CONSOLE_USER, token))
+
+    def anchor(self) -> None:
+        """Pace from now on: the current simulated time matches the current wall time."""
+        self.wall0 = time.perf_counter()
+        self.sim0 = self.rig.clock.now() if self.rig is not None else 0.0
+
+    # --------------------------------------------------------------- experiment's side
+    def main(self) -> None:
+        try:
+            with experiment.rig(self.profile, self.seed, time_cap=self.session.time_cap) as r:
+                self.rig = r
+                r.weblab.find("Access").instance.reserve(CONSOLE_USER, self.session.token)
+                for name in experiment.POLICY_SETS:
+                    r.weblab.policy_set(name).trace_rules = True
+                r.weblab.subscribe(ev.POLICY_FIRED, self._fired, name="console")
+                r.clock.call_every(PACE, self._pace, start=0.0)
+                r.clock.call_every(SERIES_PERIOD, self._sample, start=0.0)
+                self.anchor()
+                self._event("start", f"{self.profile} network, seed {self.seed}")
+                self.ready.set()
+                self._drive(r)
+                self._publish(force=True)
+                lab = r.lab
+                if lab.finish_time is not None:
+                    self._event("finish", f"finish line crossed at {lab.finish_time:.1f} s")
+                elif self.stopping:
+                    self._event("stop", "stopped from the console")
+                else:
+                    self._event("stop", f"time cap of {self.session.time_cap:.0f} s reached")
+        except Exception as exc:  # the experiment failing is shown, never a crash of the server
+            log.exception("the experiment failed")
+            self.failure = f"{type(exc).__name__}: {exc}"
+            self._event("fault", f"the experiment stopped: {self.failure}")
+        finally:
+            self.ended = True
+            self.ready.set()
+            self._fail_requests()
+            # The application is closed now: the last state shown, marked as not running.
+            last = dict(
+                self.last_state or {"t": 0.0, "pose": [0, 0, 0], "trajectory": [], "sonar": []}
+            )
+            last.update(running=False, driver="navigator", profile=self.profile, seed=self.seed)
+            last.setdefault("speed", 0.0)
+            last.setdefault("fps", 0)
+            self.hub.publish("state", last)
+
+    def _drive(self, r: Any) -> None:
+        """The Navigator's loop (as its ``run``), paused while a viewer drives."""
+        nav = r.navigator.instance
+        r.navigator.port("NavAccessPort").call("authenticate", "navigator", "token")
+        locomotion = nav.port("NavLocomotionPort")
+        while not r.lab.done and not self.stopping:
+            manual = self.manual
+            if manual is None:
+                if self.applied is not None:
+                    self.applied = None
+                    self._event("driver", "control handed back to the Navigator")
+                nav.step()
+                continue
+            now = r.clock.now()
+            speed, turn = manual
+            # A change is sent at once; a forward move again every MANUAL_RESEND s, a control
+            # cycle as the policies know it (a stop is sent once: each one is a retry to them).
+            if manual != self.applied or (speed > 0 and now - self.sent_at >= MANUAL_RESEND):
+                if self.applied is None:
+                    self._event("driver", "manual control taken")
+                self.applied, self.sent_at = manual, now
+                if speed > 0:
+                    locomotion.call("move", speed, turn)
+                else:
+                    locomotion.call("stop")
+            r.clock.sleep(MANUAL_PERIOD)
+
+    def _pace(self) -> None:
+        """Every PACE simulated seconds: serve requests, keep to real time, publish."""
+        self._serve()
+        if self.stopping:
+            self.rig.lab.done = True
+            return
+        speed = self.session.speed
+        if speed > 0:
+            while True:
+                ahead = (
+                    self.wall0 + (self.rig.clock.now() - self.sim0) / speed - time.perf_counter()
+                )
+                if ahead <= 0 or self.stopping:
+                    break
+                self.wake.wait(min(ahead, 0.05))
+                self.wake.clear()
+                self._serve()
+            if ahead < -1.0:  # far behind (a slow step): do not burst to catch up
+                self.anchor()
+        self._publish()
+
+    def _serve(self) -> None:
+        while self.requests:
+            fn, future = self.requests.popleft()
+            try:
+                future.set_result(fn())
+            except Exception as exc:
+                future.set_exception(exc)
+
+    def _fail_requests(self) -> None:
+        while self.requests:
+            _fn, future = self.requests.popleft()
+            future.set_exception(SessionError("the experiment has ended"))
+
+    def _fired(self, event: ev.Event) -> None:
+        self.firings.add(event.element)  # shown at the next publish, as its last firing then
+
+    def _sample(self) -> None:
+        weblab = self.rig.weblab
+        self.series["t"].append(round(self.rig.clock.now(), 2))
+        self.series["max_speed"].append(
+            round(float(weblab.get_property("Locomotion", "maxSpeed")), 1)
+        )
+        self.series["fps"].append(float(weblab.get_property("PanoramicCamera", "fps")))
+
+    # ---------------------------------------------------------------------- publishing
+    def _publish(self, *, force: bool = False) -> None:
+        now = time.perf_counter()
+        if (force or now - self.last_frame >= 1.0 / FRAME_HZ) and self._publish_onboard():
+            self.last_frame = now
+        if (force or now - self.last_panorama >= 1.0 / FRAME_HZ) and self._publish_panorama():
+            self.last_panorama = now
+        if not force and now - self.last_publish < 1.0 / PUBLISH_HZ:
+            return
+        self.last_publish = now
+        self._publish_state()
+        self._publish_context()
+        self._publish_policies()
+        self._publish_events()
+        if force or now - self.last_stats >= 1.0 / SERIES_HZ:  # plots need no more
+            self.last_stats = now
+            self.hub.publish("series", {k: list(v) for k, v in self.series.items()})
+            self.hub.publish("stats", self.hub.stats())
+
+    def _publish_state(self) -> None:
+        r = self.rig
+        lab, clock = r.lab, r.clock
+        now = clock.now()
+        x, y, heading = lab.robot.pose(now)
+        if not self.trail or math.dist(self.trail[-1], (x, y)) >= TRAIL_STEP_MM:
+            self.trail.append([round(x, 1), round(y, 1)])
+            if len(self.trail) > TRAIL_KEPT:
+                del self.trail[::2]  # keep the whole run, coarser
+        ranges = lab.robot.sonar(now, world.SONAR_BEARINGS, world.SONAR_RANGE_MM)
+        self.last_state = {
+            "t": round(now, 2),
+            "pose": [round(x, 1), round(y, 1), round(math.degrees(heading), 1)],
+            "trajectory": list(self.trail),
+            "sonar": [
+                [a, round(float(d), 0)] for a, d in zip(world.SONAR_BEARINGS, ranges, strict=True)
+            ],
+            "speed": round(lab.commanded, 1),
+            "fps": int(r.weblab.get_property("PanoramicCamera", "fps")),
+            "driver": "manual" if self.manual is not None else "navigator",
+            "running": not self.ended,
+            "profile": self.profile,
+            "seed": self.seed,
+            "progress": round(lab.progress / lab.path.length * 100.0, 1),
+        }
+        self.hub.publish("state", self.last_state)
+
+    def _publish_context(self) -> None:
+        weblab = self.rig.weblab
+        values: dict[str, object] = {}
+        for label, element, attribute in CONTEXT:
+            try:
+                value = weblab.get_property(element, attribute)
+            except Exception:  # a monitor without a value yet, an element gone
+                value = None
+            values[label] = value if isinstance(value, int | float) else "–"
+        self.hub.publish("context", values)
+
+    def _publish_policies(self) -> None:
+        weblab = self.rig.weblab
+        fired, self.firings = self.firings, set()
+        for name in sorted(fired):
+            policy_set = weblab.policy_set(name)
+            firing = policy_set.last_firing
+            if firing is None:
+                continue
+            self.hub.publish(
+                f"policy:{name}",
+                {
+                    "set": name,
+                    "engine": policy_set.engine_kind,
+                    "t": round(firing.time, 2),
+                    "fires": policy_set.fires,
+                    "rules": [
+                        {"label": label, "policy": policy, "degree": round(degree, 3)}
+                        for (policy, label), degree in firing.rules.items()
+                    ],
+                    "inputs": {k: _plain(v) for k, v in firing.inputs.items()},
+                    "outputs": {k: _plain(v) for k, v in firing.outputs.items()},
+                },
+            )
+
+    def _publish_events(self) -> None:
+        r = self.rig
+        nav, recovery = r.navigator.instance, r.recovery.instance
+        faults = sum(c.faults.counts["total"] for c in r.app.containers.values())
+        counts = {
+            "recovery": int(recovery.actions),
+            "user_request": int(recovery.user_requests),
+            "stripe_loss": int(nav.losses),
+            "fault": faults,
+        }
+        texts = {
+            "recovery": "recovery: backed up and turned towards the stripe",
+            "user_request": "user request: a person puts the robot back on the stripe",
+            "stripe_loss": "stripe lost",
+        }
+        for kind, count in counts.items():
+            seen = self.counts.get(kind, 0)
+            if count > seen:
+                if kind == "fault":
+                    last = [f for c in r.app.containers.values() for f in c.faults.recent][-1:]
+                    text = f"fault: {last[0].where}: {last[0].error}" if last else "fault"
+                else:
+                    text = texts[kind]
+                self._event(kind, text + (f" (×{count - seen})" if count - seen > 1 else ""))
+            self.counts[kind] = count
+
+    def _event(self, kind: str, text: str) -> None:
+        t = self.rig.clock.now() if self.rig is not None else 0.0
+        self.hub.publish(EVENT, {"t": round(t, 2), "kind": kind, "text": text[:300]})
+
+    def _publish_onboard(self) -> bool:
+        nav = self.rig.navigator.instance
+        frames = len(nav.cycles)
+        if nav.last_frame is None or frames == self.frames_shown:
+            return False
+        self.frames_shown = frames
+        self.hub.publish("frame:onboard", pictures.onboard(bytes(nav.last_frame), nav.last_turn))
+        return True
+
+    def _publish_panorama(self) -> bool:
+        sent = int(self.rig.weblab.find("PanoramicCamera").instance.sent)
+        if sent == self.panorama_shown:
+            return False
+        self.panorama_shown = sent
+        x, y, heading = self.rig.lab.pose()
+        self.hub.publish("frame:panoramic", pictures.panoramic(x, y, heading, self.trail))
+        return True
+
+
+def _plain(value: object) -> object:
+    if isinstance(value, float):
+        return round(value, 3)
+    return value if isinstance(value, int | str | bool) or value is None else str(value)

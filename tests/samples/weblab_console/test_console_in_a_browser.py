@@ -1,0 +1,172 @@
+"""The console in a real headless browser (Debian's chromium through chromedriver) over the real
+experiment, sped up five times: the page loads and authorizes with the URL's token; both camera
+panels update; the map draws the trajectory; the context panel shows values and a policy panel a
+firing with its rules' degrees; manual control moves the robot and handing back works; a viewer
+without the token is refused with the reason shown; the page says so when the server goes away."""
+
+from __future__ import annotations
+
+import pytest
+from weblab_console.hub import ConsoleHub
+from weblab_console.serving import serving
+from weblab_console.session import ConsoleSession
+
+from tests.support.browser import chromium_driver
+
+TOKEN = "browser-test-token"
+SPEED = 5.0
+WAIT = 15.0
+
+
+@pytest.fixture(scope="module")
+def console(weblab_app):
+    hub = ConsoleHub(max_viewers=8)
+    session = ConsoleSession(hub, TOKEN, speed=SPEED)
+    with serving(hub, session) as url:
+        yield url, session
+
+
+@pytest.fixture(scope="module")
+def browser():
+    driver = chromium_driver()
+    try:
+        yield driver
+    finally:
+        driver.quit()
+
+
+def until(browser, condition, what: str, timeout: float = WAIT):
+    from selenium.webdriver.support.ui import WebDriverWait
+
+    return WebDriverWait(browser, timeout, poll_frequency=0.1).until(
+        lambda d: condition(d), message=f"the page never showed {what}"
+    )
+
+
+def attr(browser, element_id: str, name: str) -> str:
+    return browser.find_element("id", element_id).get_attribute(name) or ""
+
+
+def text(browser, element_id: str) -> str:
+    return browser.find_element("id", element_id).text
+
+
+def set_range(browser, element_id: str, value: int) -> None:
+    browser.execute_script(
+        "const el = document.getElementById(arguments[0]); el.value = arguments[1];"
+        "el.dispatchEvent(new Event('input'));",
+        element_id,
+        value,
+    )
+
+
+def test_the_page_shows_a_running_experiment_in_every_panel(console, browser):
+    from selenium.webdriver.support.ui import Select
+
+    url, _session = console
+    browser.get(f"{url}/?token={TOKEN}")
+    until(browser, lambda d: "you hold the session" in text(d, "message"), "the token accepted")
+    Select(browser.find_element("id", "profile")).select_by_value("residential")
+    browser.find_element("id", "seed").clear()
+    browser.find_element("id", "seed").send_keys("3")
+    browser.find_element("id", "start").click()
+    until(browser, lambda d: "residential, seed 3" in text(d, "profile-shown"), "the run started")
+
+    # Both cameras update: frames counted, and the picture's URL changes.
+    for camera in ("onboard", "panoramic"):
+        until(
+            browser,
+            lambda d, c=camera: int(attr(d, c, "data-frames") or 0) >= 2,
+            f"{camera} frames",
+        )
+        first = attr(browser, camera, "src")
+        until(browser, lambda d, c=camera, f=first: attr(d, c, "src") != f, f"a new {camera} frame")
+        assert attr(browser, camera, "src").startswith("blob:")
+
+    # The map draws a trajectory that grows.
+    until(browser, lambda d: int(attr(d, "map", "data-points") or 0) >= 3, "a trajectory")
+
+    # The context panel: the monitored values, numbers among them (read in one script: the
+    # panels are redrawn ten times a second).
+    context = until(
+        browser,
+        lambda d: (
+            d.execute_script(
+                "return Object.fromEntries([...document.querySelectorAll('#context tbody tr')]"
+                ".map((r) => [r.cells[0].textContent, r.cells[1].textContent]))"
+            )
+            or None
+        ),
+        "context rows",
+    )
+    assert {"cycle rate (cycles/s)", "trajectory angle (°)", "users", "battery (V)"} <= set(context)
+    assert float(context["battery (V)"]) > 10.0
+    assert int(context["users"]) >= 1
+
+    # A fuzzy policy set's firing, with the rules that fired and their degrees (0..1].
+    policy = until(
+        browser,
+        lambda d: d.execute_script(
+            "const box = document.getElementById('policy-SpeedLimiting');"
+            "return box && {fires: box.dataset.fires, text: box.textContent, degrees:"
+            " [...box.querySelectorAll('.rule')].map((r) => Number(r.dataset.degree))}"
+        ),
+        "SpeedLimiting's firing",
+    )
+    assert int(policy["fires"]) >= 1
+    assert policy["degrees"] and all(0.0 < d <= 1.0 for d in policy["degrees"])
+    assert "Locomotion.maxSpeed" in policy["text"]
+    until(browser, lambda d: d.find_elements("id", "policy-BandwidthLimiting"), "BandwidthLimiting")
+
+
+def test_manual_control_moves_the_robot_and_hands_back(console, browser):
+    _url, session = console
+    assert session.running, "the previous test started a run in this page"
+    set_range(browser, "speed", 150)
+    set_range(browser, "turn", 20)
+    browser.find_element("id", "take").click()
+    until(browser, lambda d: attr(d, "map", "data-driver") == "manual", "manual control")
+    assert "You drive" in text(browser, "driver")
+    pose = attr(browser, "map", "data-pose")
+    until(
+        browser,
+        lambda d: attr(d, "map", "data-pose") != pose and attr(d, "map", "data-driver") == "manual",
+        "the robot moving under manual control",
+    )
+    until(browser, lambda d: "manual control taken" in text(d, "timeline"), "the event")
+
+    browser.find_element("id", "release").click()
+    until(browser, lambda d: attr(d, "map", "data-driver") == "navigator", "the Navigator back")
+    assert "Navigator drives" in text(browser, "driver")
+    until(browser, lambda d: "handed back" in text(d, "timeline"), "the hand-back event")
+
+
+def test_a_viewer_without_the_token_is_refused_with_the_reason_shown(console, browser):
+    url, session = console
+    browser.get(f"{url}/")
+    until(browser, lambda d: "watching only" in text(d, "message"), "the watching-only notice")
+    until(browser, lambda d: d.find_elements("css selector", "#profile option"), "the profiles")
+    browser.find_element("id", "stop").click()
+    until(browser, lambda d: "needs the session's token" in text(d, "message"), "the refusal")
+    assert "refused" in attr(browser, "message", "class")
+    assert session.running, "the refused stop did not reach the experiment"
+    # A wrong token is refused by the access service.
+    browser.get(f"{url}/?token=not-the-token")
+    until(
+        browser,
+        lambda d: "does not know this token" in text(d, "message"),
+        "the wrong token refused",
+    )
+
+
+def test_the_page_says_disconnected_when_the_console_goes_away(weblab_app, browser):
+    hub = ConsoleHub()
+    session = ConsoleSession(hub, TOKEN, speed=SPEED)
+    with serving(hub, session) as url:
+        browser.get(f"{url}/?token={TOKEN}")
+        until(browser, lambda d: text(d, "connection") == "live", "live")
+        browser.find_element("id", "start").click()
+        until(browser, lambda d: attr(d, "map", "data-running") == "true", "the run")
+    # The server and its experiment are gone: the page tells, it does not hang or show stale data as live.
+    until(browser, lambda d: text(d, "connection") == "disconnected", "disconnected")
+    assert "off" in attr(browser, "connection", "class")
