@@ -15,11 +15,10 @@ import os
 import random
 import subprocess
 import sys
-import tempfile
 import threading
 import time
-from pathlib import Path
 
+import loopback_broker
 from lxml import etree
 
 from acordcs.runtime.context import (
@@ -190,16 +189,6 @@ def bench_embedded_latency(samples: int = 3000) -> None:
         print(f"{label}: {percentiles(latencies)}; other callbacks per document: {fired:.1f}")
 
 
-MOSQUITTO_CONF = """listener {port} 127.0.0.1
-allow_anonymous true
-set_tcp_nodelay true
-max_queued_messages 1000000
-max_inflight_messages 1000
-persistence false
-log_dest none
-"""
-
-
 def mqtt_publisher(port: int, rate: int, count: int, qos: int) -> None:
     """Runs in a child process: publish ``count`` documents at ``rate``/s with a monotonic timestamp."""
     rng = random.Random(9)
@@ -223,28 +212,10 @@ def mqtt_publisher(port: int, rate: int, count: int, qos: int) -> None:
 
 def bench_mqtt(rate: int = 5000, seconds: float = 4.0) -> None:
     print(f"== over mosquitto (loopback), publisher in another process, {rate} msg/s ==")
-    mosquitto = "/usr/sbin/mosquitto"
-    if not os.access(mosquitto, os.X_OK):
-        print("mosquitto not installed (/usr/sbin/mosquitto): skipped")
+    if not loopback_broker.available():
+        print(f"mosquitto not installed ({loopback_broker.MOSQUITTO}): skipped")
         return
-    import socket
-
-    with socket.socket() as sock:
-        sock.bind(("127.0.0.1", 0))
-        port = sock.getsockname()[1]
-    workdir = Path(tempfile.mkdtemp(prefix="bench-mosquitto-"))
-    conf = workdir / "mosquitto.conf"
-    conf.write_text(MOSQUITTO_CONF.format(port=port))
-    broker = subprocess.Popen(
-        [mosquitto, "-c", str(conf)], stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL
-    )
-    try:
-        for _ in range(200):
-            try:
-                socket.create_connection(("127.0.0.1", port), timeout=0.1).close()
-                break
-            except OSError:
-                time.sleep(0.02)
+    with loopback_broker.loopback_broker() as port:
         count = int(rate * seconds)
         for qos in (0, 1):
             latencies: list[int] = []
@@ -276,11 +247,6 @@ def bench_mqtt(rate: int = 5000, seconds: float = 4.0) -> None:
                 f"QoS {qos}: sent {count}, received {received}, lost (seq gaps) {stats['lost']}, "
                 f"dropped in mailbox {stats['dropped']}; {percentiles(latencies) if latencies else 'no samples'}"
             )
-    finally:
-        broker.terminate()
-        broker.wait(timeout=5)
-        conf.unlink()
-        workdir.rmdir()
 
 
 def main() -> None:

@@ -20,25 +20,15 @@ import random
 import socket
 import subprocess
 import sys
-import tempfile
 import threading
 import time
-from pathlib import Path
 
+import loopback_broker
 import paho.mqtt.client as mqtt
 from paho.mqtt.enums import CallbackAPIVersion
 
 from acordcs.runtime.context import ContextError, MqttContextProvider
 
-MOSQUITTO_CONF = """\
-listener {port} 127.0.0.1
-allow_anonymous true
-set_tcp_nodelay true
-max_queued_messages 1000000
-max_inflight_messages 1000
-persistence false
-log_dest none
-"""
 TOPIC = "acordcs/ctx/robot0"
 
 
@@ -207,27 +197,11 @@ def main() -> None:
         kind, port, rate, count = args.publisher
         publish(kind, int(port), int(rate), int(count))
         return
-    mosquitto = "/usr/sbin/mosquitto"
-    if not os.access(mosquitto, os.X_OK):
-        print("mosquitto not installed (/usr/sbin/mosquitto): skipped")
+    if not loopback_broker.available():
+        print(f"mosquitto not installed ({loopback_broker.MOSQUITTO}): skipped")
         return
     print(f"cores: {os.cpu_count()}, load average at start: {os.getloadavg()[0]:.2f}")
-    with socket.socket() as sock:
-        sock.bind(("127.0.0.1", 0))
-        port = sock.getsockname()[1]
-    workdir = Path(tempfile.mkdtemp(prefix="bench-mqtt-load-"))
-    conf = workdir / "mosquitto.conf"
-    conf.write_text(MOSQUITTO_CONF.format(port=port))
-    broker = subprocess.Popen(
-        [mosquitto, "-c", str(conf)], stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL
-    )
-    try:
-        for _ in range(200):
-            try:
-                socket.create_connection(("127.0.0.1", port), timeout=0.1).close()
-                break
-            except OSError:
-                time.sleep(0.02)
+    with loopback_broker.loopback_broker() as port:
         print(f"== saturation, QoS 1, retained, {args.count} documents of {len(telemetry())} B ==")
         rates = {}
         kinds = ("paho", "ours", "ours-inline")
@@ -260,11 +234,6 @@ def main() -> None:
                     else "no samples"
                 )
             )
-    finally:
-        broker.terminate()
-        broker.wait(timeout=5)
-        conf.unlink()
-        workdir.rmdir()
     print(f"load average at end: {os.getloadavg()[0]:.2f}")
 
 
