@@ -323,6 +323,15 @@ class PolicySet:
             container.stats["policy_skipped"] += 1
             return False
         # Plain try/finally rather than context managers: this is the adaptation hot path.
+        # A crisp set's records run assignments first, then the operations its rules call; an
+        # operation may itself change an assigned property (Recovery.askUser resets the retries
+        # the count rule raised): its write is the later one and must stand, so the write-back
+        # below skips an output whose property changed during the firing.
+        before = (
+            [container.get_property(e, a) for e, a in self.outputs.values()]
+            if self.operations
+            else None
+        )
         previous, container.origin = container.origin, self.name
         try:
             for var, value in values:
@@ -336,10 +345,12 @@ class PolicySet:
             self.fires += 1
             container.stats["policy_fires"] += 1
             written: dict[str, object] = {}
-            for var, (element, attribute) in self.outputs.items():
+            for i, (var, (element, attribute)) in enumerate(self.outputs.items()):
                 value = engine.get(var)
                 if value is not None:
                     current = container.get_property(element, attribute)
+                    if before is not None and current != before[i]:
+                        continue  # an operation called after the assignment wrote it last
                     written[var] = _coerce(value, current)
                     container.set_property(element, attribute, written[var])
             # Kept raw: the Firing is built when someone asks (this is the adaptation hot path).
