@@ -6,7 +6,7 @@ from __future__ import annotations
 
 import pytest
 
-from acordcs.rules import MAX_DEPTH, RuleSyntaxError, parse_rule
+from acordcs.rules import MAX_DEPTH, RuleSyntaxError, parse_rule, rule_too_deep
 from tests.support.toolchain import rule_and_tag_findings
 
 N = 1000
@@ -39,7 +39,9 @@ def test_a_chain_at_the_limit_parses(case: str) -> None:
     # n operators of a chain make n levels (n + 1 operands); `y = -...-x` and the call have no
     # comparison above them, the others one
     kind, text = _chains(MAX_DEPTH - 1)[case]
-    parse_rule(text, kind)  # type: ignore[arg-type]
+    rule = parse_rule(text, kind)  # type: ignore[arg-type]
+    assert rule_too_deep(rule) is None  # within the limit...
+    assert rule_too_deep(rule, MAX_DEPTH - 3) is not None  # ...and at its edge (198 to 200 levels)
 
 
 def test_a_wide_shallow_rule_of_100_kb_parses() -> None:

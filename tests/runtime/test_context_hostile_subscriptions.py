@@ -72,7 +72,8 @@ def test_the_linear_forms_are_allowed_and_match_like_lxml(xpath: str) -> None:
 
 def test_a_trusted_subscriber_may_take_any_xpath() -> None:
     with ContextProvider(Limits(trusted_subscribers=True)) as provider:
-        provider.subscribe(print, ATTACKS[0])
+        handle = provider.subscribe(lambda note: None, ATTACKS[0])
+        assert handle.active and handle in provider.subscriptions()
 
 
 def _deep_document(levels: int = 250, text: int = 3600) -> str:
@@ -93,8 +94,13 @@ def test_a_costly_document_is_refused_not_the_subscription() -> None:
 
 
 def test_a_document_within_the_cost_limit_is_accepted() -> None:
+    notes: list[Notification] = []
     with ContextProvider() as provider:
-        provider.publish("p", _deep_document(levels=100, text=300))  # cost about 1.5 million
+        provider.subscribe(notes.append, "//*[contains(., 'fire')]")
+        document = _deep_document(levels=100, text=300).replace("t", "fire", 1)
+        assert provider.publish("p", document) == 1  # cost about 1.5 million
+        assert wait_for(lambda: len(notes) == 1)
+        assert provider.rejected_by.get("p", 0) == 0
 
 
 def test_a_slow_evaluation_does_not_hold_up_another_publisher() -> None:
