@@ -313,3 +313,15 @@ def test_assembly_gives_each_monitor_its_kind():
         assert container.monitor("Telemetry").xpath == "/telemetry"
         assert container.monitor("Usage").operation == "countUsers"
         assert run.context.inline  # virtual clock: deterministic delivery
+
+
+def test_a_monitor_class_declaring_its_attributes_has_them_without_a_descriptor():
+    class Usage(PollingMonitor):
+        attribute_defaults: ClassVar[dict[str, object]] = {"numUsers": 1}
+
+    usage = Usage("Usage", frequency=1.0, sources=["Access"], operation="countUsers")
+    assert usage.attributes == {"numUsers": 1}
+    usage.attributes["numUsers"] = 5  # its own copy: the class's defaults stay
+    assert Usage.attribute_defaults == {"numUsers": 1}
+    given = Usage("Usage", frequency=1.0, sources=["Access"], operation="n", attributes={"x": 0})
+    assert given.attributes == {"x": 0}  # what the assembly gives (the descriptor) wins

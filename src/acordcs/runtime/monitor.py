@@ -21,7 +21,7 @@ from __future__ import annotations
 import logging
 import threading
 from collections.abc import Callable, Iterable, Mapping
-from typing import TYPE_CHECKING, Any, Protocol
+from typing import TYPE_CHECKING, Any, ClassVar, Protocol
 
 from acordcs.runtime import events as ev
 from acordcs.runtime.errors import ConfigurationError
@@ -64,7 +64,12 @@ class MonitorHost(Protocol):
 
 
 class Monitor:
-    """Base class; subclasses override :meth:`acquire` (periodic) or :meth:`on_event` (event-driven)."""
+    """Base class; subclasses override :meth:`acquire` (periodic) or :meth:`on_event` (event-driven).
+
+    ``attribute_defaults`` (a generated monitor base declares the model's attributes there, as a
+    component base declares ``properties``) are the attributes of a monitor made without any."""
+
+    attribute_defaults: ClassVar[Mapping[str, object]] = {}
 
     def __init__(
         self,
@@ -81,7 +86,9 @@ class Monitor:
         self.name = name
         self.frequency = frequency
         self.sources = tuple(sources)
-        self.attributes: dict[str, object] = dict(attributes or {})
+        self.attributes: dict[str, object] = dict(
+            self.attribute_defaults if attributes is None else attributes
+        )
         self.container: MonitorHost | None = None
         self.ticks = 0
         self.overruns = 0  # ticks skipped while the previous acquire was still running
