@@ -61,12 +61,6 @@ from acordcs.xmi.uml import Classifier, Element
 from acordcs.xmi.uml import Operation as UmlOperation
 from acordcs.xmi.uml import Property as UmlProperty
 
-
-def _tag_text(role: Role, tag: str) -> str | None:
-    """The tag's value, None when unset or blank (BOUML writes every declared tag, empty)."""
-    return (role.tag(tag) or "").strip() or None
-
-
 _KIND = {
     CONTAINER: "container",
     COMPONENT: "component",
@@ -318,8 +312,8 @@ class _Describer:
             role.element.qualified_name(),
             parse_real(role.tag("frequency") or ""),
             acquisition,
-            _tag_text(role, "xpath") if acquisition == "subscribe" else None,
-            _tag_text(role, "operation") if acquisition == "poll" else None,
+            role.tag("xpath") if acquisition == "subscribe" else None,
+            role.tag("operation") if acquisition == "poll" else None,
             self.refs(self.arch.related(role, "sources")),
             self.refs(self.arch.related(role, "feeds")),
             self.properties(role),

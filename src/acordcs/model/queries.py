@@ -78,7 +78,7 @@ def monitor_acquisition(monitor: Role) -> str:
     """How ``monitor`` acquires context: its tag ``acquisition``, or when unset (or not one of
     :data:`ACQUISITIONS`, which the checks report) ``custom`` for a monitor with a frequency and
     ``intercept`` for one without."""
-    tag = (monitor.tag("acquisition") or "").strip()
+    tag = monitor.tag("acquisition")
     if tag in ACQUISITIONS:
         return tag
     return "custom" if parse_real(monitor.tag("frequency") or "") is not None else "intercept"

@@ -32,14 +32,14 @@ _ONLY_FOR = {"xpath": "subscribe", "operation": "poll"}
 def monitor_acquisition_data(ctx: Context) -> Iterator[Diagnostic]:
     arch = ctx.arch
     for monitor in arch.of_kind(MONITOR):
-        written = (monitor.tags.get("acquisition") or "").strip()
+        written = monitor.tag("acquisition")
         if written and written not in ACQUISITIONS:
             continue  # T305 reports the value; the kind is unknown, so are its needs
         kind = monitor_acquisition(monitor)
         sources = arch.related(monitor, "sources")
         frequency = parse_real(monitor.tag("frequency") or "")
         for tag, user in _ONLY_FOR.items():
-            if (monitor.tags.get(tag) or "").strip() and kind != user:
+            if monitor.tag(tag) and kind != user:
                 yield ctx.diag(
                     "A515",
                     f"monitor {monitor.name!r} acquires by {kind} and ignores its tag {tag!r} "
@@ -71,7 +71,7 @@ def monitor_acquisition_data(ctx: Context) -> Iterator[Diagnostic]:
 
 
 def _xpath(ctx: Context, monitor: Role) -> Iterator[Diagnostic]:
-    text = (monitor.tags.get("xpath") or "").strip()
+    text = monitor.tag("xpath")
     line = monitor.tag_line("xpath")
     if not text:
         yield ctx.diag(
@@ -114,7 +114,7 @@ def _polled(
         )
         return
     component = components[0]
-    name = (monitor.tags.get("operation") or "").strip()
+    name = monitor.tag("operation")
     line = monitor.tag_line("operation")
     operations = {op.name: op for op in getattr(component.element, "operations", ())}
     if not name:
@@ -149,7 +149,7 @@ def _polled(
 @check
 def container_ports(ctx: Context) -> Iterator[Diagnostic]:
     for container in ctx.arch.of_kind(CONTAINER):
-        text = (container.tags.get("port") or "").strip()
+        text = container.tag("port")
         if not text:
             continue
         port = parse_integer(text)
