@@ -128,7 +128,8 @@ def test_file_fires_like_the_runtime_engine(set_name: str, tmp_path: Path):
     assert build(sample, tmp_path, "--target", "rules").code == 0
     loaded = FileEngine(tmp_path / "rules" / f"{set_name}.clp")
     engine, calls = runtime_engine(sample, set_name)
-    assert set(loaded.numbers) == set(engine._variables)  # the same scope, the same names
+    # The file holds the variables the rules use (the oracle declares the whole scope), by name.
+    assert loaded.numbers and set(loaded.numbers) <= set(engine._variables)
     for name in loaded.numbers:
         if engine.get(name) is None:  # unset in the model: the descriptor's typed default
             engine.set(name, loaded.get(name))

@@ -95,7 +95,9 @@ def test_names_are_plain_identifiers_for_jfuzzylogic(weblab: Application):
         assert declared and all("." not in n for n in declared)
         assert not re.search(r"\w\.[A-Za-z_]", made.text.replace("..", " "))
         assert all(n.upper() not in FCL_KEYWORDS for n in declared)
-        assert {m for _, m, _ in made.renamed} >= {v.name for v in ps.variables}
+        assert {m for _, m, _ in made.renamed} >= {
+            b.target for b in ps.bound if b.kind == "attribute"
+        }
 
 
 def test_names_that_are_fcl_keywords_are_renamed_and_listed(weblab: Application):

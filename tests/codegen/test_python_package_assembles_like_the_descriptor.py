@@ -17,7 +17,7 @@ from typing import Any
 import pytest
 
 from acordcs.codegen.targets.python import package_name
-from acordcs.descriptor import describe
+from acordcs.model.describe import describe
 from acordcs.model.reading import read_model
 from acordcs.runtime.api import RunningApplication, VirtualClock, assemble
 from acordcs.runtime.monitor import Monitor

@@ -5,7 +5,8 @@ from __future__ import annotations
 
 import pytest
 
-from acordcs.descriptor import DescriptorError, describe
+from acordcs.descriptor import DescriptorError
+from acordcs.model.describe import describe
 from acordcs.model.reading import read_model
 from tests.support.toolchain import replace, replace_in_element, write_model
 

@@ -2,7 +2,8 @@
 
 from __future__ import annotations
 
-from acordcs.descriptor import describe, to_xml
+from acordcs.descriptor import to_xml
+from acordcs.model.describe import describe
 from acordcs.model.reading import read_model
 from tests.support.toolchain import SMARTROOM, WEBLAB
 

@@ -15,9 +15,10 @@ from typing import Any
 
 import pytest
 
-from acordcs.descriptor import describe
+from acordcs.model.describe import describe
 from acordcs.model.ecore_builder import to_ecore
 from acordcs.model.reading import read_model
+from acordcs.rules import parse_terms
 from acordcs.runtime.assembly import RunningApplication, assemble
 from acordcs.runtime.clock import VirtualClock
 from acordcs.runtime.connectors import (
@@ -211,7 +212,15 @@ def check_monitors_and_policy_sets(app: RunningApplication, model: Any, where: d
         }
         assert set(running.adapts) == {name_of(a) for a in ps.adapts}
         assert set(running.fed_by) == {m.name for m in model.monitors if ps in m.feeds}
-        assert running.variables == variables_in_scope(model, ps), ps.name
+        in_scope = variables_in_scope(model, ps)
+        for name, planned in running.plan.variables.items():
+            if planned.terms is None:
+                continue
+            expected = in_scope[name]  # every linguistic variable it uses is one of its scope's
+            assert (planned.terms.lo, planned.terms.hi) == (expected.lo, expected.hi), name
+            assert [(t.name.text, t.shape, t.parameters) for t in planned.terms.terms] == [
+                (t.name.text, t.shape, t.parameters) for t in parse_terms(expected.terms)
+            ], name
     replicas = {(f.monitor, f.target) for f in app.feeds if f.delivery == "in-process"}
     assert sum(len(c.monitors()) for c in app.containers.values()) == len(model.monitors) + len(
         replicas

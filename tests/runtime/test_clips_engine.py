@@ -132,8 +132,8 @@ def test_replace_by_label_keeps_the_position():
 def test_unlabelled_rules_get_labels():
     engine = ClipsEngine()
     engine.declare("A.x", 0)
-    assert engine.defrule("if A.x == 0 then A.x = 1", "s") == "rule_1"
-    assert engine.defrule("if A.x == 1 then A.x = 2", "s") == "rule_2"
+    assert engine.defrule("if A.x == 0 then A.x = 1", "s") == "rule1"
+    assert engine.defrule("if A.x == 1 then A.x = 2", "s") == "rule2"
     engine.fire("s")
     assert engine.get("A.x") == 2.0
 

@@ -124,7 +124,9 @@ def test_hedges_weights_and_qualified_names_survive_the_round_trip():
     )
     e.defrule("if Sensor.level is low then Pump.flow is low", "p")
     text = e.to_fcl()
-    assert "level IS NOT very high OR NOT (level IS somewhat low)" in text and "WITH 0.25" in text
+    # Rules are written as resolved: the names of the variables they were bound to.
+    assert "Sensor.level IS NOT very high OR NOT (Sensor.level IS somewhat low)" in text
+    assert "THEN Pump.flow IS high WITH 0.25" in text
     assert "DEFAULT := 7;" in text
     back = FuzzyEngine.from_fcl(text)
     assert back.to_fcl() == text

@@ -7,7 +7,7 @@ import pytest
 
 from acordcs.metamodel import create, load
 from acordcs.rules import parse_terms
-from acordcs.runtime.fuzzy import engine_for_policy_set
+from acordcs.runtime.fuzzy.model import engine_for_policy_set
 from acordcs.runtime.rule_engine import RuleError
 from tests.support.fuzzy_bases import SPEED_RULES, SPEED_VARIABLES, speed_engine
 

@@ -185,7 +185,7 @@ def test_a_fuzzy_policy_set_keeps_its_last_firing_and_emits_policy_fired(robot):
     ps = c.policy_set("limit")
     firing = ps.last_firing
     assert firing is not None and firing.time == 2.5
-    assert firing.inputs == {"rate": 1.1, "angle": 12.0}
+    assert firing.inputs == {"control.rate": 1.1, "control.angle": 12.0}  # the variables' names
     assert firing.outputs == {"Locomotion.speed": c.get_property("Locomotion", "speed")}
     want = skfuzzy_strengths(1.1, 12.0)
     assert firing.rules == pytest.approx({("main", "r1"): want["r1"], ("main", "r2"): want["r2"]})

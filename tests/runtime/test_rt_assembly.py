@@ -15,7 +15,7 @@ from acordcs.runtime.component import CtxComponent
 from acordcs.runtime.errors import BindingError, ConfigurationError
 from acordcs.runtime.monitor import Monitor
 from acordcs.runtime.ports import stream_port
-from acordcs.runtime.registry import Variable, register_engine, unregister_engine
+from acordcs.runtime.registry import register_engine, unregister_engine
 from tests.support.components import CrispEngine
 from tests.support.descriptors import (
     application,
@@ -138,6 +138,9 @@ def test_unknown_container_and_missing_remote_end_are_reported(crisp_as_clips):
         assemble(split, only=["lab"], clock=VirtualClock())
 
 
+PARTS = ("containers", "components", "connections", "monitors")
+
+
 def test_policy_sets_get_the_linguistic_variables_of_their_scope():
     speed = variable("Camera", "fps", 0.0, 30.0, slow="trapezoid 0 0 5 10", fast="triangle 8 30 30")
     users = variable(
@@ -146,16 +149,15 @@ def test_policy_sets_get_the_linguistic_variables_of_their_scope():
     base = weblab()
     (ps,) = base.policy_sets
     rules = policy_set("x", {"fps": ["if numUsers is many then Camera.fps is slow"]}).policies
-    fuzzy = replace(ps, engine="fuzzy", policies=rules, variables=(speed, users))
-    app = replace(base, policy_sets=(fuzzy,))
+    fuzzy = replace(ps, engine="fuzzy", policies=rules, variables=(speed, users), bound=())
+    app = application(base.name, **{k: getattr(base, k) for k in PARTS}, policy_sets=(fuzzy,))
     with assemble(app, clock=VirtualClock()) as run:
         ps = run.container().policy_set("BandwidthLimiting")
-        assert ps.variables["Camera.fps"] == Variable(
-            0.0, 30.0, "slow := trape 0 0 5 10; fast := trian 8 30 30"
-        )
-        assert (
-            ps.variables["Usage.numUsers"].terms == "few := trape 0 0 1 3; many := trape 1 3 10 10"
-        )
+        assert ps.engine.variables["Camera.fps"].terms["fast"].fcl() == "trian 8 30 30"
+        assert ps.engine.variables["Camera.fps"].hi == 30.0
+        assert [*ps.engine.variables["Usage.numUsers"].terms] == ["few", "many"]
+        assert ps.inputs == {"Usage.numUsers": ("Usage", "numUsers")}
+        assert ps.outputs == {"Camera.fps": ("Camera", "fps")}
 
 
 def test_bad_settings_are_clear_errors(crisp_as_clips):

@@ -298,7 +298,7 @@ def test_builtin_engine_kinds_are_looked_up_lazily():
     # is a clear error, not an ImportError traceback.
     for kind in ("fuzzy", "clips"):
         try:
-            constructor, syntax = lookup_engine(kind)
+            constructor, syntax, _loads_plan = lookup_engine(kind)
         except EngineNotAvailableError as exc:
             assert f"acordcs.runtime.{kind}" in str(exc)
         else:

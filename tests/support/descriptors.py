@@ -1,9 +1,14 @@
 """Small application descriptors written by hand, for the runtime's assembly tests.
 
 Ids and qualified names are made up from the names: ``assemble`` reads names, kinds and values.
+What the policy sets' rules name is resolved as the toolchain's ``describe`` does it, with the one
+resolution (:func:`acordcs.rules.binding.bind`), over the scope these descriptors give each set
+(:func:`application` does it for the sets given without it).
 """
 
 from __future__ import annotations
+
+from dataclasses import replace
 
 from acordcs.descriptor.model import (
     Application,
@@ -22,7 +27,10 @@ from acordcs.descriptor.model import (
     Rule,
     Term,
     Variable,
+    bound_names,
 )
+from acordcs.rules import parse_rule
+from acordcs.rules.binding import Scope, ScopeElement, bind, default_label, rule_syntax
 
 _KIND = {int: "int", float: "double", bool: "bool", str: "string"}
 
@@ -132,9 +140,15 @@ def policy_set(
     policies = []
     for policy, texts in rules.items():
         parsed = []
-        for text in texts:
+        taken = {t.partition(": ")[0] for t in texts if ": " in t}
+        for position, text in enumerate(texts, start=1):
             label, sep, rest = text.partition(": ")
-            parsed.append(Rule(label, rest, "Rule") if sep else Rule(None, text, "Rule"))
+            if sep:
+                parsed.append(Rule(label, rest, "Rule", position))
+            else:
+                label = default_label(position, taken)
+                taken.add(label)
+                parsed.append(Rule(label, text, "Rule", position, assigned_label=True))
         policies.append(Policy(f"id-{policy}", policy, f"M::{policy}", tuple(parsed)))
     return PolicySet(
         f"id-{name}",
@@ -151,4 +165,56 @@ def policy_set(
 
 
 def application(name: str = "App", **parts: tuple) -> Application:
-    return Application(name, **parts)
+    """The application; its policy sets' rule names bound (see the module docstring)."""
+    app = Application(name, **parts)
+    return replace(app, policy_sets=tuple(bound(app, ps) for ps in app.policy_sets))
+
+
+def _scope(app: Application, ps: PolicySet) -> list[ScopeElement]:
+    """The elements a set's rules may name: the monitors feeding it, what it adapts (a
+    component with its ports)."""
+
+    def element(name, item, properties, short=None):
+        return ScopeElement(
+            name,
+            {p.name: p for p in properties},
+            {o.name: o for o in item.operations},
+            short=short,
+        )
+
+    out = [element(m.name, m, m.properties) for m in app.monitors if m.name in _fed(app, ps)]
+    components = {c.name: c for c in app.components}
+    for target in ps.adapts:
+        if target.kind == "component" and target.name in components:
+            c = components[target.name]
+            out.append(element(c.name, c, c.properties))
+            out += [element(f"{c.name}.{p.name}", p, p.properties, p.name) for p in c.ports]
+        elif target.kind == "container":
+            c = next(c for c in app.containers if c.name == target.name)
+            out.append(element(c.name, c, c.properties))
+        elif target.kind == "connection":
+            c = next(c for c in app.connections if c.name == target.name)
+            out.append(element(c.name, c, c.qos))
+    return out
+
+
+def _fed(app: Application, ps: PolicySet) -> set[str]:
+    return {m.name for m in app.monitors if any(f.name == ps.name for f in m.feeds)}
+
+
+def bound(app: Application, ps: PolicySet) -> PolicySet:
+    """``ps`` with what its rules name resolved (left as it is when already resolved, or when a
+    name does not resolve: assembling it then fails, as with any descriptor left unresolved)."""
+    if ps.bound:
+        return ps
+    syntax = rule_syntax(ps.engine)
+    found = bind(Scope(_scope(app, ps)), (parse_rule(r.line, syntax) for r in ps.rules()), syntax)
+    if found.problems:
+        return ps
+    return replace(
+        ps,
+        bound=bound_names(found.targets().values()),
+        inputs=found.inputs,
+        outputs=found.outputs,
+        triggers=found.triggers,
+    )

@@ -5,7 +5,7 @@
    read and nothing is written (``force`` skips this).
 2. **Read and validate** (:func:`acordcs.model.reading.read_model`): an error stops the build,
    nothing written.
-3. **Describe** (:func:`acordcs.descriptor.describe`, :func:`~acordcs.descriptor.to_xml`), and check
+3. **Describe** (:func:`acordcs.model.describe.describe`, :func:`~acordcs.descriptor.to_xml`), and check
    every name that may become part of a path (G701).
 4. **Transform**: each target runs into a temporary directory and hands back its files; a target
    that fails, or files that would leave the output directory or collide (G701, G702), stop the
@@ -186,7 +186,8 @@ def _build(
     result.warnings = list(reading.diagnostics)
 
     step("describing the application")
-    from acordcs.descriptor import DescriptorError, describe, to_xml
+    from acordcs.descriptor import DescriptorError, to_xml
+    from acordcs.model.describe import describe
 
     try:
         app = describe(reading.architecture)

@@ -1,20 +1,23 @@
 """The application descriptor: one source of truth between a model and what is built from it.
 
-``describe(arch)`` reads an interpreted model (:mod:`acordcs.model.architecture`) into frozen plain
-data (:mod:`.model`); ``to_xml`` / ``from_xml`` (:mod:`.xml`) write and read it as the XML
-deployment descriptor, validated against ``acordcs-descriptor.xsd``; the code generator's
-stylesheets read that document, and ``assemble`` builds running containers from the data::
+A leaf package: frozen plain data (:mod:`.model`), and ``to_xml`` / ``from_xml`` (:mod:`.xml`)
+writing and reading it as the XML deployment descriptor, validated against
+``acordcs-descriptor.xsd``. It imports nothing of the toolchain: a generated application reads
+its descriptor with it. The toolchain makes a descriptor from a model with
+:func:`acordcs.model.describe.describe`; the code generator's stylesheets read the document, and
+:func:`acordcs.runtime.assembly.assemble` builds running containers from the data::
 
-    from acordcs.descriptor import describe, to_xml
+    from acordcs.descriptor import to_xml
+    from acordcs.model.describe import describe
     from acordcs.model.reading import read_model
 
     app = describe(read_model("samples/weblab/weblab.xmi").architecture)
     data = to_xml(app)
 """
 
-from acordcs.descriptor.describe import describe, typed_default, value_kind
 from acordcs.descriptor.model import (
     Application,
+    Bound,
     Component,
     Connection,
     Container,
@@ -32,12 +35,16 @@ from acordcs.descriptor.model import (
     Rule,
     Term,
     Variable,
+    parse_real,
+    typed_default,
+    value_kind,
 )
 from acordcs.descriptor.xml import NAMESPACE, from_xml, schema, to_xml
 
 __all__ = [
     "NAMESPACE",
     "Application",
+    "Bound",
     "Component",
     "Connection",
     "Container",
@@ -55,8 +62,8 @@ __all__ = [
     "Rule",
     "Term",
     "Variable",
-    "describe",
     "from_xml",
+    "parse_real",
     "schema",
     "to_xml",
     "typed_default",

@@ -8,14 +8,18 @@ semantics, trigger, period, policies and their rules, adapted elements, linguist
 
 Every element that comes from a UML element carries its ``id`` (the xmi:id, stable across exports)
 and its ``qualified_name`` (``Model::Package::Class``) for traceability. Lists of elements are in a
-deterministic order (see :func:`acordcs.descriptor.describe`). Nothing here refers to the UML view,
+deterministic order (see :func:`acordcs.model.describe.describe`). Nothing here refers to the UML view,
 the architecture index or pyecore: a descriptor is written to and read from XML
 (:mod:`acordcs.descriptor.xml`) without loss, and ``assemble`` builds running containers from it.
 """
 
 from __future__ import annotations
 
+import math
+import re
+from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
+from typing import Any
 
 from acordcs.errors import AcordError
 
@@ -23,7 +27,7 @@ Value = bool | int | float | str
 """A typed default: ``int`` for kind ``int``, ``float`` for ``double``, ``bool``, ``str``."""
 
 KINDS = ("int", "double", "bool", "string")
-"""How a property's UML type is read (see :func:`acordcs.descriptor.describe.typed_default`)."""
+"""How a property's UML type is read (see :func:`typed_default`)."""
 
 ELEMENT_KINDS = ("container", "component", "port", "connection", "monitor", "policy-set")
 
@@ -205,12 +209,22 @@ class Monitor:
 
 @dataclass(frozen=True, slots=True)
 class Rule:
-    """One rule as written: its label (None if unlabelled), its text without the label, and the
-    tag it was read from (``Rule`` or another tag starting with ``Rule``)."""
+    """One rule: its ``label`` (as written, or when the model wrote none, ``assigned_label`` and
+    the default label ``rule<n>``, n its position: :func:`acordcs.rules.binding.default_label`),
+    its text without the label, the tag it was read from (``Rule`` or another tag starting with
+    ``Rule``) and its ``priority``, its 1-based rank in its policy: a crisp engine tries the
+    rules in that order (CLIPS salience 9999 for the first, 9998 for the next...)."""
 
-    label: str | None
+    label: str
     text: str
     tag: str
+    priority: int = 1
+    assigned_label: bool = False
+
+    @property
+    def line(self) -> str:
+        """The rule as an engine's ``defrule`` takes it: ``label: text``."""
+        return f"{self.label}: {self.text}"
 
 
 @dataclass(frozen=True, slots=True)
@@ -281,6 +295,67 @@ class Variable:
 
 
 @dataclass(frozen=True, slots=True)
+class Bound:
+    """A name the policy set's rules write, resolved (by :func:`acordcs.rules.binding.bind`):
+    ``kind`` ``attribute`` (a variable of the engine, named ``target``: ``element.member``) or
+    ``operation``; the element's name in the application (a port as ``Component.Port``), the
+    member's name and ``id``; ``names``, every way the rules write it (``cycleRate``,
+    ``Control.cycleRate``). An attribute carries its typing (``value_kind``, one of :data:`KINDS`;
+    its UML ``type``) and ``default``; an operation its ``arity`` (its in and inout parameters)."""
+
+    kind: str
+    element: str
+    member: str
+    id: str
+    names: tuple[str, ...]
+    value_kind: str | None = None
+    type: str = ""
+    default: Value | None = None
+    arity: int | None = None
+
+    @property
+    def target(self) -> str:
+        """``element.member``: the engine's name for the variable, or the operation called."""
+        return f"{self.element}.{self.member}"
+
+
+def bound_names(found: Iterable[tuple[Any, Sequence[str]]]) -> tuple[Bound, ...]:
+    """The :class:`Bound` records of a set's resolved names: each ``(target, names written)`` of
+    :meth:`acordcs.rules.binding.Binding.targets`, whose payloads are this module's
+    :class:`Property` (an attribute) or :class:`Operation`."""
+    out = []
+    for target, names in found:
+        member = target.payload
+        if target.kind == "operation":
+            arity = sum(1 for p in member.parameters if p.direction in ("in", "inout"))
+            out.append(
+                Bound(
+                    "operation",
+                    target.element.name,
+                    target.member,
+                    member.id,
+                    tuple(names),
+                    type=member.return_type or "",
+                    arity=arity,
+                )
+            )
+        else:
+            out.append(
+                Bound(
+                    "attribute",
+                    target.element.name,
+                    target.member,
+                    member.id,
+                    tuple(names),
+                    member.kind,
+                    member.type,
+                    member.default,
+                )
+            )
+    return tuple(out)
+
+
+@dataclass(frozen=True, slots=True)
 class PolicySet:
     """A policy set: its ``engine`` (fuzzy, clips), fuzzy ``semantics``, ``trigger`` (event,
     periodic) and ``frequency`` (Hz, None when unset), its policies, the elements it ``adapts`` and
@@ -300,6 +375,10 @@ class PolicySet:
     properties: tuple[Property, ...] = ()
     operations: tuple[Operation, ...] = ()
     documentation: str = ""
+    bound: tuple[Bound, ...] = ()
+    inputs: tuple[str, ...] = ()
+    outputs: tuple[str, ...] = ()
+    triggers: tuple[str, ...] = ()
 
     def rules(self) -> tuple[Rule, ...]:
         """Every rule of every policy, in order."""
@@ -308,7 +387,7 @@ class PolicySet:
 
 @dataclass(frozen=True, slots=True)
 class Application:
-    """One context-aware application: what :func:`~acordcs.descriptor.describe` finds in a model."""
+    """One context-aware application: what :func:`~acordcs.model.describe.describe` finds in a model."""
 
     name: str
     containers: tuple[Container, ...] = ()
@@ -324,3 +403,65 @@ class Application:
     def fed_by(self, policy_set: str) -> tuple[str, ...]:
         """Names of the monitors feeding ``policy_set``."""
         return tuple(m.name for m in self.monitors if any(r.name == policy_set for r in m.feeds))
+
+
+# ------------------------------------------------------------------------------- typed values
+# xsd:double and xsd:int lexical forms (ASCII digits only), as EMF and Java read tag values.
+_REAL = re.compile(r"[+-]?([0-9]+(\.[0-9]*)?|\.[0-9]+)([eE][+-]?[0-9]+)?")
+_INTEGER = re.compile(r"[+-]?[0-9]+")
+_INT_TYPES = frozenset({"int", "integer", "long", "short"})
+_REAL_TYPES = frozenset({"double", "float", "real", "number"})
+_BOOL_TYPES = frozenset({"bool", "boolean"})
+_TRUE = frozenset({"true", "1", "yes"})
+
+
+def parse_real(text: str) -> float | None:
+    """A model's or descriptor's number as a finite xsd:double, or None."""
+    text = text.strip()
+    if not _REAL.fullmatch(text):
+        return None
+    value = float(text)
+    return value if math.isfinite(value) else None
+
+
+def parse_integer(text: str) -> int | None:
+    """A model's number as an xsd:int-like integer (under 20 characters), or None."""
+    text = text.strip()
+    return int(text) if _INTEGER.fullmatch(text) and len(text) < 20 else None
+
+
+def value_kind(type_name: str | None, *, variable: bool = False) -> str:
+    """How a UML type is read: ``int``, ``double``, ``bool`` or ``string``. A linguistic variable
+    of any type but an integer one is a ``double``."""
+    kind = (type_name or "").strip().lower()
+    if kind in _INT_TYPES:
+        return "int"
+    if kind in _REAL_TYPES or variable:
+        return "double"
+    if kind in _BOOL_TYPES:
+        return "bool"
+    return "string"
+
+
+def typed_default(kind: str, text: str | None, range_min: float | None = None) -> Value:
+    """A UML default value read by its kind (see :func:`value_kind`); these are the initial values
+    :func:`acordcs.runtime.assembly.assemble` gives properties.
+
+    Unset (None or empty): a linguistic variable gets the minimum of its range (``range_min``),
+    anything else 0, 0.0, False or "". An ``int`` default may be written as a real (``10.0``: 10,
+    truncated as the runtime does); numbers must be finite xsd:double literals. A ``bool`` is true
+    for ``true``, ``1`` or ``yes`` (any case), false otherwise. Raises ValueError for a number that
+    does not parse.
+    """
+    unset = text is None or text.strip() == ""
+    if kind in ("int", "double"):
+        if unset:
+            number = range_min if range_min is not None else 0.0
+        else:
+            number = parse_real(text)  # type: ignore[arg-type]
+            if number is None:
+                raise ValueError(text)
+        return int(number) if kind == "int" else float(number)
+    if kind == "bool":
+        return (text or "").strip().lower() in _TRUE
+    return text if text is not None else ""

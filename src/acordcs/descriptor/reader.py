@@ -8,6 +8,7 @@ import re
 
 from acordcs.descriptor.model import (
     Application,
+    Bound,
     Component,
     Connection,
     Container,
@@ -26,11 +27,11 @@ from acordcs.descriptor.model import (
     Term,
     Value,
     Variable,
+    parse_real,
 )
 from acordcs.descriptor.schema import NS as _NS
 from acordcs.descriptor.schema import column as _column
 from acordcs.descriptor.schema import local_name as _local_name
-from acordcs.model.queries import parse_real
 
 _INT = re.compile(r"[+-]?[0-9]+")
 
@@ -72,8 +73,8 @@ class _Reader:
     def _traced(self, el) -> tuple[str, str, str]:
         return el.get("id"), el.get("name"), el.get("qname")
 
-    def _value(self, el) -> Value:
-        kind, text = el.get("kind"), el.get("default")
+    def _value(self, el, kind_attribute: str = "kind") -> Value:
+        kind, text = el.get(kind_attribute), el.get("default")
         if kind == "string":
             return text
         if kind == "bool" and text in ("true", "false"):
@@ -140,6 +141,21 @@ class _Reader:
             self._doc(el),
         )
 
+    def bound(self, el) -> Bound:
+        arity = el.get("arity")
+        default = None if el.get("default") is None else self._value(el, "value-kind")
+        return Bound(
+            el.get("kind"),
+            el.get("element"),
+            el.get("member"),
+            el.get("ref"),
+            tuple(el.get("names").split()),
+            el.get("value-kind"),
+            el.get("type") or "",
+            default,
+            None if arity is None else int(arity),
+        )
+
     def port(self, el) -> Port:
         return Port(
             *self._traced(el),
@@ -191,7 +207,13 @@ class _Reader:
             Policy(
                 *self._traced(p),
                 tuple(
-                    Rule(r.get("label"), r.text or "", r.get("tag"))
+                    Rule(
+                        r.get("label"),
+                        r.text or "",
+                        r.get("tag"),
+                        int(r.get("priority")),
+                        r.get("assigned-label") in ("true", "1"),
+                    )
                     for r in self._children(p, "rule")
                 ),
                 self._doc(p),
@@ -229,4 +251,9 @@ class _Reader:
             self.properties(el),
             self.operations(el),
             self._doc(el),
+            tuple(self.bound(b) for b in self._children(el, "bound")),
+            *(
+                tuple(v.get("name") for v in self._children(el, tag))
+                for tag in ("input", "output", "trigger")
+            ),
         )

@@ -74,7 +74,7 @@ def _check(value: str, field: str, where: str) -> str:
     if not isinstance(value, str):
         raise DescriptorError(
             f"{where}: {field} must be a string, not {type(value).__name__}",
-            hint="build the descriptor with acordcs.descriptor.describe",
+            hint="build the descriptor with acordcs.model.describe.describe",
         )
     bad = _FORBIDDEN.search(value)
     if bad:
@@ -229,7 +229,15 @@ class _Writer:
             here = f"{where}, policy {pol.name!r}"
             pol_el = self.traced(el, "policy", pol, here)
             for rule in pol.rules:
-                rule_el = _sub(pol_el, "rule", here, label=rule.label, tag=rule.tag)
+                rule_el = _sub(
+                    pol_el,
+                    "rule",
+                    here,
+                    label=rule.label,
+                    tag=rule.tag,
+                    priority=str(rule.priority),
+                    assigned_label="true" if rule.assigned_label else None,
+                )
                 rule_el.text = _check(rule.text, "rule", here)
         for v in ps.variables:
             here = f"{where}, variable {v.name!r}"
@@ -248,6 +256,31 @@ class _Writer:
                 params = " ".join(_real(p, "parameter", here) for p in t.parameters)
                 _sub(var_el, "term", here, name=t.name, shape=t.shape, parameters=params)
         self.members(el, ps, where)
+        for b in ps.bound:
+            here = f"{where}, bound name {b.target!r}"
+            if not b.names or any(not n or any(c.isspace() for c in n) for n in b.names):
+                raise DescriptorError(
+                    f"{here}: names {b.names!r} must be one or more names without blanks",
+                    hint="bound names are the rule names as written (Element.attribute)",
+                )
+            default = None if b.default is None else _value(b.value_kind or "", b.default, here)
+            _sub(
+                el,
+                "bound",
+                here,
+                kind=b.kind,
+                element=b.element,
+                member=b.member,
+                ref=b.id,
+                names=" ".join(b.names),
+                value_kind=b.value_kind,
+                type=b.type or None,
+                default=default,
+                arity=None if b.arity is None else str(b.arity),
+            )
+        for tag, names in (("input", ps.inputs), ("output", ps.outputs), ("trigger", ps.triggers)):
+            for name in names:
+                _sub(el, tag, where, name=name)
 
 
 # ------------------------------------------------------------------------------------- reading

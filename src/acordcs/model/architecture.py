@@ -142,6 +142,15 @@ class Architecture:
     def policies(self, policy_set: Role) -> list[Role]:
         return self.related(policy_set, "contains")
 
+    def element_name(self, role: Role) -> str:
+        """The name the application gives ``role``'s element: a port owned by a component as
+        ``Component.Port`` (the runtime's name for it), anything else its own name."""
+        if role.kind == PORT:
+            owners = self.related_to(role, "owns_port")
+            if owners:
+                return f"{owners[0].name}.{role.name}"
+        return role.name
+
     def _link(self, a: Role, b: Role, *, directed: bool) -> None:
         """Record the relation between ``a`` and ``b``; ``directed`` when it goes from ``a`` to ``b``.
 

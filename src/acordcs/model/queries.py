@@ -8,33 +8,17 @@ Answers that can fail say why in a typed result (:class:`Resolved`, :class:`Ambi
 
 from __future__ import annotations
 
-import math
-import re
+from collections.abc import Callable
 from dataclasses import dataclass
 
+from acordcs.descriptor.model import parse_integer, parse_real
 from acordcs.diagnostics import suggestion
 from acordcs.model.architecture import Architecture, Role
 from acordcs.rules import Name, RuleKind, RuleSyntaxError, TermDef, parse_terms, split_rules
+from acordcs.rules.binding import RULE_SYNTAX, Scope, ScopeElement, Target, rule_syntax
+from acordcs.rules.binding import Ambiguous as BoundAmbiguous
+from acordcs.rules.binding import Unresolved as BoundUnresolved
 from acordcs.xmi.uml import Operation, Property
-
-# xsd:double and xsd:int lexical forms (ASCII digits only), as EMF and Java read tag values.
-_REAL = re.compile(r"[+-]?([0-9]+(\.[0-9]*)?|\.[0-9]+)([eE][+-]?[0-9]+)?")
-_INTEGER = re.compile(r"[+-]?[0-9]+")
-
-
-def parse_real(text: str) -> float | None:
-    """A tag value as a finite xsd:double, or None."""
-    text = text.strip()
-    if not _REAL.fullmatch(text):
-        return None
-    value = float(text)
-    return value if math.isfinite(value) else None
-
-
-def parse_integer(text: str) -> int | None:
-    """A tag value as an xsd:int-like integer (under 20 characters), or None."""
-    text = text.strip()
-    return int(text) if _INTEGER.fullmatch(text) and len(text) < 20 else None
 
 
 # ------------------------------------------------------------------------------------- rules
@@ -63,8 +47,11 @@ def policy_rules(policy: Role) -> list[PolicyRule]:
 
 
 def rule_kind(policy_set: Role) -> RuleKind:
-    """The syntax of a policy set's rules: crisp for the CLIPS engine, else fuzzy."""
-    return "crisp" if policy_set.tag("engine") == "clips" else "fuzzy"
+    """The syntax of a policy set's rules, by its engine (:func:`acordcs.rules.binding.rule_syntax`);
+    an engine the metamodel does not know (reported by the tag checks) reads as the default
+    engine's, so that its rules are not reported a second time."""
+    engine = policy_set.tag("engine")
+    return rule_syntax(engine if engine in RULE_SYNTAX else None)
 
 
 # ----------------------------------------------------------------------- linguistic variables
@@ -111,6 +98,28 @@ def variable_range(role: Role) -> tuple[float, float] | None:
 
 
 # ---------------------------------------------------------------------------- name resolution
+def policy_scope(
+    arch: Architecture,
+    policy_set: Role,
+    attribute: Callable[[Role, Property], object] = lambda role, prop: prop,
+    operation: Callable[[Role, Operation], object] = lambda role, op: op,
+) -> Scope:
+    """The scope of ``policy_set``'s rules (:meth:`Architecture.scope`) for
+    :mod:`acordcs.rules.binding`: each element under its application name, its role as origin,
+    its attributes and operations with what ``attribute`` and ``operation`` make of them as
+    payloads (the UML ones by default)."""
+    return Scope(
+        ScopeElement(
+            arch.element_name(role),
+            {p.name: attribute(role, p) for p in getattr(role.element, "attributes", ())},
+            {o.name: operation(role, o) for o in getattr(role.element, "operations", ())},
+            short=role.name,
+            origin=role,
+        )
+        for role in arch.scope(policy_set)
+    )
+
+
 @dataclass(frozen=True)
 class Resolved:
     """The element and its attribute or operation a rule's name denotes."""
@@ -138,38 +147,19 @@ MemberKind = str  # "attribute" or "operation"
 
 
 class PolicySetScope:
-    """Name resolution for one policy set: its scope's elements by name, attributes and operations
-    by name.
-
-    Indexed once per policy set: a model with hundreds of sets and thousands of rule atoms would
-    otherwise scan the scope for every name. Answers are kept by (text, kind): the same variables
-    recur in every rule of a set, and an answer depends on nothing else (not on the column).
-    """
+    """The validator's view of a policy set's scope: :func:`acordcs.rules.binding` resolution
+    (:func:`policy_scope`) with its answers worded for a person."""
 
     def __init__(self, arch: Architecture, policy_set: Role) -> None:
         self.arch = arch
         self.policy_set = policy_set
-        self.roles = arch.scope(policy_set)
-        self._by_element: dict[str, list[Role]] = {}
-        self._members: dict[MemberKind, dict[str, list[Resolved]]] = {
-            "attribute": {},
-            "operation": {},
-        }
+        self.scope = policy_scope(arch, policy_set)
         self._answers: dict[tuple[str, MemberKind], Resolution] = {}
-        for role in self.roles:
-            self._by_element.setdefault(role.name, []).append(role)
-            element = role.element
-            for kind, items in (
-                ("attribute", getattr(element, "attributes", ())),
-                ("operation", getattr(element, "operations", ())),
-            ):
-                for member in items:
-                    self._members[kind].setdefault(member.name, []).append(Resolved(role, member))
 
     def describe(self) -> str:
         """The scope's element names, for messages."""
         return (
-            ", ".join(r.name for r in self.roles)
+            ", ".join(e.shown for e in self.scope.elements)
             or "nothing: relate monitors and adapted elements to it"
         )
 
@@ -178,35 +168,52 @@ class PolicySetScope:
         key = (name.text, kind)
         answer = self._answers.get(key)
         if answer is None:
-            answer = self._answers[key] = self._resolve(name, kind)
+            answer = self._answers[key] = self._worded(self.scope.resolve(name.text, kind), kind)  # type: ignore[arg-type]
         return answer
 
-    def _resolve(self, name: Name, kind: MemberKind) -> Resolution:
-        found = self._members[kind].get(name.member, [])
-        if name.element is not None:
-            owners = self._by_element.get(name.element)
-            if not owners:
-                exists = any(r.name == name.element for r in self.arch.roles.values())
-                why = (
-                    f"{name.element!r} is not in the scope of policy set {self.policy_set.name!r} "
-                    "(relate it: a monitor feeding the set, or an element the set adapts)"
-                    if exists
-                    else f"no element named {name.element!r}"
-                )
-                return Unresolved(f"{why}; scope: {self.describe()}")
-            found = [r for r in found if r.role.name == name.element]
-            if not found:
-                names = [m.name for r in owners for m in getattr(r.element, kind + "s", ())]
-                return Unresolved(
-                    f"{name.element} has no {kind} {name.member!r}{suggestion(name.member, names)}"
-                )
-            return found[0]
-        if not found:
-            return Unresolved(
-                f"no element in the scope of policy set {self.policy_set.name!r} has {kind} "
-                f"{name.member!r}{suggestion(name.member, list(self._members[kind]))}; "
-                f"scope: {self.describe()}"
+    def _worded(self, found: object, kind: MemberKind) -> Resolution:
+        if isinstance(found, Target):
+            return Resolved(found.element.origin, found.payload)  # type: ignore[arg-type]
+        if isinstance(found, BoundAmbiguous):
+            return Ambiguous(tuple(f"{t.element.shown}.{t.member}" for t in found.candidates))
+        assert isinstance(found, BoundUnresolved)
+        name = self.policy_set.name
+        if found.element is not None and not found.owners:
+            exists = any(r.name == found.element for r in self.arch.roles.values())
+            why = (
+                f"{found.element!r} is not in the scope of policy set {name!r} "
+                "(relate it: a monitor feeding the set, or an element the set adapts)"
+                if exists
+                else f"no element named {found.element!r}"
             )
-        if len(found) > 1:
-            return Ambiguous(tuple(f"{r.role.name}.{r.member.name}" for r in found))
-        return found[0]
+            return Unresolved(f"{why}; scope: {self.describe()}")
+        if found.element is not None:
+            return Unresolved(
+                f"{found.element} has no {kind} {found.member!r}"
+                f"{suggestion(found.member, list(found.known))}"
+            )
+        return Unresolved(
+            f"no element in the scope of policy set {name!r} has {kind} "
+            f"{found.member!r}{suggestion(found.member, list(found.known))}; "
+            f"scope: {self.describe()}"
+        )
+
+
+__all__ = [
+    "ACQUISITIONS",
+    "Ambiguous",
+    "PolicyRule",
+    "PolicySetScope",
+    "Resolution",
+    "Resolved",
+    "Unresolved",
+    "monitor_acquisition",
+    "parse_integer",
+    "parse_real",
+    "parsed_terms",
+    "policy_rules",
+    "policy_scope",
+    "rule_kind",
+    "variable_range",
+    "variable_terms",
+]

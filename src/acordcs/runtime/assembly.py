@@ -9,7 +9,8 @@ properties, ports and operations: :mod:`.operations`). Monitors are made by the 
 properties and a connector by where their ends run: in-process between containers built here (also
 for a ``remote`` connection: co-located containers need no network), Pyro5 to an end in a container
 not built here (given as ``remote={container name: uri}``); ``shaped`` adds an emulated link.
-Policy sets get their engine, trigger, semantics and the linguistic variables of their scope. A monitor feeding a policy set of another container has a replica there, updated with its
+Policy sets get their plan (:func:`acordcs.runtime.plan.plan_from_descriptor`: the rules as
+the descriptor resolved them), trigger and frequency. A monitor feeding a policy set of another container has a replica there, updated with its
 readings (in-process, or over Pyro5 to another process: see :class:`Feed`).
 
 The descriptor is read as plain data: this module imports neither the descriptor package nor the
@@ -42,13 +43,13 @@ from acordcs.runtime.errors import BindingError
 from acordcs.runtime.events import Event
 from acordcs.runtime.monitor import Monitor
 from acordcs.runtime.operations import OutParameters, generic_component
+from acordcs.runtime.plan import plan_from_descriptor
 from acordcs.runtime.policy import PolicySet
 from acordcs.runtime.ports import Port
-from acordcs.runtime.registry import Variable
 
 if TYPE_CHECKING:
     from acordcs.descriptor.model import Application, Connection
-    from acordcs.descriptor.model import PolicySet as PolicySetDescriptor
+    from acordcs.descriptor.model import PolicySet as PolicySetDescription
     from acordcs.runtime.context.core import ProviderCore
 
 MonitorMaker = Callable[..., Monitor]
@@ -451,21 +452,12 @@ class _Assembler:
             ev.MONITOR_UPDATED, relay, name=f"feed:{monitor}->{target}", element=monitor
         )
 
-    def policy_set(self, ps: PolicySetDescriptor, target: Container) -> PolicySet:
+    def policy_set(self, ps: PolicySetDescription, target: Container) -> PolicySet:
         # Every monitor feeding the set is in its container, or has a replica there (see feeds).
-        fed_by = list(self.app.fed_by(ps.name))
-        policies = {
-            p.name: [f"{r.label}: {r.text}" if r.label else r.text for r in p.rules]
-            for p in ps.policies
-        }
-        return PolicySet(
-            ps.name,
-            policies,
-            engine=ps.engine,
+        return PolicySet.from_plan(
+            plan_from_descriptor(ps),
             trigger=ps.trigger,
             frequency=ps.frequency,
-            semantics=ps.semantics,
             adapts=[a.name for a in ps.adapts],
-            fed_by=fed_by,
-            variables={v.name: Variable(v.minimum, v.maximum, v.terms_text) for v in ps.variables},
+            fed_by=self.app.fed_by(ps.name),
         )

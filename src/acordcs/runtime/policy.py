@@ -15,9 +15,11 @@ not news. Sets that trigger each other are cut by the container's cascade bound 
 A raising engine or action is a fault (kind ``action``):
 recorded, and the policy set fires again at the next trigger.
 
-Variable scope (the README's section on modelling): the attributes of the elements the set ``adapts`` (and of their
-ports) and of the monitors that feed it; ``Element.attribute`` or a bare attribute that exactly one
-element in scope has. With neither ``adapts`` nor ``fed_by``, every element of the container is in scope.
+Names: what the rules name is resolved once (:mod:`acordcs.rules.binding`). A set assembled from
+the application descriptor takes that resolution from it (:meth:`PolicySet.from_plan`); a set
+made by hand is resolved when it is attached, over its scope: the attributes of the elements it
+``adapts`` (and of their ports) and of the monitors that feed it, or with neither ``adapts`` nor
+``fed_by``, every element of the container.
 """
 
 from __future__ import annotations
@@ -27,9 +29,11 @@ from collections.abc import Callable, Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any, Protocol
 
-from acordcs.rules import Assign, Call, Name, RuleSyntaxError, names_in, parse_rule, split_rules
+from acordcs.rules import split_rules
+from acordcs.rules.binding import ScopeElement
 from acordcs.runtime import events as ev
 from acordcs.runtime.errors import BindingError, ComponentNotFoundError, ConfigurationError
+from acordcs.runtime.plan import PolicyPlan, Terms, plan_by_hand
 from acordcs.runtime.registry import EngineSetup, Variable, lookup_engine
 from acordcs.runtime.rule_engine import RuleEngine, RuleError
 
@@ -98,10 +102,19 @@ class Firing:
 
 
 class PolicySet:
+    """A policy set: its rules and engine, driven on its container's events or clock (see the
+    module docstring). Built from a plan (:meth:`from_plan`: the application descriptor's
+    resolution, as :func:`~acordcs.runtime.assembly.assemble` does) or by hand: ``policies`` maps
+    each policy to its rules (a list of rule strings, or one text with a rule per line), resolved
+    when the set is added to a container over the elements it ``adapts`` and the monitors it is
+    ``fed_by`` (all of the container's elements when neither is given); ``variables`` gives the
+    linguistic variables (by ``Element.attribute`` or as the rules write them) and ``bindings``
+    binds written names by hand (written name -> ``Element.attribute``)."""
+
     def __init__(
         self,
         name: str,
-        policies: Mapping[str, Sequence[str] | str],
+        policies: Mapping[str, Sequence[str] | str] | None = None,
         *,
         engine: str = "fuzzy",
         trigger: str = "event",
@@ -111,6 +124,7 @@ class PolicySet:
         fed_by: Iterable[str] = (),
         variables: Mapping[str, Variable] | None = None,
         bindings: Mapping[str, str] | None = None,
+        plan: PolicyPlan | None = None,
     ) -> None:
         if trigger not in ("event", "periodic"):
             raise ConfigurationError(
@@ -121,12 +135,17 @@ class PolicySet:
                 f"policy set {name!r}: a periodic set needs a frequency > 0 Hz"
             )
         self.name = name
-        self.policies = {
-            p: split_rules(rules)
-            if isinstance(rules, str)
-            else [_line(r, i) for i, r in enumerate(rules, 1)]
-            for p, rules in policies.items()
-        }
+        self.plan = plan
+        if plan is not None:
+            engine, semantics = plan.engine, plan.semantics
+            self.policies: dict[str, list[Any]] = {p: plan.rules_of(p) for p in plan.policies}
+        else:
+            self.policies = {
+                p: split_rules(rules)
+                if isinstance(rules, str)
+                else [_line(r, i) for i, r in enumerate(rules, 1)]
+                for p, rules in (policies or {}).items()
+            }
         self.engine_kind = engine
         self.trigger = trigger
         self.frequency = frequency
@@ -137,6 +156,8 @@ class PolicySet:
         self.bindings = dict(bindings or {})
         self.engine: RuleEngine | None = None
         self.container: PolicyHost | None = None
+        # The engine's variable name -> (element, attribute), in the order it is given (inputs),
+        # read back (outputs), subscribed (reads); an operation as the engine calls it -> target.
         self.inputs: dict[str, Target] = {}
         self.outputs: dict[str, Target] = {}
         self.operations: dict[str, Target] = {}
@@ -149,78 +170,102 @@ class PolicySet:
         self.trace_rules = False
         self._timer: Timer | None = None
 
+    @classmethod
+    def from_plan(
+        cls,
+        plan: PolicyPlan,
+        *,
+        trigger: str = "event",
+        frequency: float | None = None,
+        adapts: Iterable[str] = (),
+        fed_by: Iterable[str] = (),
+    ) -> PolicySet:
+        """A policy set whose rules are resolved already (:mod:`acordcs.runtime.plan`)."""
+        return cls(
+            plan.name, trigger=trigger, frequency=frequency, adapts=adapts, fed_by=fed_by, plan=plan
+        )
+
     def __repr__(self) -> str:
         return f"<PolicySet {self.name} ({self.engine_kind}, {self.trigger}), fired {self.fires}x>"
 
     # ------------------------------------------------------------------------------ binding
     def attach(self, container: PolicyHost) -> None:
-        """Bind to ``container``: parse rules, resolve variables, build the engine, subscribe."""
-        constructor, syntax = lookup_engine(self.engine_kind)
-        parsed = []
-        for policy, lines in self.policies.items():
-            for line in lines:
-                try:
-                    rule = parse_rule(line.text, syntax)  # type: ignore[arg-type]
-                except RuleSyntaxError as exc:
-                    raise RuleError(
-                        exc.message,
-                        ruleset=f"{self.name}.{policy}",
-                        rule=line.label or f"line {line.line}",
-                        column=exc.column,
-                    ) from None
-                parsed.append((policy, line, rule))
-        scope = self._scope(container)
-        for policy, line, rule in parsed:
-            where = f"policy {self.name}.{policy}, rule {rule.label or line.line}"
-            for var in rule.variables_read():
-                self.inputs.setdefault(var.text, self._resolve(container, scope, var, where))
-            for var in rule.variables_written():
-                self.outputs.setdefault(var.text, self._resolve(container, scope, var, where))
-            for call in rule.calls():
-                self.operations.setdefault(
-                    call.target.text, self._resolve_op(container, scope, call.target, where)
-                )
-        # Subscriptions follow what the conditions read, not what is only written.
-        self.reads = dict(self.inputs)
-        for policy, line, rule in parsed:
-            # What an action reads (an operation's argument, an assigned expression) is an input too:
-            # the engine needs its value, though a change of it alone does not fire the set.
-            where = f"policy {self.name}.{policy}, rule {rule.label or line.line}"
-            for var in _action_reads(rule):
-                self.inputs.setdefault(var.text, self._resolve(container, scope, var, where))
-        if syntax == "crisp":
-            # A crisp engine keeps assigned values between firings: set outputs before firing too, so
-            # it starts from the attribute's current value.
-            for var, target in self.outputs.items():
-                self.inputs.setdefault(var, target)
-        variables: dict[str, Variable] = {}
-        for var, (element, attribute) in {**self.inputs, **self.outputs}.items():
-            found = self.variables.get(var) or self.variables.get(f"{element}.{attribute}")
-            if found is not None:
-                variables[var] = found
+        """Bind to ``container``: resolve the rules (unless planned), build the engine, subscribe."""
+        constructor, syntax, loads_plan = lookup_engine(self.engine_kind)
+        where = f"container {container.name!r}"
+        plan = self.plan
+        if plan is None:
+            plan = plan_by_hand(
+                self.name,
+                self.policies,
+                engine=self.engine_kind,
+                syntax=syntax,
+                semantics=self.semantics,
+                scope=self._scope(container),
+                where=where,
+                variables={k: Terms(v.lo, v.hi, v.terms) for k, v in self.variables.items()},
+                bindings=self.bindings,
+            )
+        else:
+            self._check_elements(container, plan)
+        # Built-in engines name variables and operations Element.member; another engine sees the
+        # names as its rules write them (a variable written two ways is set under both).
+        if loads_plan:
+            spelled = {v: (v,) for v in (*plan.inputs, *plan.outputs)}
+            calls = {c: c for c in plan.operations}
+        else:
+            spelled = {}
+            for written, canonical in plan.names.items():
+                spelled.setdefault(canonical, ())
+                spelled[canonical] += (written,)
+            calls = dict(plan.calls)
+        self.inputs = {n: _split(v) for v in plan.inputs for n in spelled[v]}
+        self.outputs = {spelled[v][0]: _split(v) for v in plan.outputs}
+        self.reads = {n: _split(v) for v in plan.triggers for n in spelled[v]}
+        self.operations = {n: _split(c) for n, c in calls.items()}
         setup = EngineSetup(
             policy_set=self.name,
             kind=self.engine_kind,
             semantics=self.semantics,
-            variables=variables,
+            variables={
+                n: Variable(var.terms.lo, var.terms.hi, var.terms.terms)
+                for name, var in plan.variables.items()
+                if var.terms is not None
+                for n in spelled.get(name, (name,))
+            },
             inputs=tuple(self.inputs),
             outputs=tuple(self.outputs),
             operations=tuple(self.operations),
             call=self._call,
+            plan=plan,
         )
         engine = constructor(setup)
-        for policy, line, _rule in parsed:
-            engine.defrule(line.text, policy)
+        if not loads_plan:
+            for rule in plan.rules:
+                engine.defrule(rule.text, rule.policy)
         self.engine = engine
         self.container = container
         self._subscribe(container)
 
-    def _scope(self, container: PolicyHost) -> dict[str, dict[str, object]]:
+    def _check_elements(self, container: PolicyHost, plan: PolicyPlan) -> None:
+        """Every element a planned set reads or writes is the container's (or a replica there)."""
+        elements = container.elements()
+        for variable in (*plan.inputs, *plan.outputs):
+            element, attribute = _split(variable)
+            if element not in elements or attribute not in elements[element]:
+                raise BindingError(
+                    f"policy set {self.name!r} reads or writes {variable}, which is not an "
+                    "attribute of an element of the container",
+                    where=f"container {container.name!r}",
+                    hint="create the component / add the monitor before adding the policy set",
+                )
+
+    def _scope(self, container: PolicyHost) -> list[ScopeElement]:
         elements = container.elements()
         names = list(self.adapts) + list(self.fed_by)
+        chosen: dict[str, dict[str, object]] = {}
         if not names:
-            return elements
-        scope: dict[str, dict[str, object]] = {}
+            chosen = elements
         for name in names:
             if name not in elements:
                 raise BindingError(
@@ -228,48 +273,18 @@ class PolicySet:
                     where=f"container {container.name!r}",
                     hint="create the component / add the monitor before adding the policy set",
                 )
-            scope[name] = elements[name]
+            chosen[name] = elements[name]
             prefix = name + "."
-            scope.update({k: v for k, v in elements.items() if k.startswith(prefix)})
-        return scope
-
-    def _resolve(
-        self, container: PolicyHost, scope: dict[str, dict[str, object]], var: Name, where: str
-    ) -> Target:
-        text = self.bindings.get(var.text, var.text)
-        element, dot, attribute = text.rpartition(".")
-        if dot:
-            if element not in scope or attribute not in scope[element]:
-                raise BindingError(
-                    f"{where}: variable {var.text!r} (column {var.column}) is not an attribute in scope",
-                    where=f"container {container.name!r}",
-                    hint=f"in scope: {', '.join(sorted(scope))}; check the element and attribute names",
-                )
-            return element, attribute
-        owners = sorted(e for e, props in scope.items() if attribute in props)
-        if len(owners) != 1:
-            problem = "no element in scope has" if not owners else f"{', '.join(owners)} all have"
-            raise BindingError(
-                f"{where}: {problem} an attribute {attribute!r} (column {var.column})",
-                where=f"container {container.name!r}",
-                hint="qualify the variable as Element.attribute, or bind it with bindings={...}",
+            chosen.update({k: v for k, v in elements.items() if k.startswith(prefix)})
+        return [
+            ScopeElement(
+                element,
+                props,
+                dict.fromkeys(container.operations_of(element)),
+                short=element.rpartition(".")[2] if "." in element else None,
             )
-        return owners[0], attribute
-
-    def _resolve_op(
-        self, container: PolicyHost, scope: dict[str, dict[str, object]], target: Name, where: str
-    ) -> Target:
-        element, dot, operation = target.text.rpartition(".")
-        candidates = [element] if dot else sorted(scope)
-        owners = [e for e in candidates if operation in container.operations_of(e)]
-        if len(owners) != 1:
-            raise BindingError(
-                f"{where}: operation {target.text!r} (column {target.column}) matches "
-                f"{'no component' if not owners else ', '.join(owners)}",
-                where=f"container {container.name!r}",
-                hint="write Component.operation for an operation of a component in scope",
-            )
-        return owners[0], operation
+            for element, props in chosen.items()
+        ]
 
     def _subscribe(self, container: PolicyHost) -> None:
         label = f"policy:{self.name}"
@@ -393,7 +408,7 @@ class PolicySet:
         container = self.container
         if container is None:
             raise BindingError(f"policy set {self.name!r} is not attached to a container")
-        component, operation = self.operations.get(target) or target.rpartition(".")[::2]
+        component, operation = self.operations.get(target) or _split(target)
         return container.invoke(component, operation, tuple(args))
 
 
@@ -405,16 +420,11 @@ def _explained(engine: RuleEngine, policy: str, *args: object) -> dict[tuple[str
     return {(policy, label): degree for label, degree in explain(policy, *args).items()}
 
 
-def _action_reads(rule: Any) -> list[Name]:
-    """Variables the actions of a parsed rule read (assigned expressions, operation arguments)."""
-    out: list[Name] = []
-    for action in rule.actions:
-        if isinstance(action, Assign):
-            out.extend(names_in(action.value))
-        elif isinstance(action, Call):
-            for arg in action.args:
-                out.extend(names_in(arg))
-    return out
+def _split(name: str) -> Target:
+    """``Element.member`` as (element, member): the member is the part after the last dot (an
+    element may be ``Component.Port``)."""
+    element, _, member = name.rpartition(".")
+    return element, member
 
 
 def _coerce(value: object, current: object) -> object:

@@ -1,24 +1,33 @@
 """Engine registry: which constructor builds the rule engine for a policy set's ``engine`` tag.
 
 A constructor takes an :class:`EngineSetup` (what the policy set knows: its name, fuzzy semantics,
-linguistic variables, and a way to call operations through the container) and returns an object
-implementing :class:`~acordcs.runtime.rule_engine.RuleEngine` (``defrule``, ``set``, ``fire``, ``get``).
+linguistic variables, its plan, and a way to call operations through the container) and returns an
+object implementing :class:`~acordcs.runtime.rule_engine.RuleEngine` (``defrule``, ``set``,
+``fire``, ``get``). The policy set then defines each rule with ``defrule`` and names variables as
+its rules write them, unless the engine was registered with ``loads_plan``: then the constructor
+builds the engine from ``setup.plan`` (:mod:`acordcs.runtime.plan`), rules included, and variables
+and operations are named ``Element.member``.
 
 The two engine kinds of the metamodel are registered lazily: asking for ``fuzzy`` imports
-``acordcs.runtime.fuzzy`` (``clips``: ``acordcs.runtime.clips``) the first time, if it exists.
+``acordcs.runtime.fuzzy`` (``clips``: ``acordcs.runtime.clips``) the first time, if it exists; both
+load plans.
 """
 
 from __future__ import annotations
 
 import importlib
-import inspect
 import threading
 from collections.abc import Callable
 from dataclasses import dataclass, field
-from typing import Any
+from typing import TYPE_CHECKING, Any, NamedTuple
 
+from acordcs.rules.binding import rule_syntax
 from acordcs.runtime.errors import ConfigurationError, EngineNotAvailableError
 from acordcs.runtime.rule_engine import RuleEngine
+
+if TYPE_CHECKING:
+    from acordcs.rules import TermDef
+    from acordcs.runtime.plan import PolicyPlan
 
 
 @dataclass(frozen=True)
@@ -29,7 +38,7 @@ class Variable:
 
     lo: float
     hi: float
-    terms: str = ""
+    terms: str | tuple[TermDef, ...] = ""
 
 
 @dataclass
@@ -48,23 +57,34 @@ class EngineSetup:
     outputs: tuple[str, ...] = ()
     operations: tuple[str, ...] = ()
     call: Callable[[str, tuple[Any, ...]], Any] = field(default=lambda target, args: None)
+    plan: PolicyPlan | None = None
 
 
 Constructor = Callable[[EngineSetup], RuleEngine]
-RULE_SYNTAX = {"fuzzy": "fuzzy", "clips": "crisp"}
 
-_registry: dict[str, tuple[Constructor, str]] = {}
+
+class Registered(NamedTuple):
+    """An engine kind's constructor, the syntax of its rules and whether it loads plans."""
+
+    constructor: Constructor
+    syntax: str
+    loads_plan: bool = False
+
+
+_registry: dict[str, Registered] = {}
 _lock = threading.Lock()
 
 
-def register_engine(kind: str, constructor: Constructor, *, syntax: str | None = None) -> None:
+def register_engine(
+    kind: str, constructor: Constructor, *, syntax: str | None = None, loads_plan: bool = False
+) -> None:
     """Register (or replace) the constructor for an engine kind; ``syntax``: ``fuzzy`` or ``crisp``
-    rules (default: by kind, ``crisp`` for unknown kinds)."""
-    syntax = syntax or RULE_SYNTAX.get(kind, "crisp")
+    rules (default: by kind, ``crisp`` for unknown kinds); ``loads_plan``: see the module docstring."""
+    syntax = syntax or rule_syntax(kind)
     if syntax not in ("fuzzy", "crisp"):
         raise ConfigurationError(f"rule syntax must be 'fuzzy' or 'crisp', not {syntax!r}")
     with _lock:
-        _registry[kind] = (constructor, syntax)
+        _registry[kind] = Registered(constructor, syntax, loads_plan)
 
 
 def unregister_engine(kind: str) -> None:
@@ -76,8 +96,9 @@ def registered_engines() -> list[str]:
     return sorted(_registry)
 
 
-def lookup_engine(kind: str) -> tuple[Constructor, str]:
-    """The constructor and rule syntax for ``kind``; imports the built-in engines on first use."""
+def lookup_engine(kind: str) -> Registered:
+    """The constructor, rule syntax and plan loading of ``kind``; imports the built-in engines on
+    first use."""
     with _lock:
         found = _registry.get(kind)
     if found is None and kind in _BUILTIN:
@@ -95,23 +116,12 @@ def lookup_engine(kind: str) -> tuple[Constructor, str]:
 
 def _fuzzy(setup: EngineSetup) -> RuleEngine:
     module = importlib.import_module("acordcs.runtime.fuzzy")
-    engine_cls = module.FuzzyEngine
-    params = inspect.signature(engine_cls).parameters
-    engine = engine_cls(semantics=setup.semantics) if "semantics" in params else engine_cls()
-    for name, var in setup.variables.items():
-        engine.define_variable(name, var.lo, var.hi, var.terms)
-    return engine
+    return module.engine_for_plan(setup.plan)
 
 
 def _clips(setup: EngineSetup) -> RuleEngine:
     module = importlib.import_module("acordcs.runtime.clips")
-    engine = module.ClipsEngine()
-    for name in dict.fromkeys((*setup.inputs, *setup.outputs)):
-        engine.declare(name)
-    for target in setup.operations:
-        engine.declare_operation(target)
-        engine.bind_operation(target, lambda *args, _t=target: setup.call(_t, args))
-    return engine
+    return module.engine_for_plan(setup.plan, call=setup.call)
 
 
 _BUILTIN: dict[str, tuple[str, Constructor]] = {
@@ -129,4 +139,4 @@ def _register_builtin(kind: str) -> None:
             f"engine kind {kind!r} needs {module_name}, which cannot be imported: {exc}",
             hint="install or write that engine, or register_engine() another one",
         ) from None
-    register_engine(kind, constructor)
+    register_engine(kind, constructor, loads_plan=True)

@@ -1,12 +1,11 @@
 """A fuzzy policy set of the descriptor as an FCL function block jFuzzyLogic reads.
 
-The runtime's own FCL writer (:func:`acordcs.runtime.fuzzy.fcl_writer.write_fcl`) writes it, so
-reading the file back with :func:`acordcs.runtime.fuzzy.read_fcl` gives an engine with the
-same results. The writer reads an engine's variables, rule sets and resolved rules; what it is
-given here, :class:`RuleBase`, is made of the runtime's own pieces (variables checked by
-``build_variable``, rules resolved by ``resolve_rule``, named semantics) without what an engine
-prepares for inference at each ``defrule`` (its defuzzification plans): a third of the time of
-building 90 engines, for nothing a file needs.
+The file is the engine the runtime runs for the set, written out: the fuzzy engine built from the
+set's plan (:func:`acordcs.runtime.fuzzy.engine_for_plan` over
+:func:`acordcs.runtime.plan.plan_from_descriptor`: the rules as the descriptor resolved them) and
+written by the runtime's own FCL writer (:func:`acordcs.runtime.fuzzy.fcl_writer.write_fcl`), so
+reading the file back with :func:`acordcs.runtime.fuzzy.read_fcl` gives an engine with the same
+results.
 
 FCL (and jFuzzyLogic) names are plain identifiers and its keywords are reserved, in any case:
 ``Locomotion.maxSpeed`` becomes ``Locomotion_maxSpeed``, and a name that is an FCL keyword or
@@ -18,8 +17,9 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from acordcs.codegen.targets.names import require_identifiers, rule_line
-from acordcs.descriptor import PolicySet, Variable
+from acordcs.codegen.targets.names import require_identifiers
+from acordcs.descriptor import PolicySet
+from acordcs.runtime.fuzzy.fcl_writer import Names
 
 # Our FCL grammar's keywords and jFuzzyLogic's (its lexer reserves them in any case).
 FCL_KEYWORDS = frozenset(
@@ -31,51 +31,7 @@ FCL_KEYWORDS = frozenset(
 )
 
 
-class RuleBase:
-    """What :func:`~acordcs.runtime.fuzzy.fcl_writer.write_fcl` reads of a FuzzyEngine:
-    ``name``, ``semantics``, ``variables``, ``rulesets()``, ``rules(ruleset)`` (resolved
-    entries), ``semantics_of(ruleset)``."""
-
-    def __init__(self, name: str, semantics: str) -> None:
-        from acordcs.runtime.fuzzy.semantics import resolve
-
-        self.name = name
-        self.semantics = resolve(semantics)
-        self.variables: dict = {}
-        self._sets: dict[str, dict[str, object]] = {}
-
-    def define_variable(self, name: str, lo: float, hi: float, terms: list) -> None:
-        from acordcs.runtime.fuzzy.variable import build_variable
-
-        self.variables[name] = build_variable(name, lo, hi, terms)
-
-    def define_ruleset(self, ruleset: str) -> None:
-        self._sets.setdefault(ruleset, {})
-
-    def add_rule(self, rule, ruleset: str) -> None:
-        """As FuzzyEngine.add_rule: an unlabelled rule gets ``rule<n>``, n its position."""
-        from acordcs.runtime.fuzzy.compiler import resolve_rule
-
-        entries = self._sets[ruleset]
-        label = rule.label
-        if label is None:
-            n = len(entries) + 1
-            while f"rule{n}" in entries:
-                n += 1
-            label = f"rule{n}"
-        entries[label] = resolve_rule(rule, label, ruleset, self.variables)
-
-    def rulesets(self) -> list[str]:
-        return list(self._sets)
-
-    def rules(self, ruleset: str) -> list:
-        return list(self._sets[ruleset].values())
-
-    def semantics_of(self, _ruleset: str):
-        return self.semantics
-
-
-class _Names:
+class _Free:
     """Allocates FCL names: free of keywords and of the names already given."""
 
     def __init__(self) -> None:
@@ -87,6 +43,43 @@ class _Names:
             name += "_"
         self.used.add(name.casefold())
         return name
+
+
+class FclNames(Names):
+    """The FCL identifier of each name of one engine, and the renamings made (what, model name,
+    FCL name). The function block, variables and rule blocks share one namespace; a variable's
+    terms and a rule block's labels have their own."""
+
+    def __init__(self) -> None:
+        self.renamed: list[tuple[str, str, str]] = []
+        self._shared = _Free()
+        self._given: dict[tuple[str, str], str] = {}
+        self._scoped: dict[str, _Free] = {}
+
+    def _take(self, what: str, key: str, wanted: str, free: _Free) -> str:
+        found = self._given.get((what, key))
+        if found is None:
+            found = self._given[what, key] = free.take(wanted)
+            if found != key.rpartition("\0")[2]:
+                self.renamed.append((what, key.rpartition("\0")[2], found))
+        return found
+
+    def block(self, name: str) -> str:
+        return self._take("policy set", name, name, self._shared)
+
+    def variable(self, name: str) -> str:
+        return self._take("variable", name, name.replace(".", "_"), self._shared)
+
+    def ruleset(self, name: str) -> str:
+        return self._take("policy", name, name, self._shared)
+
+    def term(self, variable: str, term: str) -> str:
+        free = self._scoped.setdefault(f"term\0{variable}", _Free())
+        return self._take(f"term of {variable}", f"{variable}\0{term}", term, free)
+
+    def label(self, ruleset: str, label: str) -> str:
+        free = self._scoped.setdefault(f"label\0{ruleset}", _Free())
+        return self._take(f"rule label in {ruleset}", f"{ruleset}\0{label}", label, free)
 
 
 @dataclass(frozen=True)
@@ -102,112 +95,42 @@ def _check(ps: PolicySet) -> None:
     names: list[tuple[str, object, str, str]] = [("policy set", ps.name, ps.id, ps.qualified_name)]
     for p in ps.policies:
         names.append(("policy", p.name, p.id, p.qualified_name))
-        names += [
-            ("rule label", r.label, p.id, p.qualified_name) for r in p.rules if r.label is not None
-        ]
+        names += [("rule label", r.label, p.id, p.qualified_name) for r in p.rules]
+    for b in ps.bound:
+        for part in b.element.split("."):
+            names.append(("element", part, b.id, ps.qualified_name))
+        names.append(("attribute", b.member, b.id, ps.qualified_name))
     for v in ps.variables:
-        for part in v.element.split("."):
-            names.append(("element", part, v.id, v.qualified_name))
+        names += [("element", part, v.id, v.qualified_name) for part in v.element.split(".")]
         names.append(("attribute", v.attribute, v.id, v.qualified_name))
         names += [("term", t.name, v.id, v.qualified_name) for t in v.terms]
     require_identifiers(names)
 
 
-def resolve(variables: dict[str, Variable], written: str) -> Variable | None:
-    """The variable a rule's name stands for: ``Element.attribute`` (a port's as ``Port.attr`` or
-    ``Component.Port.attr``), or a bare ``attribute`` when exactly one variable has it."""
-    found = variables.get(written)
-    if found is not None:
-        return found
-    suffix = "." + written
-    candidates = [v for name, v in variables.items() if name.endswith(suffix)]
-    return candidates[0] if len(candidates) == 1 else None
+def _hedged(condition: tuple) -> bool:
+    stack = [condition]
+    while stack:
+        node = stack.pop()
+        if node[0] == "is":
+            if any(h != "not" for h in node[2]):
+                return True
+        elif node[0] == "not":
+            stack.append(node[1])
+        else:
+            stack += [node[1], node[2]]
+    return False
 
 
 def fcl_for(ps: PolicySet) -> FclFile:
     """The FCL function block of a fuzzy policy set. Raises NameRefused (a name that is not an
     identifier) or RuleError (a rule the engine refuses: validate the model first)."""
-    from acordcs.rules import BoolOp, Consequent, Is, Name, Not, Rule, TermDef, parse_rule
+    from acordcs.runtime.fuzzy import engine_for_plan
     from acordcs.runtime.fuzzy.fcl_writer import write_fcl
-    from acordcs.runtime.rule_engine import RuleError
+    from acordcs.runtime.plan import plan_from_descriptor
 
     _check(ps)
-    blocks = _Names()  # function block, variables and rule blocks share one namespace
-    renamed: list[tuple[str, str, str]] = []
-
-    def take(names: _Names, what: str, model: str, wanted: str | None = None) -> str:
-        given = names.take(wanted or model)
-        if given != model:
-            renamed.append((what, model, given))
-        return given
-
-    engine = RuleBase(take(blocks, "policy set", ps.name), ps.semantics)
-    variables = {v.name: v for v in ps.variables}
-    var_names: dict[str, str] = {}
-    term_names: dict[str, dict[str, str]] = {}
-    for v in ps.variables:
-        given = take(blocks, "variable", v.name, v.name.replace(".", "_"))
-        var_names[v.name] = given
-        terms = _Names()
-        term_names[v.name] = {t.name: take(terms, f"term of {v.name}", t.name) for t in v.terms}
-        engine.define_variable(
-            given,
-            v.minimum,
-            v.maximum,
-            [TermDef(Name(term_names[v.name][t.name], 0), t.shape, t.parameters) for t in v.terms],
-        )
-    hedged = False
-
-    def rename(node: object, ruleset: str, label: str) -> object:
-        nonlocal hedged
-        if isinstance(node, Is | Consequent):
-            var = resolve(variables, node.var.text)
-            if var is None or node.term.text not in term_names[var.name]:
-                raise RuleError(
-                    f"{node.var.text} is {node.term.text}: no such variable and term in the "
-                    f"scope of policy set {ps.name}; validate the model",
-                    ruleset=ruleset,
-                    rule=label,
-                    column=node.var.column or None,
-                )
-            var_name = Name(var_names[var.name], node.var.column)
-            term = Name(term_names[var.name][node.term.text], node.term.column)
-            if isinstance(node, Consequent):
-                return Consequent(var_name, term)
-            hedged = hedged or any(h != "not" for h in node.hedges)
-            return Is(var_name, node.hedges, term)
-        if isinstance(node, Not):
-            return Not(rename(node.operand, ruleset, label))
-        if isinstance(node, BoolOp):
-            return BoolOp(
-                node.op, rename(node.left, ruleset, label), rename(node.right, ruleset, label)
-            )
-        raise RuleError(f"not a fuzzy rule part: {node!r}", ruleset=ruleset, rule=label)
-
-    for policy in ps.policies:
-        ruleset = take(blocks, "policy", policy.name)
-        engine.define_ruleset(ruleset)
-        labels = _Names()
-        for number, rule in enumerate(policy.rules, start=1):
-            shown = rule.label or f"#{number}"
-            try:
-                parsed = parse_rule(rule_line(rule), "fuzzy")
-            except Exception as err:  # RuleSyntaxError: the model did not validate
-                raise RuleError(
-                    f"{getattr(err, 'message', err)}; validate the model",
-                    ruleset=policy.name,
-                    rule=shown,
-                ) from None
-            label = take(labels, f"rule label in {policy.name}", rule.label) if rule.label else None
-            engine.add_rule(
-                Rule(
-                    "fuzzy",
-                    label,
-                    rename(parsed.condition, policy.name, shown),
-                    tuple(rename(a, policy.name, shown) for a in parsed.actions),
-                    parsed.weight,
-                    parsed.text,
-                ),
-                ruleset,
-            )
-    return FclFile(write_fcl(engine), tuple(renamed), hedged)
+    engine = engine_for_plan(plan_from_descriptor(ps))
+    names = FclNames()
+    text = write_fcl(engine, names)
+    hedged = any(_hedged(entry.condition) for rs in engine.rulesets() for entry in engine.rules(rs))
+    return FclFile(text, tuple(names.renamed), hedged)

@@ -1,9 +1,14 @@
 """Target ``rules``: one FCL file per fuzzy policy set, one CLIPS file per crisp one.
 
-``rules/<PolicySet>.fcl`` is the set's FCL function block (:mod:`.fcl`: the runtime's FCL writer,
-names mapped to plain identifiers so that jFuzzyLogic reads it); ``rules/<PolicySet>.clp`` is the
-set's CLIPS program (:mod:`.clips`: the runtime's CLIPS compiler). Each starts with a header naming
-the policy set, its qualified name and id, and the model file.
+``rules/<PolicySet>.fcl`` is the set's FCL function block (:mod:`.fcl`: names mapped to plain
+identifiers so that jFuzzyLogic reads it); ``rules/<PolicySet>.clp`` is the set's CLIPS program
+(:mod:`.clips`). Each starts with a header naming the policy set, its qualified name and id, and
+the model file.
+
+The one built-in target that is not an XSLT stylesheet, by design: each file is the engine the
+runtime builds for the set from its plan (:mod:`acordcs.runtime.plan`), written out by the engine
+package itself (the fuzzy engine's FCL writer; the CLIPS engine's program, with the constructs its
+compiler made). A stylesheet would have to compile rules to CLIPS, and lay out FCL, a second time.
 """
 
 from __future__ import annotations
@@ -20,11 +25,12 @@ def _what(ps) -> str:
 def rules(context) -> None:
     """One FCL file per fuzzy policy set, one CLIPS file per crisp one."""
     from acordcs.codegen.errors import BuildError
+    from acordcs.runtime.errors import RuntimeFailure
     from acordcs.runtime.rule_engine import RuleError
 
     app = context.application
     for ps in app.policy_sets:
-        ids = (ps.id, *(p.id for p in ps.policies), *(v.id for v in ps.variables))
+        ids = (ps.id, *(p.id for p in ps.policies), *(b.id for b in ps.bound))
         try:
             if ps.engine == "fuzzy":
                 path, text = f"rules/{ps.name}.fcl", _fcl(context, ps)
@@ -34,7 +40,7 @@ def rules(context) -> None:
                 continue
         except NameRefused as err:
             raise refused(context, err, "FCL" if ps.engine == "fuzzy" else "CLIPS") from None
-        except RuleError as err:
+        except (RuleError, RuntimeFailure) as err:  # a rule or binding an engine refuses
             raise BuildError(
                 f"target rules: policy set {ps.name}: {err.message}",
                 file=context.source,
@@ -67,7 +73,7 @@ def _fcl(context, ps) -> str:
 def _clips(context, ps) -> str:
     from acordcs.codegen.targets.clips import clips_for
 
-    body = clips_for(context.application, ps)
+    body = clips_for(ps)
     use = [
         "Use: (load <this file>) (reset) (acord-init); then, to fire a policy's rules,",
         "(acord-fire-set <Policy> FALSE <variable number> <value> ...): it returns the records of",

@@ -30,7 +30,7 @@ from __future__ import annotations
 import difflib
 import re
 from collections import deque
-from collections.abc import Callable
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass
 
 from acordcs.rules import Name
@@ -46,6 +46,7 @@ from acordcs.runtime.clips.prelude import (
     pusher,
     put_dispatcher,
 )
+from acordcs.runtime.clips.program import ProgramVariable, program_text
 from acordcs.runtime.clips.records import decode
 from acordcs.runtime.clips.rulesets import RuleSet, RuleSets
 from acordcs.runtime.clips.values import Value, kind_of_type, normalise, shown
@@ -65,6 +66,7 @@ class _Variable:
     target: Target
     # set's hot path stores a float as it is: untyped, or numeric and already holding a number
     floats: bool = False
+    type_name: str = ""  # as declared (the model's type), for program()
 
 
 class ClipsEngine:
@@ -79,6 +81,7 @@ class ClipsEngine:
         self._variables: dict[str, _Variable] = {}
         self._names: list[str] = [""]  # by number
         self._by_member: dict[str, list[str]] = {}
+        self._bound: dict[str, str] = {}  # names as rules write them -> declared (bind_names)
         # 1-based, like the CLIPS dispatcher; number 0 is the numeric-mode flag (_sync_numeric)
         self._values: list[Value] = [False]
         self._globals: list[str] = [NUMERIC_FLAG]
@@ -147,6 +150,7 @@ class ClipsEngine:
             except ClipsFailure as err:
                 raise RuleError(f"CLIPS cannot hold variable {variable!r}: {err}") from None
             self._variables[variable] = existing
+            existing.type_name = type or ""
             self._names.append(variable)
             self._by_member.setdefault(variable.rpartition(".")[2], []).append(variable)
             self._values.append(None)
@@ -176,6 +180,23 @@ class ClipsEngine:
             raise RuleError(f"{name!r} is not an operation name; write Element.operation")
         self._ops.declare(name, None if parameters is None else tuple(parameters))
 
+    def bind_names(
+        self, variables: Mapping[str, str], operations: Mapping[str, str] | None = None
+    ) -> None:
+        """Bind names as rules write them to declared variables and operations (``retries`` ->
+        ``Recovery.retries``): a policy set's resolution (:mod:`acordcs.runtime.plan`), used before
+        the engine's own lookup (a declared name, or the one ``X.name``)."""
+        unknown = sorted(v for v in variables.values() if v not in self._variables)
+        unknown += sorted(o for o in (operations or {}).values() if o not in self._ops.declared)
+        if unknown:
+            raise RuleError(f"cannot bind names to undeclared ones: {', '.join(unknown)}")
+        self._bound.update(variables)
+        self._ops.aliases.update(operations or {})
+
+    def define_ruleset(self, ruleset: str) -> None:
+        """Create an empty rule set (``defrule`` creates one on demand)."""
+        self._rulesets.ensure(ruleset)
+
     def bind(self, element: str, obj: object) -> None:
         """Operations ``element.op(...)`` called by rules run ``obj.op(...)``."""
         self._ops.bind(element, obj)
@@ -189,15 +210,16 @@ class ClipsEngine:
         self._ops.bind_function(name, function)
 
     # ------------------------------------------------------------------------ the four calls
-    def defrule(self, rule: str, ruleset: str) -> str:
+    def defrule(self, rule: str, ruleset: str, *, priority: int | None = None) -> str:
         """Add ``rule`` (crisp syntax, or native CLIPS ``(defrule ...)`` text) to ``ruleset``, or
-        replace the rule with the same label there. Returns the label."""
+        replace the rule with the same label there. Returns the label. ``priority``: a crisp
+        rule's 1-based rank among the set's rules (default: after those defined so far)."""
         if not isinstance(rule, str) or not rule.strip():
             raise RuleError(
                 "the rule is empty; write 'label: if ... then ...' or (defrule ...)",
                 ruleset=str(ruleset),
             )
-        label = self._rulesets.define(rule, ruleset)
+        label = self._rulesets.define(rule, ruleset, priority)
         if self._numeric_ok and self._sets[ruleset].natives:
             # A native rule may bind any global: numeric mode can no longer be sure of anything.
             self._numeric_ok = False
@@ -307,9 +329,28 @@ class ClipsEngine:
         """The CLIPS text a rule was built from (what a crisp rule compiled to)."""
         return self._rulesets.sets[ruleset].rules[label].constructs[-1]
 
+    def program(self) -> str:
+        """The engine as one CLIPS program text, for another CLIPS to load (see
+        :func:`acordcs.runtime.clips.program.program_text`)."""
+        variables = [
+            ProgramVariable(v.name, v.index, v.target, self._values[v.index], v.type_name)
+            for v in self._variables.values()
+        ]
+        sets = self._rulesets.sets.values()
+        return program_text(
+            variables,
+            [(rs.name, [e.constructs for e in rs.rules.values()]) for rs in sets],
+            sites=self._rulesets.sites.entries,
+            rule_labels={
+                e.rule_id: f"{rs.name}::{e.label}" for rs in sets for e in rs.rules.values()
+            },
+            operations=self._ops.names(),
+            read=sorted(self._rulesets.read),
+        )
+
     # -------------------------------------------------------------------------------- internals
     def _lookup(self, text: str) -> _Variable:
-        found = self._variables.get(text)
+        found = self._variables.get(self._bound.get(text, text))
         if found is not None:
             return found
         candidates = self._by_member.get(text, []) if "." not in text else []

@@ -66,6 +66,7 @@ class OperationTable:
         self._names: list[str] = [""]
         self._functions: dict[str, Callable[..., object]] = {}
         self._objects: dict[str, object] = {}
+        self.aliases: dict[str, str] = {}  # names as rules write them -> declared names
 
     def declare(self, name: str, parameters: tuple[str, ...] | None) -> None:
         self.declared[name] = parameters
@@ -73,12 +74,16 @@ class OperationTable:
     def bind(self, element: str, obj: object) -> None:
         self._objects[element] = obj
 
+    def names(self) -> list[str]:
+        """Operation names by the number CLIPS records use (index 0 unused)."""
+        return list(self._names)
+
     def bind_function(self, name: str, function: Callable[..., object]) -> None:
         self._functions[name] = function
 
     def number_for(self, name: Name, nargs: int) -> int:
         """The number of the operation a rule calls. LookupError when declarations rule it out."""
-        full = name.text
+        full = self.aliases.get(name.text, name.text)
         if self.declared:
             if full not in self.declared and "." not in full:
                 matches = [n for n in self.declared if n.rpartition(".")[2] == full]

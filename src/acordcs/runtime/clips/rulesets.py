@@ -13,6 +13,7 @@ from dataclasses import dataclass, field
 from clips import Symbol
 
 from acordcs.rules import RuleSyntaxError, parse_rule
+from acordcs.rules.binding import default_label
 from acordcs.runtime.clips.bridge import Bridge, ClipsFailure
 from acordcs.runtime.clips.compiler import OperationResolver, VariableResolver, compile_rule
 from acordcs.runtime.clips.records import Sites
@@ -58,12 +59,12 @@ class RuleSets:
         self.labels: dict[int, str] = {}
         self.read: set[int] = set()  # variables with an acord-var fact: some crisp rule reads them
 
-    def define(self, rule: str, ruleset: str) -> str:
+    def define(self, rule: str, ruleset: str, priority: int | None = None) -> str:
         target = self.ensure(ruleset)
         text = rule.strip()
         if text.startswith("("):
             return self.define_native(target, text)
-        return self.define_crisp(target, text)
+        return self.define_crisp(target, text, priority)
 
     def ensure(self, name: str) -> RuleSet:
         found = self.sets.get(name)
@@ -83,7 +84,10 @@ class RuleSets:
         found = self.sets[name] = RuleSet(name, Symbol(name))
         return found
 
-    def define_crisp(self, target: RuleSet, text: str) -> str:
+    def define_crisp(self, target: RuleSet, text: str, priority: int | None = None) -> str:
+        """Define (or replace by label) a crisp rule; ``priority``: its 1-based rank (salience
+        9999 for 1, 9998 for 2...), else after the rules defined so far (a replaced rule keeps
+        its place)."""
         guess = _LABEL.match(text)
         try:
             parsed = parse_rule(text, "crisp")
@@ -95,7 +99,11 @@ class RuleSets:
         label = parsed.label or self._auto_label(target)
         old = target.rules.get(label)
         keep = old is not None and old.kind == "crisp"  # a crisp rule replaced keeps its place
-        position = old.position if keep else target.next_position
+        if priority is not None:
+            position, keep = priority - 1, True
+            target.next_position = max(target.next_position, priority)
+        else:
+            position = old.position if keep else target.next_position
         if position > _MAX_CRISP_RULES:
             raise RuleError(
                 f"a rule set holds at most {_MAX_CRISP_RULES + 1} rules",
@@ -175,7 +183,4 @@ class RuleSets:
         target.rules[entry.label] = entry
 
     def _auto_label(self, target: RuleSet) -> str:
-        number = len(target.rules) + 1
-        while f"rule_{number}" in target.rules:
-            number += 1
-        return f"rule_{number}"
+        return default_label(len(target.rules) + 1, target.rules)

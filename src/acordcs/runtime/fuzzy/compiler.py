@@ -11,7 +11,7 @@ contains identifiers we make and numbers we format, never user text.
 from __future__ import annotations
 
 import math
-from collections.abc import Callable
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field, replace
 
 from acordcs.rules import BoolOp, Consequent, Is, Name, Not, Rule, depth_message, rule_too_deep
@@ -82,8 +82,10 @@ def resolve_rule(
     *,
     file: str | None = None,
     line: int | None = None,
+    names: Mapping[str, str] | None = None,
 ) -> RuleEntry:
-    """Bind a parsed fuzzy rule to declared variables; RuleError names the rule set, rule, column."""
+    """Bind a parsed fuzzy rule to declared variables (``names``: names as written bound to them,
+    used first); RuleError names the rule set, rule, column."""
 
     def fail(msg: str, name: Name) -> RuleError:
         return RuleError(
@@ -91,6 +93,9 @@ def resolve_rule(
         )
 
     def var_of(name: Name) -> LinguisticVariable:
+        bound = names.get(name.text) if names else None
+        if bound is not None and bound in variables:
+            return variables[bound]
         found = resolve_name(variables, name.text)
         if isinstance(found, str):
             return variables[found]

@@ -1,6 +1,10 @@
 """FCL writer: an engine (or several) as FCL text that :func:`acordcs.runtime.fuzzy.fcl.read_fcl`
 reads back into the same engine, and that jFuzzyLogic reads too when names are plain identifiers
-and no hedge other than NOT is used (see docs/fuzzy-engine.md for the extensions)."""
+and no hedge other than NOT is used (see docs/fuzzy-engine.md for the extensions).
+
+Rules are written as the engine resolved them: each name is the variable it was bound to. A
+:class:`Names` renames what is written (the generator gives FCL identifiers for names such as
+``Locomotion.maxSpeed``); by default everything keeps the engine's names."""
 
 from __future__ import annotations
 
@@ -38,17 +42,57 @@ def format_rule(condition: object, actions: Iterable[Consequent], weight: float 
     return text + (f" with {fmt_number(weight)}" if weight != 1.0 else "")
 
 
-def write_fcl(engines: FuzzyEngine | dict[str, FuzzyEngine] | list[FuzzyEngine]) -> str:
-    """FCL text for one engine or several (one FUNCTION_BLOCK each)."""
+class Names:
+    """How names are written: each method takes the engine's name and returns the one to
+    write (here, unchanged)."""
+
+    def block(self, name: str) -> str:
+        return name
+
+    def variable(self, name: str) -> str:
+        return name
+
+    def term(self, variable: str, term: str) -> str:
+        return term
+
+    def ruleset(self, name: str) -> str:
+        return name
+
+    def label(self, ruleset: str, label: str) -> str:
+        return label
+
+
+def format_resolved(condition: tuple, names: Names) -> str:
+    """A resolved condition (``("is", var, hedges, term)``, ``("not", x)``, ``(op, left,
+    right)``) as FCL text."""
+    kind = condition[0]
+    if kind == "is":
+        _, var, hedges, term = condition
+        words = " ".join(h.upper() if h == "not" else h for h in hedges)
+        return f"{names.variable(var)} IS {words + ' ' if words else ''}{names.term(var, term)}"
+    if kind == "not":
+        return f"NOT ({format_resolved(condition[1], names)})"
+    right = format_resolved(condition[2], names)
+    if condition[2][0] in ("and", "or"):
+        right = f"({right})"
+    return f"{format_resolved(condition[1], names)} {kind.upper()} {right}"
+
+
+def write_fcl(
+    engines: FuzzyEngine | dict[str, FuzzyEngine] | list[FuzzyEngine], names: Names | None = None
+) -> str:
+    """FCL text for one engine or several (one FUNCTION_BLOCK each); ``names``: see
+    :class:`Names`."""
     if isinstance(engines, dict):
         engines = list(engines.values())
     elif not isinstance(engines, list | tuple):
         engines = [engines]
-    return "\n".join(_write_block(e) for e in engines)
+    return "\n".join(_write_block(e, names or Names()) for e in engines)
 
 
-def _write_block(engine: FuzzyEngine) -> str:
+def _write_block(engine: FuzzyEngine, names: Names) -> str:
     f = fmt_number
+    v = names.variable
     variables = engine.variables
     concluded: dict[str, str] = {}
     for rs in engine.rulesets():
@@ -61,27 +105,30 @@ def _write_block(engine: FuzzyEngine) -> str:
         if n in concluded or v.default is not None or v.keep_last or v.method
     ]
     inputs = [n for n in variables if n not in outputs]
-    out = [f"FUNCTION_BLOCK {engine.name}" if engine.name else "FUNCTION_BLOCK", ""]
+    block = names.block(engine.name) if engine.name else ""
+    out = [f"FUNCTION_BLOCK {block}" if block else "FUNCTION_BLOCK", ""]
     if inputs:
         out.append("VAR_INPUT")
         out += [
-            f"    {n} : REAL; RANGE := ({f(variables[n].lo)} .. {f(variables[n].hi)});"
+            f"    {v(n)} : REAL; RANGE := ({f(variables[n].lo)} .. {f(variables[n].hi)});"
             for n in inputs
         ]
         out += ["END_VAR", ""]
     if outputs:
         out.append("VAR_OUTPUT")
-        out += [f"    {n} : REAL;" for n in outputs]
+        out += [f"    {v(n)} : REAL;" for n in outputs]
         out += ["END_VAR", ""]
     for n in inputs:
-        out.append(f"FUZZIFY {n}")
-        out += [f"    TERM {t} := {mf.fcl()};" for t, mf in variables[n].terms.items()]
+        out.append(f"FUZZIFY {v(n)}")
+        out += [
+            f"    TERM {names.term(n, t)} := {mf.fcl()};" for t, mf in variables[n].terms.items()
+        ]
         out += ["END_FUZZIFY", ""]
     for n in outputs:
         var = variables[n]
         sem = engine.semantics_of(concluded[n]) if n in concluded else engine.semantics
-        out.append(f"DEFUZZIFY {n}")
-        out += [f"    TERM {t} := {mf.fcl()};" for t, mf in var.terms.items()]
+        out.append(f"DEFUZZIFY {v(n)}")
+        out += [f"    TERM {names.term(n, t)} := {mf.fcl()};" for t, mf in var.terms.items()]
         if var.method or sem.method != "COG":  # COG is what a reader assumes without METHOD
             out.append(f"    METHOD : {var.method or sem.method};")
         if var.keep_last:
@@ -92,7 +139,7 @@ def _write_block(engine: FuzzyEngine) -> str:
         out += ["END_DEFUZZIFY", ""]
     for rs in engine.rulesets():
         sem = engine.semantics_of(rs)
-        out.append(f"RULEBLOCK {rs}")
+        out.append(f"RULEBLOCK {names.ruleset(rs)}")
         out.append(f"    AND : {sem.and_};")
         if sem.or_ != AND_OPS[sem.and_]:
             out.append(f"    OR : {sem.or_};")
@@ -100,11 +147,10 @@ def _write_block(engine: FuzzyEngine) -> str:
         if sem.samples:
             out.append(f"    (*@acordcs samples={sem.samples} *)")
         for entry in engine.rules(rs):
-            rule = entry.rule
-            then = ", ".join(f"{a.var.text} IS {a.term.text}" for a in rule.actions)
-            weight = f" WITH {f(rule.weight)}" if rule.weight != 1.0 else ""
-            cond = format_condition(rule.condition, fcl=True)
-            out.append(f"    RULE {entry.label} : IF {cond} THEN {then}{weight};")
+            then = ", ".join(f"{v(o)} IS {names.term(o, t)}" for o, t in entry.consequents)
+            weight = f" WITH {f(entry.weight)}" if entry.weight != 1.0 else ""
+            cond = format_resolved(entry.condition, names)
+            out.append(f"    RULE {names.label(rs, entry.label)} : IF {cond} THEN {then}{weight};")
         out += ["END_RULEBLOCK", ""]
     out += ["END_FUNCTION_BLOCK", ""]
     return "\n".join(out)

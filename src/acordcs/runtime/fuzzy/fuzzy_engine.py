@@ -22,6 +22,7 @@ from numbers import Real
 import numpy as np
 
 from acordcs.rules import Rule, RuleSyntaxError, parse_rule
+from acordcs.rules.binding import default_label
 from acordcs.runtime.fuzzy.compiler import (
     CompiledRuleSet,
     OutputPlan,
@@ -53,6 +54,8 @@ class FuzzyEngine:
         self._vars: dict[str, LinguisticVariable] = {}
         self._values: dict[str, float | None] = {}
         self._alias: dict[str, str] = {}
+        # Names bound by the model (bind_names): how its rules write each variable.
+        self._bound: dict[str, str] = {}
         self._sets: dict[str, dict[str, RuleEntry]] = {}
         self._set_semantics: dict[str, Semantics] = {}
         self._compiled: dict[str, CompiledRuleSet] = {}
@@ -99,7 +102,13 @@ class FuzzyEngine:
                 sem = self.semantics_of(ruleset)
                 for entry in entries.values():
                     resolve_rule(
-                        entry.rule, entry.label, ruleset, trial, file=entry.file, line=entry.line
+                        entry.rule,
+                        entry.label,
+                        ruleset,
+                        trial,
+                        file=entry.file,
+                        line=entry.line,
+                        names=self._bound,
                     )
                     if name in (v for v, _ in entry.consequents):
                         self._plan(ruleset, var, sem)
@@ -111,6 +120,16 @@ class FuzzyEngine:
         self._alias.clear()
         self._compiled.clear()
         return var
+
+    def bind_names(self, names: Mapping[str, str]) -> None:
+        """Bind names as rules write them to declared variables (``cycleRate`` ->
+        ``Control.cycleRate``): a policy set's resolution (:mod:`acordcs.runtime.plan`), used
+        before the engine's own lookup (a declared name, or the one ``X.name``)."""
+        unknown = sorted(v for v in names.values() if v not in self._vars)
+        if unknown:
+            raise RuleError(f"cannot bind names to undeclared variables: {', '.join(unknown)}")
+        self._bound.update(names)
+        self._alias.clear()
 
     def define_ruleset(self, ruleset: str, semantics: str | Semantics | None = None) -> None:
         """Create an empty rule set (or change its semantics); ``defrule`` creates one on demand."""
@@ -144,7 +163,9 @@ class FuzzyEngine:
         """Add an already parsed rule (an FCL reader uses this); same contract as :meth:`defrule`."""
         entries = self._sets.get(ruleset, {})
         label = rule.label or self._free_label(entries)
-        entry = resolve_rule(rule, label, ruleset, self._vars, file=file, line=line)
+        entry = resolve_rule(
+            rule, label, ruleset, self._vars, file=file, line=line, names=self._bound
+        )
         sem = self._set_semantics.get(ruleset, self.semantics)
         for var, _ in entry.consequents:
             try:
@@ -300,7 +321,7 @@ class FuzzyEngine:
 
     # ------------------------------------------------------------------------------ internals
     def _canonical(self, written: str) -> str:
-        found = resolve_name(self._vars, written)
+        found = self._bound.get(written) or resolve_name(self._vars, written)
         if isinstance(found, list):
             if len(found) != 1:
                 raise RuleError(unknown_variable_message(self._vars, written, found))
@@ -344,10 +365,7 @@ class FuzzyEngine:
         )
 
     def _free_label(self, entries: Mapping[str, RuleEntry]) -> str:
-        n = len(entries) + 1
-        while f"rule{n}" in entries:
-            n += 1
-        return f"rule{n}"
+        return default_label(len(entries) + 1, entries)
 
 
 def _combine(op: str, a: float, b: float) -> float:

@@ -7,6 +7,11 @@ left without a place (a port of no component, a policy of no set, an element no 
 left out of the lists, and a connection without one provided and one required port of a component
 raises :class:`DescriptorError`.
 
+What each policy set's rules name is resolved here, once, by :func:`acordcs.rules.binding.bind` over
+the set's scope (:func:`acordcs.model.queries.policy_scope`: the resolution the validator checked),
+and written into the descriptor with each rule's label and priority, for the runtime and the
+generator to read.
+
 Order is deterministic: containers, components, connections, monitors, policy sets, ports,
 policies, variables and references sorted by name, then id (references to hosted elements grouped
 by kind first); properties, operations, parameters and rules stay in the model's order, which is
@@ -21,6 +26,7 @@ from typing import TypeVar
 
 from acordcs.descriptor.model import (
     Application,
+    Bound,
     Component,
     Connection,
     Container,
@@ -37,8 +43,12 @@ from acordcs.descriptor.model import (
     Ref,
     Rule,
     Term,
-    Value,
     Variable,
+    bound_names,
+    parse_integer,
+    parse_real,
+    typed_default,
+    value_kind,
 )
 from acordcs.model.architecture import (
     COMPONENT,
@@ -52,11 +62,13 @@ from acordcs.model.architecture import (
 )
 from acordcs.model.queries import (
     monitor_acquisition,
-    parse_integer,
-    parse_real,
     policy_rules,
+    policy_scope,
+    rule_kind,
     variable_terms,
 )
+from acordcs.rules import RuleSyntaxError, parse_rule
+from acordcs.rules.binding import bind, default_label
 from acordcs.xmi.uml import Classifier, Element
 from acordcs.xmi.uml import Operation as UmlOperation
 from acordcs.xmi.uml import Property as UmlProperty
@@ -72,13 +84,8 @@ _KIND = {
 _T = TypeVar("_T")
 _KIND_ORDER = {kind: n for n, kind in enumerate(_KIND.values())}
 
-# "label: if ..." (a label is an identifier before the first ':'), as the pyecore builder reads it
+# "label: if ..." (a label is an identifier before the first ':')
 _LABELLED = re.compile(r"^\s*([A-Za-z_][A-Za-z0-9_]*)\s*:\s*((?i:if)\b.*)$", re.S)
-
-_INT_TYPES = frozenset({"int", "integer", "long", "short"})
-_REAL_TYPES = frozenset({"double", "float", "real", "number"})
-_BOOL_TYPES = frozenset({"bool", "boolean"})
-_TRUE = frozenset({"true", "1", "yes"})
 
 PYRO_OBJECT = "acordcs.container.{}"
 """The Pyro5 object name a container's server registers (``acordcs.runtime.api.container_uri`` builds its URI)."""
@@ -87,44 +94,6 @@ PYRO_OBJECT = "acordcs.container.{}"
 def describe(arch: Architecture) -> Application:
     """The descriptor of the application ``arch`` reads (see the module's docstring)."""
     return _Describer(arch).application()
-
-
-# ------------------------------------------------------------------------------- typed defaults
-def value_kind(type_name: str | None, *, variable: bool = False) -> str:
-    """How a UML type is read: ``int``, ``double``, ``bool`` or ``string``. A linguistic variable
-    of any type but an integer one is a ``double``."""
-    kind = (type_name or "").strip().lower()
-    if kind in _INT_TYPES:
-        return "int"
-    if kind in _REAL_TYPES or variable:
-        return "double"
-    if kind in _BOOL_TYPES:
-        return "bool"
-    return "string"
-
-
-def typed_default(kind: str, text: str | None, range_min: float | None = None) -> Value:
-    """A UML default value read by its kind (see :func:`value_kind`); these are the initial values
-    :func:`acordcs.runtime.assembly.assemble` gives properties.
-
-    Unset (None or empty): a linguistic variable gets the minimum of its range (``range_min``),
-    anything else 0, 0.0, False or "". An ``int`` default may be written as a real (``10.0``: 10,
-    truncated as the runtime does); numbers must be finite xsd:double literals. A ``bool`` is true
-    for ``true``, ``1`` or ``yes`` (any case), false otherwise. Raises ValueError for a number that
-    does not parse.
-    """
-    unset = text is None or text.strip() == ""
-    if kind in ("int", "double"):
-        if unset:
-            number = range_min if range_min is not None else 0.0
-        else:
-            number = parse_real(text)
-            if number is None:
-                raise ValueError(text)
-        return int(number) if kind == "int" else float(number)
-    if kind == "bool":
-        return (text or "").strip().lower() in _TRUE
-    return text if text is not None else ""
 
 
 # ------------------------------------------------------------------------------------- builder
@@ -163,12 +132,7 @@ class _Describer:
         """A role's resolved name: a port owned by a component as ``Component.Port``."""
         found = self._names.get(role.id)
         if found is None:
-            found = role.name
-            if role.kind == PORT:
-                owners = self.arch.related_to(role, "owns_port")
-                if owners:
-                    found = f"{owners[0].name}.{role.name}"
-            self._names[role.id] = found
+            found = self._names[role.id] = self.arch.element_name(role)
         return found
 
     def refs(self, roles: list[Role]) -> tuple[Ref, ...]:
@@ -323,6 +287,8 @@ class _Describer:
 
     def policy_set(self, role: Role) -> PolicySet:
         arch = self.arch
+        policies = self._sorted(self.policy(p) for p in arch.policies(role))
+        bound, inputs, outputs, triggers = self.bindings(role, policies)
         return PolicySet(
             role.id,
             role.name,
@@ -332,20 +298,50 @@ class _Describer:
             role.tag("trigger") or "event",
             parse_real(role.tag("frequency") or ""),
             self.refs(arch.related(role, "adapts")),
-            self._sorted(self.policy(p) for p in arch.policies(role)),
+            policies,
             self.variables(role),
             self.properties(role),
             self.operations(role),
             _documentation(role.element),
+            bound,
+            inputs,
+            outputs,
+            triggers,
         )
+
+    def bindings(
+        self, role: Role, policies: Iterable[Policy]
+    ) -> tuple[tuple[Bound, ...], tuple[str, ...], tuple[str, ...], tuple[str, ...]]:
+        """What the set's rule names stand for (:func:`acordcs.rules.binding.bind`), the one
+        resolution the validator checked, written down for the runtime and the generator."""
+        kind = rule_kind(role)
+        parsed = []
+        for policy in policies:
+            for rule in policy.rules:
+                try:
+                    parsed.append(parse_rule(rule.line, kind))
+                except RuleSyntaxError:
+                    continue  # reported by the validator (L401): the model has errors
+        scope = policy_scope(self.arch, role, self.property, lambda _, op: self.operation(op))
+        found = bind(scope, parsed, kind)
+        return bound_names(found.targets().values()), found.inputs, found.outputs, found.triggers
 
     @staticmethod
     def policy(role: Role) -> Policy:
-        rules = []
+        written = []
         for rule in policy_rules(role):
             found = _LABELLED.match(rule.text)
             label, text = (found.group(1), found.group(2)) if found else (None, rule.text)
-            rules.append(Rule(label, text, rule.tag))
+            written.append((label, text.strip(), rule.tag))
+        taken = {label for label, _, _ in written if label}
+        rules = []
+        for position, (label, text, tag) in enumerate(written, start=1):
+            if label is None:
+                label = default_label(position, taken)
+                taken.add(label)
+                rules.append(Rule(label, text, tag, position, assigned_label=True))
+            else:
+                rules.append(Rule(label, text, tag, position))
         return Policy(
             role.id,
             role.name,
