@@ -119,3 +119,34 @@ def test_the_help_documents_the_exit_status(built: Path) -> None:
         assert line in done.stdout
     for option in ("--faults-ok", "--strict", "--exit-file PATH"):
         assert option in done.stdout
+
+
+def test_term_stops_a_serving_container_and_its_exit_file_says_so(
+    built: Path, tmp_path: Path
+) -> None:
+    import os
+    import signal
+    import subprocess
+    import sys
+
+    from tests.support.toolchain import ROOT
+
+    exit_file = tmp_path / "user.exit"
+    env = dict(os.environ, PYTHONPATH=os.pathsep.join([str(built), str(ROOT / "src")]))
+    command = [sys.executable, "-m", "weblab_app.UserSide", *REMOTE, "--clock", "real",
+               "--serve", "0", "--host", "127.0.0.1", "--exit-file", str(exit_file)]  # fmt: skip
+    process = subprocess.Popen(command, cwd=built, env=env, stdout=subprocess.PIPE,
+                               stderr=subprocess.PIPE, text=True)  # fmt: skip
+    try:
+        assert process.stdout is not None
+        first = process.stdout.readline()  # ready: it serves
+        assert first.startswith("UserSide: serving at PYRO:acordcs.container.UserSide@127.0.0.1:")
+        process.send_signal(signal.SIGTERM)
+        out, err = process.communicate(timeout=60)
+    finally:
+        if process.poll() is None:
+            process.kill()
+            process.wait()
+    assert process.returncode == 0, err
+    assert out.startswith("UserSide: stopped at t=") and out.endswith(", faults: 0\n")
+    assert ended(exit_file) == "0 0\n"

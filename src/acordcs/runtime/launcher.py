@@ -169,9 +169,13 @@ class Launcher:
             raise
         if args.exit_file is not None:
             args.exit_file.unlink(missing_ok=True)  # a file there is this run's, once it stops
-        code, faults = self._run(args)
-        if args.exit_file is not None:
-            self._write_exit_file(args.exit_file, code, faults)
+        # What the exit file says if _run raises (a bug: the interpreter then exits 1 too).
+        code, faults = EXIT_RUN_FAILED, 0
+        try:
+            code, faults = self._run(args)
+        finally:
+            if args.exit_file is not None:
+                self._write_exit_file(args.exit_file, code, faults)
         return code
 
     # ---------------------------------------------------------------------------- running
@@ -180,6 +184,14 @@ class Launcher:
 
     def _run(self, args: argparse.Namespace) -> tuple[int, int]:
         """Start, run and stop the container: (exit status, faults recorded)."""
+        signal.signal(signal.SIGTERM, _interrupt)  # kill, bin/*-stop: stop as on Ctrl-C
+        try:
+            return self._start(args)
+        except KeyboardInterrupt:  # the run loop has its own: this one came while starting
+            self._say("interrupted while starting: not started")
+            return EXIT_NOT_STARTED, 0
+
+    def _start(self, args: argparse.Namespace) -> tuple[int, int]:
         from acordcs.descriptor import DescriptorError
 
         try:
@@ -259,17 +271,18 @@ class Launcher:
                 "no code (listed above)"
             )
             return EXIT_NOT_STARTED, 0
+        server = None
         if args.serve is not None:
             try:
                 server = app.serve(self.container, host=args.host or host, port=args.serve)
             except RuntimeFailure as err:
                 self._say(f"{err}")
                 return EXIT_NOT_STARTED, 0
-            print(f"{self.container}: serving at {server.uri}", flush=True)
         runs = _Runs()
-        signal.signal(signal.SIGTERM, _interrupt)  # kill, bin/*-stop: stop as on Ctrl-C
         clock = app.clock
-        try:
+        try:  # from the line saying it serves on, an interrupt stops it as a run's end does
+            if server is not None:
+                print(f"{self.container}: serving at {server.uri}", flush=True)
             if isinstance(clock, VirtualClock):
                 for component, operation in args.run:  # in turn: simulated time is one thread's
                     if not runs.stop.is_set():
@@ -288,6 +301,9 @@ class Launcher:
                         pass
         except KeyboardInterrupt:
             pass
+        # Stopping: a second TERM or Ctrl-C is ignored (KILL is not).
+        for signum in (signal.SIGTERM, signal.SIGINT):
+            signal.signal(signum, signal.SIG_IGN)
         runs.stop.set()  # a --run operation failing from now on is the stop's doing, not reported
         for line in list(runs.failed):
             self._say(line)

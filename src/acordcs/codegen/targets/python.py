@@ -38,9 +38,13 @@ import keyword
 import re
 from importlib import resources
 from pathlib import Path
+from typing import TYPE_CHECKING, Any
 
 from acordcs.codegen.registry import Target, target
 from acordcs.codegen.targets.names import NameRefused, refused, require_identifiers
+
+if TYPE_CHECKING:
+    from acordcs.descriptor import Application, Component
 
 STYLESHEET = resources.files(__package__) / "python.xsl"
 
@@ -155,9 +159,10 @@ def taken() -> frozenset[str]:
     return COMPONENT_API | frozenset(CtxComponent.__annotations__) | CLASS_SCOPE
 
 
-def _attribute_allowed(name: str, component, reserved: frozenset[str]) -> bool:
+def _attribute_allowed(name: str, component: Component, reserved: frozenset[str]) -> bool:
     return (
-        name.isidentifier()
+        name.isascii()  # Python folds other identifiers (NFKC): the attribute would be renamed
+        and name.isidentifier()
         and not keyword.iskeyword(name)
         and not name.startswith("_")
         and name not in reserved
@@ -166,7 +171,7 @@ def _attribute_allowed(name: str, component, reserved: frozenset[str]) -> bool:
     )
 
 
-def typing_plan(app) -> dict:
+def typing_plan(app: Application) -> dict[str, Any]:
     """The Python types of the package's signatures, for python.xsl (see the module's docstring):
     ``types`` (UML type -> annotation), ``returns`` (UML return type, ``""`` for none ->
     annotation), ``attributes`` (component -> property -> annotation, the typed attributes) and
