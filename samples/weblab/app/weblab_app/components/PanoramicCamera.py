@@ -26,11 +26,11 @@ class PanoramicCamera(PanoramicCameraBase):
     def on_stop(self) -> None:
         self._timer.cancel()
 
-    def setFrameRate(self, rate):
-        self.set("fps", max(0, int(rate)))
+    def setFrameRate(self, rate: int) -> None:
+        self.fps = max(0, int(rate))  # a rule's arithmetic may give a float
 
     def _frame(self) -> None:
-        fps = float(self.get("fps"))
+        fps = self.fps
         if fps > 0:
             self.sent += 1
             self.port("CameraStreamPort").push(
