@@ -156,13 +156,28 @@ CODES: dict[str, tuple[Severity, str]] = {
 }
 
 
-# Where each code is explained, with an example and the fix: one anchor per code (``#l402``).
-DOCS_URL = "https://github.com/acordcs/acordcs/blob/main/docs/diagnostics.md"
+def documentation_url() -> str | None:
+    """The project's documentation, as pyproject.toml declares it (``[project.urls]
+    Documentation``, read from the installed package's metadata), or None."""
+    from importlib import metadata  # only SARIF needs it: validate's start-up does not pay
+
+    try:
+        urls = metadata.metadata("acordcs").get_all("Project-URL") or []
+    except metadata.PackageNotFoundError:
+        return None
+    for entry in urls:
+        label, _, url = entry.partition(",")
+        if label.strip().lower() == "documentation" and url.strip():
+            return url.strip().rstrip("/")
+    return None
 
 
-def help_uri(code: str) -> str:
-    """The page section that explains ``code`` (SARIF ``helpUri``)."""
-    return f"{DOCS_URL}#{code.lower()}"
+def help_uri(code: str) -> str | None:
+    """Where ``code`` is explained, with an example and the fix (SARIF ``helpUri``): its section
+    of ``diagnostics.md`` (one anchor per code, ``#l402``) under the declared documentation URL;
+    None when none is declared (SARIF wants an absolute URI or none)."""
+    base = documentation_url()
+    return f"{base}/diagnostics.md#{code.lower()}" if base else None
 
 
 @dataclass(slots=True)
