@@ -15,7 +15,7 @@ from typing import NoReturn
 import click
 
 from acordcs import __version__
-from acordcs.cli import build, inspect, profile, validate
+from acordcs.cli import build, inspect, profile, update, validate
 
 
 @click.group(context_settings={"help_option_names": ["-h", "--help"]})
@@ -29,6 +29,7 @@ cli.add_command(validate.validate)
 cli.add_command(inspect.inspect)
 cli.add_command(build.build)
 cli.add_command(profile.profile)
+cli.add_command(update.update)
 
 
 def main(argv: list[str] | None = None) -> int:

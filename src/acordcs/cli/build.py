@@ -103,14 +103,14 @@ def build(
     except BuildError as err:
         if progress:
             progress.close()
-        _warn_plugins()
+        warn_plugins()
         for note in err.notes:
             click.echo(f"acordcs-gen: {note}", err=True)
-        _report_failure(err)
+        report_failure(err)
         raise click.exceptions.Exit(err.exit_code) from None
     if progress:
         progress.close()
-    _warn_plugins()
+    warn_plugins()
     for note in result.notes + result.messages:
         click.echo(f"acordcs-gen: {note}", err=True)
     for warning in result.warnings:
@@ -180,7 +180,7 @@ def _list(ctx: click.Context) -> None:
 
     for name, made in registry.targets().items():
         click.echo(f"{name:12s} {made.kind:6s} {made.description} ({made.origin})")
-    _warn_plugins()
+    warn_plugins()
     ctx.exit(0)
 
 
@@ -211,7 +211,8 @@ class _Bar:
         self.bar.__exit__(None, None, None)
 
 
-def _warn_plugins() -> None:
+def warn_plugins() -> None:
+    """The problems met loading other packages' targets, once."""
     from acordcs.codegen.registry import PROBLEMS
 
     for problem in PROBLEMS:
@@ -219,7 +220,9 @@ def _warn_plugins() -> None:
     PROBLEMS.clear()
 
 
-def _report_failure(err) -> None:
+def report_failure(err, command: str = "build") -> None:
+    """A build that failed: its diagnostics, their count, and what failed (``command`` names
+    the command that ran the build)."""
     for d in err.diagnostics:
         click.echo(d.format_text())
     if err.diagnostics:
@@ -240,7 +243,7 @@ def _report_failure(err) -> None:
     if err.hint:
         text += f" ({err.hint})"
     lines = text.splitlines() or [text]
-    click.echo(f"acordcs-gen build: {printable(lines[0])}", err=True)
+    click.echo(f"acordcs-gen {command}: {printable(lines[0])}", err=True)
     for line in lines[1:]:
         click.echo(f"  {printable(line)}", err=True)
 
