@@ -434,7 +434,7 @@ class _Differ:
         ):
             if x != y:
                 found.append(f"{label} {', '.join(x) or '(none)'} -> {', '.join(y) or '(none)'}")
-        if not found and a.bound != b.bound:
+        if not found and _bound(a) != _bound(b):
             found.append("what its rules name is bound differently (types, defaults, arities)")
         for what in found:
             self.add("~", "policy set", a.name, what, [self.where(a.name, new=True)], "replan")
@@ -509,6 +509,14 @@ class _Differ:
             if name not in before:
                 out.append(f"variable {name} added: {w.terms_text}")
         return out
+
+
+def _bound(ps: PolicySet) -> list[tuple[object, ...]]:
+    """What the set's rules name, as bound, without the ids (which say nothing that runs)."""
+    return [
+        (b.kind, b.element, b.member, b.names, b.value_kind, b.type, b.default, b.arity)
+        for b in ps.bound
+    ]
 
 
 def _end(end) -> str:

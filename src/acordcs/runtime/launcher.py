@@ -291,8 +291,10 @@ class Launcher:
             if server is not None:
                 print(f"{self.container}: serving at {server.uri}", flush=True)
                 from acordcs.runtime.management import manage
+                from acordcs.runtime.reloading import PackageClasses
 
-                manage(app, self.container, server, data, self.package, dict(args.remote),
+                classes = PackageClasses(self.package)
+                manage(app, self.container, server, data, classes, dict(args.remote),
                        without_token=args.updates_without_token, timeout=args.timeout)  # fmt: skip
             if isinstance(clock, VirtualClock):
                 for component, operation in args.run:  # in turn: simulated time is one thread's

@@ -257,18 +257,19 @@ def manage(
     container: str,
     server: ContainerServer,
     descriptor: bytes,
-    package: str,
-    remote: Mapping[str, str],
+    classes: Classes,
+    remote: Mapping[str, str] | None = None,
     *,
     without_token: bool = False,
     timeout: float = 5.0,
 ) -> Management:
-    """Serve the management of ``container`` (of the generated ``package``, run from
-    ``descriptor``) on ``server``'s daemon, as the launcher does; the log (standard output) gets
-    a line with the digest of the descriptor it runs, at start and after each update, and one
-    per change applied (``model.updated``)."""
+    """Serve the management of ``container`` (run from ``descriptor``, its new code from
+    ``classes``: the launcher gives its package's, :class:`~.reloading.PackageClasses`) on
+    ``server``'s daemon, as the launcher does; the log (standard output) gets a line with the
+    digest of the descriptor it runs, at start and after each update, and one per change applied
+    (``model.updated``). Without a token, it takes updates only on a loopback host and with
+    ``without_token``."""
     from acordcs.runtime.connectors.pyrogate import is_loopback
-    from acordcs.runtime.reloading import PackageClasses
 
     refusal = None
     if not server.token_required and not (without_token and is_loopback(server.host)):
@@ -281,7 +282,7 @@ def manage(
         running,
         container,
         descriptor,
-        classes=PackageClasses(package),
+        classes=classes,
         remote=remote,
         refusal=refusal,
         remote_timeout=timeout,

@@ -100,9 +100,11 @@ class UpdateFailed(RuntimeFailure):
 def container_order(
     new: Application, containers: Collection[str], changes: Sequence[Change]
 ) -> list[str]:
-    """``containers`` in the order their parts apply: one that receives from another through
-    a change (the provided end of a connection, the policy sets a monitor feeds) before it, else
-    in the descriptor's order (and so for a cycle)."""
+    """``containers`` in the order their parts apply: those with changes first (a failing part
+    then stops the update before a container without changes takes the new descriptor); among
+    them, one that receives from another through a change (the provided end of a connection,
+    the policy sets a monitor feeds) before it, else in the descriptor's order (and so for a
+    cycle)."""
     place = {r.name: c.name for c in new.containers for r in c.hosts}
     order = [c.name for c in new.containers if c.name in containers]
     order += sorted(set(containers) - set(order))
@@ -131,7 +133,8 @@ def container_order(
         chosen = ready[0] if ready else waiting[0]
         out.append(chosen)
         waiting.remove(chosen)
-    return out
+    changing = {c for change in changes for c in change.containers}
+    return [c for c in out if c in changing] + [c for c in out if c not in changing]
 
 
 def apply_part(
@@ -162,7 +165,7 @@ def apply_part(
         raise UpdateFailed(
             f"{failed}: {type(exc).__name__}: {exc}",
             failed=failed,
-            rolled_back=rolled,
+            rolled_back=[line for line in rolled if line != failed],
             unrolled=unrolled,
             where=f"container {container!r}",
         ) from exc
