@@ -63,7 +63,9 @@ def _interpreter(version: tuple[int, int]) -> str | None:
     if sys.version_info[:2] == version:
         return sys.executable
     found = {shutil.which("python{}.{}".format(*version))}
-    found |= set(glob.glob(os.path.expanduser("~/.pyenv/versions/{}.{}.*/bin/python3".format(*version))))
+    found |= set(
+        glob.glob(os.path.expanduser("~/.pyenv/versions/{}.{}.*/bin/python3".format(*version)))
+    )
     return next((p for p in sorted(filter(None, found)) if _version(p) == version), None)
 
 
