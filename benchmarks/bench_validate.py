@@ -33,7 +33,8 @@ from pathlib import Path
 
 from lxml import etree
 
-from acordcs.xmi.writer.synthetic import generate
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # tools/, tests/ of the repository
+from tools.bouml_writer.synthetic import generate
 
 ROUNDS = 7
 PAIRS = 15
@@ -157,8 +158,6 @@ def _other_tools() -> None:
     from tiled_exports import tiled
 
     from acordcs.xmi.readers import read_uml
-
-    sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
     from tests.support.toolchain import XMI_OTHER_TOOLS as shared  # ../shared, as the tests find it
 
     if not shared.is_dir():

@@ -15,8 +15,8 @@ import pytest
 
 from acordcs.model.ecore_builder import to_ecore
 from acordcs.model.reading import read_model
-from acordcs.runtime.clips.model import engine_for_policy_set
 from tests.support.codegen import build
+from tests.support.ecore_clips_engine import engine_for_policy_set
 from tests.support.toolchain import SMARTROOM, WEBLAB
 
 _LISTS = ("defmodule", "defrule", "defglobal", "deffunction", "deftemplate", "deffacts")

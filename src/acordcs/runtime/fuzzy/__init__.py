@@ -7,7 +7,6 @@
 from acordcs.runtime.fuzzy.fcl import read_fcl, write_fcl
 from acordcs.runtime.fuzzy.fuzzy_engine import FuzzyEngine
 from acordcs.runtime.fuzzy.membership import Membership, make_membership
-from acordcs.runtime.fuzzy.model import engine_for_policy_set, load_policy_set
 from acordcs.runtime.fuzzy.semantics import FCL_DEFAULTS, MAMDANI, SAZONOV, Semantics
 from acordcs.runtime.fuzzy.variable import LinguisticVariable
 
@@ -19,8 +18,6 @@ __all__ = [
     "LinguisticVariable",
     "Membership",
     "Semantics",
-    "engine_for_policy_set",
-    "load_policy_set",
     "make_membership",
     "read_fcl",
     "write_fcl",
