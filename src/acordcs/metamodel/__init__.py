@@ -7,12 +7,13 @@ rule grammar from this package and must not pay pyecore's start-up on every run.
 from __future__ import annotations
 
 import io
-import os
 from functools import cache
 from typing import TYPE_CHECKING
 
 if TYPE_CHECKING:
     from pyecore.ecore import EClass, EPackage
+
+from acordcs.vocabularies import ECORE_PATH
 
 ECORE_FILE = "acordcs.ecore"
 NS_URI = "http://acordcs.org/acordcs/1.0"
@@ -20,8 +21,9 @@ PROFILE_SOURCE = "http://acordcs.org/profile"
 
 
 def ecore_path() -> str:
-    """Filesystem path of the shipped ``acordcs.ecore``."""
-    return os.path.join(os.path.dirname(__file__), ECORE_FILE)
+    """Filesystem path of the shipped ``acordcs.ecore`` (its enumerations without pyecore:
+    :mod:`acordcs.vocabularies`)."""
+    return ECORE_PATH
 
 
 @cache
