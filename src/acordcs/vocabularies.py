@@ -3,17 +3,17 @@
 ``acordcs.ecore`` declares them once (port kinds and roles, engines, semantics, triggers,
 implementation languages, connectors, membership shapes, parameter directions, acquisition kinds);
 the runtime, the profile, the metamodel package and the descriptor's schema take them from here.
-This module is a leaf: it reads the shipped file by its path beside this module with lxml, without
-importing :mod:`acordcs.metamodel` (which needs pyecore), so that a generated application, which
-imports the runtime and never the toolchain, checks what the metamodel declares.
+This module is a leaf: it reads the shipped file by its path beside this module with the standard
+library's parser, without importing :mod:`acordcs.metamodel` (which needs pyecore) nor lxml (which
+the runtime loads only when it reads XML), so that a generated application, which imports the
+runtime and never the toolchain, checks what the metamodel declares.
 """
 
 from __future__ import annotations
 
 import os
 from functools import cache
-
-from lxml import etree
+from xml.etree import ElementTree
 
 ECORE_PATH = os.path.join(os.path.dirname(__file__), "metamodel", "acordcs.ecore")
 """The shipped metamodel file."""
@@ -22,11 +22,10 @@ _XSI_TYPE = "{http://www.w3.org/2001/XMLSchema-instance}type"
 
 
 @cache
-def ecore_root() -> etree._Element:
-    """The root ``EPackage`` element of ``acordcs.ecore``, parsed once per process (no DTD, no
-    entities, no network: it is our file, read as any other XML)."""
-    parser = etree.XMLParser(resolve_entities=False, no_network=True, load_dtd=False)
-    return etree.parse(ECORE_PATH, parser).getroot()
+def ecore_root() -> ElementTree.Element:
+    """The root ``EPackage`` element of ``acordcs.ecore``, parsed once per process (our own file:
+    expat, which fetches nothing)."""
+    return ElementTree.parse(ECORE_PATH).getroot()
 
 
 @cache
