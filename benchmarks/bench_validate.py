@@ -15,8 +15,8 @@ Prints, measured in one run on the same file:
   BOUML reader on a synthetic BOUML export of the same size (target: no slower; alternated, 15 runs);
 - the model's 1,200 rules parsed by our parser (lark's standalone parser generated from the
   grammar, the tree built by an inline transformer) and by lark's own parser on the same grammar
-  with the same builders (median of 7), and what a fresh interpreter takes to parse its first rule
-  (imports included);
+  with the same builders (each a median of 7 in a fresh interpreter; medians of 5 such runs,
+  alternated), and what a fresh interpreter takes to parse its first rule (imports included);
 - with ``--before SRC`` (the ``src`` directory of another checkout, e.g. ``git worktree add
   /tmp/before <commit>``), the same figures for that checkout's code in the same run, on the same
   interpreter and packages: its ``validate`` alternated with B and ours, its parse of the same rules.
@@ -206,8 +206,10 @@ def _other_tools() -> None:
             )
 
 
-# Parses every rule given (a JSON list of [text, kind]) 7 times, the memo of parsed texts cleared
-# each time; prints the median, then the time its first rule took in this fresh interpreter.
+# Parses every rule given (a JSON list of [text, kind]) 8 times, the memo of parsed texts cleared
+# each time, and prints the median of the last 7, then what its first rule took in this fresh
+# interpreter (imports included). With "lark": lark's own parser on the same grammar, with the
+# same builders, instead of parse_rule.
 _PARSE_ALL = """
 import json, statistics, sys, time
 first = time.perf_counter()
@@ -216,25 +218,29 @@ from acordcs.rules import parser as rules
 parse_rule("if a is b then c is d")
 first = time.perf_counter() - first
 texts = json.load(open(sys.argv[1], encoding="utf-8"))
+parse = parse_rule
+if sys.argv[2:] == ["lark"]:
+    import lark
+    grammar = open(rules.__file__.replace("parser.py", "rules.lark"), encoding="utf-8").read()
+    own = lark.Lark(grammar, start=["start_fuzzy", "start_crisp", "start_terms"], parser="lalr",
+                    maybe_placeholders=True, transformer=rules._Builders())
+    parse = lambda text, kind: own.parse(text, start="start_" + kind)
 times = []
 for _ in range(8):
     rules._PARSED.clear()
     start = time.perf_counter()
     for text, kind in texts:
-        parse_rule(text, kind)
+        parse(text, kind)
     times.append(time.perf_counter() - start)
 print(statistics.median(times[1:]), first)
 """
 
 
 def _rule_parsers(reading, before: Path | None) -> None:
-    """Every rule of the model parsed: by our parser, by lark's own on the same grammar and
-    builders, and by ``before``'s (each in a fresh interpreter but lark's, alternated 3 times)."""
-    import lark
-
+    """Every rule of the model parsed by our parser, by lark's own on the same grammar and
+    builders, and by ``before``'s: each in a fresh interpreter, alternated 5 times."""
     from acordcs.model.architecture import POLICY_SET
     from acordcs.model.queries import policy_rules, rule_kind
-    from acordcs.rules import parser as rules
 
     arch = reading.architecture
     texts = []
@@ -242,23 +248,18 @@ def _rule_parsers(reading, before: Path | None) -> None:
         kind = rule_kind(policy_set)
         for policy in arch.policies(policy_set):
             texts += [(prule.text, kind) for prule in policy_rules(policy)]
-    grammar = Path(rules.__file__).with_name("rules.lark").read_text(encoding="utf-8")
-    starts = ["start_fuzzy", "start_crisp", "start_terms"]
-    lark_parser = lark.Lark(
-        grammar, start=starts, parser="lalr", maybe_placeholders=True, transformer=rules._Builders()
-    )
-    theirs = median_seconds(lambda: [lark_parser.parse(t, start=f"start_{k}") for t, k in texts])
-    runs: dict[str, list[tuple[float, float]]] = {"ours": []}
+    runs: dict[str, list[tuple[float, float]]] = {"ours": [], "lark's own parser": []}
     if before is not None:
-        runs["before"] = []
+        runs[f"before ({before})"] = []
     with tempfile.TemporaryDirectory() as tmp:
         listed = Path(tmp, "rules.json")
         listed.write_text(json.dumps(texts), encoding="utf-8")
-        for _ in range(3):
+        for _ in range(5):
             for name in runs:
-                env = with_source(before) if name == "before" else None
+                env = with_source(before) if name.startswith("before") else None
+                mode = ["lark"] if name == "lark's own parser" else []
                 done = subprocess.run(
-                    [sys.executable, "-c", _PARSE_ALL, str(listed)],
+                    [sys.executable, "-c", _PARSE_ALL, str(listed), *mode],
                     capture_output=True,
                     text=True,
                     env=env,
@@ -268,19 +269,18 @@ def _rule_parsers(reading, before: Path | None) -> None:
                 runs[name].append((all_rules, first))
     ours = statistics.median(r[0] for r in runs["ours"])
     print(
-        f"   {len(texts):,} rules parsed: ours {ours * 1e3:.1f} ms, lark's own parser "
-        f"{theirs * 1e3:.1f} ms: {theirs / ours:.2f}x"
+        f"   {len(texts):,} rules parsed (fresh interpreters, alternated): ours {ours * 1e3:.1f} ms"
     )
-    if before is not None:
-        earlier = statistics.median(r[0] for r in runs["before"])
-        print(
-            f"     before ({before}): {earlier * 1e3:.1f} ms; ours / before = {ours / earlier:.2f}"
-        )
     for name, measured in runs.items():
-        first = statistics.median(r[1] for r in measured)
-        print(
-            f"   the first rule in a fresh interpreter, imports included ({name}): {first * 1e3:.1f} ms"
-        )
+        if name != "ours":
+            theirs = statistics.median(r[0] for r in measured)
+            print(f"     {name}: {theirs * 1e3:.1f} ms; ours / it = {ours / theirs:.2f}")
+    for name, measured in runs.items():
+        if name != "lark's own parser":
+            first = statistics.median(r[1] for r in measured)
+            print(
+                f"   the first rule in a fresh interpreter, imports included, {name}: {first * 1e3:.1f} ms"
+            )
 
 
 def _empty_model() -> str:
