@@ -85,6 +85,28 @@ def test_a_model_with_errors_writes_nothing_and_keeps_the_old_file(tmp_path: Pat
     assert not (tmp_path / "acordcs.ecore").exists()
 
 
+def test_hostile_names_are_written_as_data(tmp_path: Path) -> None:
+    hostile = 'Web<Lab> & "x" \u202eevil\nline <!-- --> ]]>'
+    quoted = (
+        hostile.replace("&", "&amp;")
+        .replace("<", "&lt;")
+        .replace(">", "&gt;")
+        .replace('"', "&quot;")
+        .replace("\n", "&#10;")
+    )
+    model = tmp_path / "hostile.xmi"
+    model.write_text(
+        replace(WEBLAB.read_text(encoding="utf-8"), 'name="WebLab">', f'name="{quoted}">'),
+        encoding="utf-8",
+    )
+    out = tmp_path / "out.xmi"
+    result = run_main(["export", str(model), "-o", str(out)])
+    assert result.code == 0, result.both
+    root = etree.parse(str(out)).getroot()
+    assert root.get("name") == hostile
+    assert [e.tag for e in root.iter(etree.Comment)] == []  # no markup came from the name
+
+
 def test_an_unreadable_model_exits_2(tmp_path: Path) -> None:
     result = run_main(["export", str(tmp_path / "missing.xmi"), "-o", str(tmp_path / "o.xmi")])
     no_crash(result)
