@@ -12,6 +12,7 @@ from collections.abc import Callable
 from dataclasses import dataclass
 
 from acordcs.descriptor.model import parse_integer, parse_real
+from acordcs import vocabularies
 from acordcs.diagnostics import suggestion
 from acordcs.model.architecture import Architecture, Role
 from acordcs.rules import Name, RuleKind, RuleSyntaxError, TermDef, parse_terms, split_rules
@@ -58,7 +59,7 @@ def rule_kind(policy_set: Role) -> RuleKind:
 _TERMS_CACHE: dict[str, list[TermDef] | RuleSyntaxError] = {}
 
 
-ACQUISITIONS = ("intercept", "subscribe", "poll", "custom")
+ACQUISITIONS = vocabularies.ACQUISITIONS  # the metamodel's MonitorAcquisition
 
 
 def monitor_acquisition(monitor: Role) -> str:

@@ -24,9 +24,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from acordcs import vocabularies
 from acordcs.runtime.rule_engine import RuleError
 
-SHAPES = ("triangle", "trapezoid", "gaussian", "bell", "sigmoid", "points", "singleton")
+SHAPES = vocabularies.SHAPES  # the metamodel's MembershipShape
 _ARITY = {"triangle": 3, "trapezoid": 4, "gaussian": 2, "bell": 3, "sigmoid": 2, "singleton": 1}
 _EXP_LIMIT = 700.0  # math.exp overflows past ~709: a sigmoid that far out is exactly 0 or 1
 
