@@ -158,13 +158,14 @@ def test_every_connector_kind_has_its_connector() -> None:
 
 
 def test_every_engine_kind_is_built_in_with_its_rule_syntax() -> None:
+    from acordcs.rules.binding import RULE_SYNTAX
     from acordcs.runtime import registry
 
     engines = ecore_literals()["EngineKind"]
-    assert tuple(registry.RULE_SYNTAX) == engines
+    assert tuple(RULE_SYNTAX) == engines
     for engine in engines:
-        constructor, syntax = registry.lookup_engine(engine)
-        assert callable(constructor) and syntax == registry.RULE_SYNTAX[engine]
+        constructor, syntax, loads_plan = registry.lookup_engine(engine)
+        assert callable(constructor) and syntax == RULE_SYNTAX[engine] and loads_plan
 
 
 def test_policy_sets_take_the_metamodels_semantics_triggers_and_defaults() -> None:

@@ -11,8 +11,8 @@ from __future__ import annotations
 from collections.abc import Callable
 from dataclasses import dataclass
 
-from acordcs.descriptor.model import parse_integer, parse_real
 from acordcs import vocabularies
+from acordcs.descriptor.model import parse_integer, parse_real
 from acordcs.diagnostics import suggestion
 from acordcs.model.architecture import Architecture, Role
 from acordcs.rules import Name, RuleKind, RuleSyntaxError, TermDef, parse_terms, split_rules
