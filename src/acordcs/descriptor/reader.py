@@ -138,6 +138,7 @@ class _Reader:
             self.properties(el),
             self.operations(el),
             self._doc(el),
+            tuple(r.get("name") for r in self._children(el, "reaches")),
         )
 
     def port(self, el) -> Port:
