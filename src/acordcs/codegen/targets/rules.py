@@ -4,6 +4,12 @@
 names mapped to plain identifiers so that jFuzzyLogic reads it); ``rules/<PolicySet>.clp`` is the
 set's CLIPS program (:mod:`.clips`: the runtime's CLIPS compiler). Each starts with a header naming
 the policy set, its qualified name and id, and the model file.
+
+The only built-in target that is not an XSLT stylesheet (``config``, ``java``, ``python`` and
+``shell`` are, the last two after a check of the names in Python): what it writes is not the
+descriptor's text rearranged but the engines' own compiled form of each policy set (the policy
+plan: FCL as the fuzzy engine's writer serialises it, CLIPS as its compiler does), so it is made by
+the engine packages' code, the same code the runtime runs, never by a second implementation.
 """
 
 from __future__ import annotations
