@@ -1,6 +1,6 @@
 """Target ``shell``: POSIX ``sh`` scripts running the ``python`` target's package, one process per
-container, written by the XSLT 3.0 stylesheet ``shell.xsl`` (see it for the files) after one check
-that needs Python.
+container, written by the XSLT 3.0 stylesheet ``shell.xsl`` (see it for the files; the functions the
+scripts share are in ``shell-functions.xsl``, which it includes) after one check that needs Python.
 
 Files (in ``bin/``): ``env.sh``, sourced by every script (the interpreter, ``PYTHONPATH``, the
 run directory, each container's host and port; protected regions for the user's lines, keyed by
