@@ -183,7 +183,7 @@ def _singletons(dz: Singletons, alpha: np.ndarray) -> np.ndarray:
     if dz.method in ("COG", "COGS"):
         return _ratio(alpha @ xs, total)
     top = alpha.max(axis=1, keepdims=True)
-    at = alpha >= top - 1e-12 * np.maximum(1.0, top)
+    at = alpha >= top - 1e-12 * top  # relative: a set of height 1e-28 has a top too
     if dz.method == "LM":
         out = np.where(at, xs, np.inf).min(axis=1)
     elif dz.method == "RM":
