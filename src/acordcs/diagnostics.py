@@ -110,6 +110,10 @@ CODES: dict[str, tuple[Severity, str]] = {
     "T312": (E, "two terms of a variable share a name"),
     "T313": (W, "the model applies no ACORDCS stereotype (nothing to check)"),
     "T314": (E, "container port outside 1-65535"),
+    "T315": (
+        E,
+        "linguistic variable beyond the fuzzy engine's limits (1,000 terms, 500 points per term)",
+    ),
     # L: rules
     "L401": (E, "rule syntax error"),
     "L402": (E, "rule variable is not an attribute in the policy set's scope"),

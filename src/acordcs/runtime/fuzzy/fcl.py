@@ -24,7 +24,7 @@ from lark.exceptions import UnexpectedCharacters, UnexpectedInput, UnexpectedTok
 
 from acordcs.cachedir import lark_cache
 from acordcs.rules import BoolOp, Consequent, Is, Name, Not, Rule, depth_message, names_in
-from acordcs.rules.tree import deepest
+from acordcs.rules.tree import MAX_TERMS, deepest
 from acordcs.runtime.fuzzy import fcl_fast
 from acordcs.runtime.fuzzy.fcl_writer import format_condition, format_rule, write_fcl
 from acordcs.runtime.fuzzy.fuzzy_engine import FuzzyEngine
@@ -37,6 +37,7 @@ from acordcs.runtime.fuzzy.semantics import (
     METHODS,
     OR_OPS,
 )
+from acordcs.runtime.fuzzy.variable import too_many_terms
 from acordcs.runtime.rule_engine import RuleError
 
 __all__ = ["format_condition", "format_rule", "read_fcl", "write_fcl"]
@@ -242,6 +243,8 @@ class _Block:
                 tname = str(node.children[1])
                 if tname in info["terms"]:
                     raise self.error(f"term {tname} of {var} is defined twice", node.children[1])
+                if len(info["terms"]) == MAX_TERMS:  # said at the first one too many: no hang
+                    raise self.error(too_many_terms(f"{keyword!s} {var}"), node)
                 info["terms"][tname] = self._mf(var, tname, node.children[2])
             elif node.data == "range":
                 info["range"] = self._range(node)

@@ -24,6 +24,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from acordcs.rules.tree import MAX_POINTS
 from acordcs.runtime.rule_engine import RuleError
 
 SHAPES = ("triangle", "trapezoid", "gaussian", "bell", "sigmoid", "points", "singleton")
@@ -261,6 +262,11 @@ def _points(p: tuple[float, ...], where: str, shown: str) -> Membership:
             f"{where}: a point list needs at least two (x, y) points, got {shown or 'none'}"
         )
     xs, ys = p[0::2], p[1::2]
+    if len(xs) > MAX_POINTS:
+        raise RuleError(
+            f"{where}: a point list of {len(xs):,} points; the fuzzy engine takes at most "
+            f"{MAX_POINTS} per term (its generated code has a branch per point); simplify the shape"
+        )
     for i in range(len(xs) - 1):
         if xs[i] > xs[i + 1]:
             raise RuleError(
