@@ -29,7 +29,7 @@ def test_a_point_list_beyond_the_limit_is_refused_before_code_is_generated() -> 
     engine = FuzzyEngine()
     points = lambda n: " ".join(f"({i}, {i % 2})" for i in range(n))  # noqa: E731
     engine.define_variable("x", 0, 5000, f"a := {points(MAX_POINTS)}")
-    with pytest.raises(RuleError, match="a point list of 5,000 points; .* at most 500 per term"):
+    with pytest.raises(RuleError, match=r"a point list of 5,000 points; .* at most 500 per term"):
         engine.define_variable("w", 0, 5000, f"a := {points(5000)}")
 
 
