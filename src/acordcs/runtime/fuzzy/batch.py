@@ -128,7 +128,20 @@ def _binary(op: str, a: np.ndarray, b: np.ndarray) -> np.ndarray:
         return a + b - a * b
     if op == "BDIF":
         return np.maximum(a + b - 1.0, 0.0)
-    return np.minimum(a + b, 1.0)
+    if op == "BSUM":
+        return np.minimum(a + b, 1.0)
+    if op == "DMIN":
+        return np.where(a == 1.0, b, np.where(b == 1.0, a, 0.0))
+    if op == "DMAX":
+        return np.where(a == 0.0, b, np.where(b == 0.0, a, 1.0))
+    if op == "NIPMIN":
+        return np.where(a + b > 1.0, np.minimum(a, b), 0.0)
+    if op == "NIPMAX":
+        return np.where(a + b < 1.0, np.maximum(a, b), 1.0)
+    if op == "HAMACHER":
+        with np.errstate(divide="ignore", invalid="ignore"):
+            return np.where((a == 0.0) & (b == 0.0), 0.0, a * b / (a + b - a * b))
+    return (a + b) / (1.0 + a * b)  # EINSTEIN
 
 
 def _defuzz(plan: OutputPlan, degrees: list[np.ndarray], accu: str, n: int) -> np.ndarray:

@@ -305,6 +305,12 @@ def _binary(op: str, t: str, a: str, b: str) -> str:
         "ASUM": f"{t} = {a} + {b} - {a} * {b}",
         "BDIF": f"{t} = {a} + {b} - 1.0; {t} = {t} if {t} > 0.0 else 0.0",
         "BSUM": f"{t} = {a} + {b}; {t} = {t} if {t} < 1.0 else 1.0",
+        "DMIN": f"{t} = {b} if {a} == 1.0 else {a} if {b} == 1.0 else 0.0",
+        "DMAX": f"{t} = {b} if {a} == 0.0 else {a} if {b} == 0.0 else 1.0",
+        "NIPMIN": f"{t} = ({a} if {a} < {b} else {b}) if {a} + {b} > 1.0 else 0.0",
+        "NIPMAX": f"{t} = ({a} if {a} > {b} else {b}) if {a} + {b} < 1.0 else 1.0",
+        "HAMACHER": f"{t} = 0.0 if {a} == 0.0 and {b} == 0.0 else {a} * {b} / ({a} + {b} - {a} * {b})",
+        "EINSTEIN": f"{t} = ({a} + {b}) / (1.0 + {a} * {b})",
     }[op]
 
 

@@ -14,6 +14,7 @@ docs/fuzzy-engine.md.
 from __future__ import annotations
 
 import gc
+import logging
 import re
 from functools import cache
 from importlib import resources
@@ -41,6 +42,8 @@ from acordcs.runtime.fuzzy.variable import too_many_terms
 from acordcs.runtime.rule_engine import RuleError
 
 __all__ = ["format_condition", "format_rule", "read_fcl", "write_fcl"]
+
+log = logging.getLogger("acordcs.runtime.fuzzy")
 
 _SHAPES = {
     "trian": "triangle",
@@ -166,7 +169,7 @@ class _Block:
         self.fuzz: dict[str, dict] = {}
         self.declared_at: dict[str, Token] = {}  # variable -> its name in VAR_INPUT/VAR_OUTPUT
         self.blocks: dict[str, Tree] = {}  # variable -> its FUZZIFY or DEFUZZIFY block
-        self.spikes: dict[str, Tree] = {}  # variable -> its first zero-width term
+        self.spikes: dict[str, Tree] = {}  # variable -> its first singleton or zero-width term
         self.untermed: set[str] = set()  # inputs without terms or RANGE: not defined
 
     def error(self, msg: str, tok: Token | Tree | None) -> RuleError:
@@ -262,12 +265,19 @@ class _Block:
                     info["default"] = float(value)
                 elif str(value).upper() == "NC":
                     info["nc"] = True
+                elif str(value).lower() == "nan":
+                    raise self.error(
+                        f"DEFAULT := {value!s} is fuzzylite's dialect (no default value); write "
+                        "DEFAULT := NC to keep the last value, or a number",
+                        value,
+                    )
                 else:
                     raise self.error(f"DEFAULT must be a number or NC, got {value!s}", value)
             elif node.data == "accu":
                 raise self.error(
-                    f"ACCU inside DEFUZZIFY {var} is not supported; write ACCU : "
-                    f"{str(node.children[1]).upper()}; in the RULEBLOCK that concludes {var}",
+                    f"ACCU inside DEFUZZIFY {var} is fuzzylite's dialect (its FCL export writes "
+                    "ACCU per output); IEC 61131-7 and jFuzzyLogic take it in the RULEBLOCK: move "
+                    f"ACCU : {str(node.children[1]).upper()}; into the RULEBLOCK that concludes {var}",
                     node.children[0],
                 )
 
@@ -283,6 +293,7 @@ class _Block:
             shape = "points"
         elif node.data == "mf_singleton":
             shape = "singleton"
+            self.spikes.setdefault(var, node)
         else:
             word = str(node.children[0]).lower()
             if word in _UNSUPPORTED:
@@ -317,16 +328,20 @@ class _Block:
             raise self.error(f"output {var} has no DEFUZZIFY block; add one with its terms", where)
         info = info or {"terms": {}, "range": None, "method": None, "default": None, "nc": False}
         rng = info["range"] or (self.outputs if is_out else self.inputs).get(var)
-        if (
-            is_out
-            and var in self.spikes
-            and len(self.spikes)
-            and not all(mf.singleton for mf in info["terms"].values())
-        ):
-            raise self.error(
-                f"term of {var} has zero width (a spike, as jFuzzyLogic reads it), but an output "
-                "cannot mix spikes with shaped terms: its centroid would ignore it; give it a width",
-                self.spikes[var],
+        if is_out and var in self.spikes and not all(mf.singleton for mf in info["terms"].values()):
+            # As jFuzzyLogic: a spike in a sampled continuous output has no width, so no method
+            # sees it. Read, and said (the first one, with the count).
+            spike = self.spikes[var]
+            count = sum(mf.singleton for mf in info["terms"].values())
+            log.warning(
+                "%s: %d singleton or zero-width term(s) of output %s beside shaped ones (the first "
+                "here): no "
+                "width, so no defuzzification method sees them, as in jFuzzyLogic; give them a "
+                "width, or make every term of %s a singleton",
+                self.error("", spike).location(),
+                count,
+                var,
+                var,
             )
         if rng is None:
             extents = [mf.extent() for mf in info["terms"].values()]
