@@ -50,17 +50,22 @@ def clip(poly: Polyline, level: float) -> Polyline:
     """``min(level, poly)``, with a point wherever a sloping piece crosses ``level``."""
     xs, ys = poly
     out_x, out_y = [xs[0]], [ys[0] if ys[0] < level else level]
+    push_x, push_y = out_x.append, out_y.append
+    rounded = False
     for i in range(1, len(xs)):
         x0, y0, x1, y1 = xs[i - 1], ys[i - 1], xs[i], ys[i]
         if (y0 - level) * (y1 - level) < 0.0 and x1 > x0:
             xc = x0 + (level - y0) / (y1 - y0) * (x1 - x0)
             # Rounding can put a crossing on an end (a level of 1e-28 on a steep edge): the point
             # then sits at that end's x and the piece stays flat at the level, as it should.
-            out_x.append(xc if xc < x1 else x1)
-            out_y.append(level)
-        out_x.append(x1)
-        out_y.append(y1 if y1 < level else level)
-    return _tidy(out_x, out_y)
+            if not x0 < xc < x1:
+                xc = x1 if xc >= x1 else x0
+                rounded = True
+            push_x(xc)
+            push_y(level)
+        push_x(x1)
+        push_y(y1 if y1 < level else level)
+    return _tidy(out_x, out_y) if rounded else (out_x, out_y)
 
 
 def scale(poly: Polyline, level: float) -> Polyline:
@@ -81,50 +86,67 @@ def _tidy(xs: list[float], ys: list[float]) -> Polyline:
     return out_x, out_y
 
 
-def _limits(xs: list[float], ys: list[float], p: int, x: float) -> tuple[float, float, int, bool]:
-    """Left and right value of a polyline at ``x`` (its own breakpoint, or between ``p - 1`` and
-    ``p``), the index of its next point after ``x``, and whether ``x`` is its breakpoint."""
-    if xs[p] == x:
-        left = ys[p]
-        if p + 1 < len(xs) and xs[p + 1] == x:
-            return left, ys[p + 1], p + 2, True
-        return left, left, p + 1, True
-    x0, y0 = xs[p - 1], ys[p - 1]
-    v = y0 + (x - x0) * (ys[p] - y0) / (xs[p] - x0)
-    return v, v, p, False
-
-
 def merge_max(a: Polyline, b: Polyline) -> Polyline:
-    """The upper envelope of two polylines over the same range, linear in their points."""
+    """The upper envelope of two polylines over the same range, linear in their points.
+
+    The walk visits the union of their breakpoints; at each one it takes both polylines' left and
+    right values (their own points there, or their line through it). The hot loop of the deep
+    path: written out flat, without helper calls."""
     ax, ay = a
     bx, by = b
+    na, nb = len(ax), len(bx)
     out_x: list[float] = []
     out_y: list[float] = []
+    push_x, push_y = out_x.append, out_y.append
     i = j = 0
     end = ax[-1]
     xp = ar = br = 0.0
     first = True
     while True:
-        x = ax[i] if ax[i] < bx[j] else bx[j]
-        al, a_r, i, own_a = _limits(ax, ay, i, x)
-        bl, b_r, j, own_b = _limits(bx, by, j, x)
+        xa, xb = ax[i], bx[j]
+        x = xa if xa < xb else xb
+        if xa == x:  # a breakpoint of a: its value from the left, then to the right
+            al = a_r = ay[i]
+            i += 1
+            if i < na and ax[i] == x:
+                a_r = ay[i]
+                i += 1
+            own_a = True
+        else:  # a goes straight through x
+            x0, y0 = ax[i - 1], ay[i - 1]
+            al = a_r = y0 + (x - x0) * (ay[i] - y0) / (xa - x0)
+            own_a = False
+        if xb == x:
+            bl = b_r = by[j]
+            j += 1
+            if j < nb and bx[j] == x:
+                b_r = by[j]
+                j += 1
+            own_b = True
+        else:
+            x0, y0 = bx[j - 1], by[j - 1]
+            bl = b_r = y0 + (x - x0) * (by[j] - y0) / (xb - x0)
+            own_b = False
         if not first:
             d0, d1 = ar - br, al - bl
             if (d0 < 0.0 < d1) or (d1 < 0.0 < d0):  # they cross between xp and x
                 u = d0 / (d0 - d1)
-                out_x.append(xp + u * (x - xp))
-                out_y.append(ar + u * (al - ar))
-        left = al if al > bl else bl
-        right = a_r if a_r > b_r else b_r
+                push_x(xp + u * (x - xp))
+                push_y(ar + u * (al - ar))
         # A breakpoint of the lower polyline only, where the upper one goes straight through:
         # not a kink of the envelope.
-        through = (al > bl and a_r > b_r and not own_a) or (bl > al and b_r > a_r and not own_b)
-        if first or x == end or not through:
-            out_x.append(x)
-            out_y.append(left)
+        if (
+            first
+            or x == end
+            or not ((al > bl and a_r > b_r and not own_a) or (bl > al and b_r > a_r and not own_b))
+        ):
+            left = al if al > bl else bl
+            right = a_r if a_r > b_r else b_r
+            push_x(x)
+            push_y(left)
             if right != left:
-                out_x.append(x)
-                out_y.append(right)
+                push_x(x)
+                push_y(right)
         if x == end:
             return out_x, out_y
         first = False
@@ -135,14 +157,32 @@ def merge_sum(a: Polyline, b: Polyline) -> Polyline:
     """The pointwise sum of two polylines over the same range, linear in their points."""
     ax, ay = a
     bx, by = b
+    na, nb = len(ax), len(bx)
     out_x: list[float] = []
     out_y: list[float] = []
     i = j = 0
     end = ax[-1]
     while True:
-        x = ax[i] if ax[i] < bx[j] else bx[j]
-        al, a_r, i, _ = _limits(ax, ay, i, x)
-        bl, b_r, j, _ = _limits(bx, by, j, x)
+        xa, xb = ax[i], bx[j]
+        x = xa if xa < xb else xb
+        if xa == x:
+            al = a_r = ay[i]
+            i += 1
+            if i < na and ax[i] == x:
+                a_r = ay[i]
+                i += 1
+        else:
+            x0, y0 = ax[i - 1], ay[i - 1]
+            al = a_r = y0 + (x - x0) * (ay[i] - y0) / (xa - x0)
+        if xb == x:
+            bl = b_r = by[j]
+            j += 1
+            if j < nb and bx[j] == x:
+                b_r = by[j]
+                j += 1
+        else:
+            x0, y0 = bx[j - 1], by[j - 1]
+            bl = b_r = y0 + (x - x0) * (by[j] - y0) / (xb - x0)
         out_x.append(x)
         out_y.append(al + bl)
         if a_r + b_r != al + bl:
