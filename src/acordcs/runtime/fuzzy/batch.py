@@ -54,7 +54,15 @@ def run_batch(
         degrees.append(np.broadcast_to(d * e.weight if e.weight != 1.0 else d, (n,)))
     out = {}
     for plan in compiled.outputs:
-        result = _defuzz(plan, degrees, sem.accu, n)
+        dz = plan.defuzzifier
+        if getattr(dz, "needs_values", False):  # FUNCTION terms: their points row by row
+            alpha = _alpha(plan, degrees, sem.accu, n)
+            rows = [{k: float(a[i]) for k, a in xs.items()} for i in range(n)]
+            result = np.array(
+                [np.nan if (v := dz(tuple(alpha[i]), rows[i])) is None else v for i in range(n)]
+            )
+        else:
+            result = _defuzz(plan, degrees, sem.accu, n)
         missing = np.isnan(result)
         if missing.any():
             result[missing] = plan.variable.fallback(values.get(plan.name))
@@ -144,18 +152,25 @@ def _binary(op: str, a: np.ndarray, b: np.ndarray) -> np.ndarray:
     return (a + b) / (1.0 + a * b)  # EINSTEIN
 
 
+def _alpha(plan: OutputPlan, degrees: list[np.ndarray], accu: str, n: int) -> np.ndarray:
+    """The folded degree of each term of a collapsed output, one row per input row."""
+    nterms = len(plan.variable.terms)
+    alpha = np.zeros((n, nterms))
+    for k in range(nterms):
+        acc = None
+        for r, kk in plan.sources:
+            if kk == k:
+                acc = degrees[r] if acc is None else _fold(accu, acc, degrees[r])
+        if acc is not None:
+            alpha[:, k] = acc
+    return alpha
+
+
 def _defuzz(plan: OutputPlan, degrees: list[np.ndarray], accu: str, n: int) -> np.ndarray:
     dz = plan.defuzzifier
     nterms = len(plan.variable.terms)
     if plan.collapsed:
-        alpha = np.zeros((n, nterms))
-        for k in range(nterms):
-            acc = None
-            for r, kk in plan.sources:
-                if kk == k:
-                    acc = degrees[r] if acc is None else _fold(accu, acc, degrees[r])
-            if acc is not None:
-                alpha[:, k] = acc
+        alpha = _alpha(plan, degrees, accu, n)
         if isinstance(dz, MaxMinCog):
             return np.concatenate([_maxmin(dz, alpha[i : i + _CHUNK]) for i in range(0, n, _CHUNK)])
         if isinstance(dz, SumProdCog):

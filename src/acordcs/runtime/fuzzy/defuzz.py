@@ -413,23 +413,39 @@ def apply_method(pieces: list[tuple[float, float, float, float]], method: str) -
 
 # ---------------------------------------------------------------------------------- singletons
 class Singletons:
-    """Singleton outputs: COGS (COG means the same), LM, RM, MM on the accumulated heights."""
+    """Singleton outputs: COGS (COG means the same), LM, RM, MM on the accumulated heights.
+
+    FUNCTION terms are singletons whose point is computed from the inputs (``values``, the
+    engine's current values) at each firing, clamped into the range; an activated one whose
+    value is not a finite number makes the output undefined for that firing (None: DEFAULT)."""
 
     collapsed = True
     kind = "singletons"
 
     def __init__(self, shape: OutputShape, method: str) -> None:
-        self.xs = [t.params[0] for t in shape.terms]
+        self.xs = [t.params[0] if t.shape == "singleton" else 0.0 for t in shape.terms]
+        self.functions = [(k, t.expr) for k, t in enumerate(shape.terms) if t.shape == "function"]
+        self.needs_values = bool(self.functions)
+        self.lo, self.hi = shape.lo, shape.hi
         self.method = method
 
-    def __call__(self, alpha) -> float | None:
+    def __call__(self, alpha, values=None) -> float | None:
         total = sum(alpha)
         if total <= 0.0:
             return None
+        xs = self.xs
+        if self.functions:
+            xs = list(xs)
+            for k, expr in self.functions:
+                if alpha[k] > 0.0:
+                    x = expr.evaluate(values or {})
+                    if not math.isfinite(x):
+                        return None
+                    xs[k] = self.lo if x < self.lo else self.hi if x > self.hi else x
         if self.method in ("COG", "COGS"):
-            return sum(a * x for a, x in zip(alpha, self.xs, strict=False)) / total
+            return sum(a * x for a, x in zip(alpha, xs, strict=False)) / total
         top = max(alpha)
-        at = [x for a, x in zip(alpha, self.xs, strict=False) if a >= top - 1e-12 * top]
+        at = [x for a, x in zip(alpha, xs, strict=False) if a >= top - 1e-12 * top]
         if self.method == "LM":
             return min(at)
         if self.method == "RM":

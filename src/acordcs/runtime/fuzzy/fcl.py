@@ -27,9 +27,10 @@ from acordcs.cachedir import lark_cache
 from acordcs.rules import BoolOp, Consequent, Is, Name, Not, Rule, depth_message, names_in
 from acordcs.rules.tree import MAX_TERMS, deepest
 from acordcs.runtime.fuzzy import fcl_fast
+from acordcs.runtime.fuzzy.fcl_function import parse_function
 from acordcs.runtime.fuzzy.fcl_writer import format_condition, format_rule, write_fcl
 from acordcs.runtime.fuzzy.fuzzy_engine import FuzzyEngine
-from acordcs.runtime.fuzzy.membership import make_membership
+from acordcs.runtime.fuzzy.membership import function_membership, make_membership
 from acordcs.runtime.fuzzy.semantics import (
     ACCU_OPS,
     ACT_OPS,
@@ -125,9 +126,8 @@ def _syntax_error(err: UnexpectedInput, text: str, filename: str | None) -> Rule
     if used:
         line, column = _position(text, used.start())
         return RuleError(
-            "FUNCTION is not supported: neither function definitions nor FUNCTION membership "
-            "terms (jFuzzyLogic's); use trian, trape, gauss, gbell, sigm, a point list or a "
-            "singleton",
+            "FUNCTION definitions (IEC 61131-3 program code) are not read; an FCL file holds "
+            "FUNCTION_BLOCKs (a FUNCTION term, TERM t := FUNCTION <expression>;, is read)",
             file=filename,
             line=line,
             column=column,
@@ -170,6 +170,7 @@ class _Block:
         self.declared_at: dict[str, Token] = {}  # variable -> its name in VAR_INPUT/VAR_OUTPUT
         self.blocks: dict[str, Tree] = {}  # variable -> its FUZZIFY or DEFUZZIFY block
         self.spikes: dict[str, Tree] = {}  # variable -> its first singleton or zero-width term
+        self.functions: dict[str, Tree] = {}  # variable -> its first FUNCTION term
         self.untermed: set[str] = set()  # inputs without terms or RANGE: not defined
 
     def error(self, msg: str, tok: Token | Tree | None) -> RuleError:
@@ -289,6 +290,8 @@ class _Block:
                 nums.extend(float(t) for t in child.children)
             elif child.type == "NUMBER":
                 nums.append(float(child))
+        if node.data == "mf_function":
+            return self._function(var, term, node)
         if node.data == "mf_points":
             shape = "points"
         elif node.data == "mf_singleton":
@@ -320,6 +323,31 @@ class _Block:
                 exc.message, file=self.file, line=node.meta.line, column=node.meta.column
             ) from None
 
+    def _function(self, var: str, term: str, node: Tree):
+        """A FUNCTION term: an output's singleton at a point computed from the inputs."""
+        body = str(node.children[0])[len("function") :]
+        where = f"FUNCTION term {term} of {var}"
+        if var in self.inputs:
+            raise self.error(
+                f"{where}: a FUNCTION term in FUZZIFY is 1 only where the input equals the "
+                "function's value (jFuzzyLogic reads it, no measured input would fire it); give "
+                f"{term} a shape",
+                node,
+            )
+        try:
+            expr = parse_function(body, where)
+        except RuleError as exc:
+            raise self.error(exc.message, node) from None
+        for name in expr.variables:
+            if name not in self.inputs:
+                raise self.error(
+                    f"{where} reads {name}, which is not declared in VAR_INPUT (jFuzzyLogic's "
+                    "functions read inputs only); declare it there",
+                    node,
+                )
+        self.functions.setdefault(var, node)
+        return function_membership(expr)
+
     def _define(self, engine: FuzzyEngine, var: str) -> None:
         info = self.fuzz.get(var)
         is_out = var in self.outputs
@@ -328,6 +356,20 @@ class _Block:
             raise self.error(f"output {var} has no DEFUZZIFY block; add one with its terms", where)
         info = info or {"terms": {}, "range": None, "method": None, "default": None, "nc": False}
         rng = info["range"] or (self.outputs if is_out else self.inputs).get(var)
+        if var in self.functions:
+            if not all(mf.singleton for mf in info["terms"].values()):
+                raise self.error(
+                    f"output {var} mixes FUNCTION terms with shaped ones; a FUNCTION term is a "
+                    "singleton, so every term of the output must be one (jFuzzyLogic refuses the "
+                    "mix when firing)",
+                    self.functions[var],
+                )
+            if rng is None:
+                raise self.error(
+                    f"output {var} has FUNCTION terms: its range cannot be told from them; "
+                    "give it RANGE := (min .. max);",
+                    self.functions[var],
+                )
         if is_out and var in self.spikes and not all(mf.singleton for mf in info["terms"].values()):
             # As jFuzzyLogic: a spike in a sampled continuous output has no width, so no method
             # sees it. Read, and said (the first one, with the count).
