@@ -24,13 +24,16 @@ KEYWORDS = frozenset(
     "END_DEFUZZIFY RULEBLOCK END_RULEBLOCK TERM RANGE METHOD DEFAULT ACCU ACT RULE IF THEN IS AND "
     "OR NOT WITH VERY SOMEWHAT FUNCTION".split()
 )
+# Blanks and comments (but not the pragma, a token of its own) are skipped by the same match that
+# reads the token after them: one match per token. Atomic, so that a run of blanks before a bad
+# character is not split every possible way (2**n steps).
 _SCAN = re.compile(
-    r"(?P<WS>\s+)"
-    r"|(?P<PRAGMA>\(\*@acordcs[^*]*\*\))"
-    r"|(?P<COMMENT>\(\*[\s\S]*?\*\)|/\*[\s\S]*?\*/|//[^\n]*)"
+    r"(?>(?:\s+|\(\*(?!@acordcs)[\s\S]*?\*\)|/\*[\s\S]*?\*/|//[^\n]*)*)"
+    r"(?:(?P<PRAGMA>\(\*@acordcs[^*]*\*\))"
     r"|(?P<WORD>[A-Za-z_][A-Za-z0-9_]*(?:\.[A-Za-z_][A-Za-z0-9_]*)*)"
     r"|(?P<NUMBER>[+-]?(?:\d+(?:\.\d+)?|\.\d+)(?:[eE][+-]?\d+)?)"
     r"|(?P<PUNCT>:=|\.\.|[:;(),])"
+    r"|(?P<END>\Z))"
 )
 
 
@@ -41,33 +44,34 @@ class Decline(Exception):
 # A raw token: (kind, text, start offset, line, column); kind is a keyword, NAME, NUMBER, PRAGMA
 # or the punctuation itself.
 def _tokens(text: str) -> Iterator[tuple[str, str, int, int, int]]:
-    line, line_start, pos, end = 1, 0, 0, len(text)
+    line, line_start, pos = 1, 0, 0
     scan = _SCAN.match
-    while pos < end:
+    count, rfind = text.count, text.rfind
+    while True:
         found = scan(text, pos)
         if found is None:
             raise Decline
         kind = found.lastgroup
-        value = found.group()
-        if kind == "WS" or kind == "COMMENT":
-            breaks = value.count("\n")
-            if breaks:
-                line += breaks
-                line_start = pos + value.rindex("\n") + 1
-        elif kind == "WORD":
+        start, pos = found.span(kind)
+        breaks = count("\n", found.start(), start)
+        if breaks:
+            line += breaks
+            line_start = rfind("\n", 0, start) + 1
+        if kind == "END":
+            yield ("$END", "", start, line, start - line_start + 1)
+            return
+        value = text[start:pos]
+        if kind == "WORD":
             upper = value.upper()
             if upper in KEYWORDS:
-                yield (upper, value, pos, line, pos - line_start + 1)
-            elif "." in value and value.split(".", 1)[0].upper() in KEYWORDS:
+                yield (upper, value, start, line, start - line_start + 1)
+                continue
+            if "." in value and value.split(".", 1)[0].upper() in KEYWORDS:
                 raise Decline  # lark's keyword patterns would split it
-            else:
-                yield ("NAME", value, pos, line, pos - line_start + 1)
+            kind = "NAME"
         elif kind == "PUNCT":
-            yield (value, value, pos, line, pos - line_start + 1)
-        else:
-            yield (kind, value, pos, line, pos - line_start + 1)
-        pos = found.end()
-    yield ("$END", "", end, line, end - line_start + 1)
+            kind = value
+        yield (kind, value, start, line, start - line_start + 1)
 
 
 def _token(raw: tuple, kind: str | None = None) -> Token:
