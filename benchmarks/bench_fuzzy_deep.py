@@ -114,10 +114,22 @@ def child_fire(combination: str, fires: int) -> dict:
     return {"ms": statistics.median(times) * 1e3, "cpu_ms": statistics.median(cpu) * 1e3}
 
 
-def child_read(path: str, traced: bool) -> dict:
+def child_read(path: str, traced: bool, without: str = "") -> dict:
     """Seconds and the growth of the process's peak size; or (``traced``, a separate run because
-    tracing slows every allocation) the peak of Python's allocations during the read."""
+    tracing slows every allocation) the peak of Python's allocations during the read. ``without``
+    a speed device of the reader, to judge it: "fast" (lark reads every file), "gc-pause"."""
+    import gc
     import tracemalloc
+
+    if without == "fast":
+        from acordcs.runtime.fuzzy import fcl_fast
+
+        def decline(text: str) -> None:
+            raise fcl_fast.Decline
+
+        fcl_fast.parse = decline
+    elif without == "gc-pause":
+        gc.disable = lambda: None
 
     from acordcs.runtime.fuzzy import read_fcl
     from acordcs.runtime.rule_engine import RuleError
@@ -126,7 +138,7 @@ def child_read(path: str, traced: bool) -> dict:
     base = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
     if traced:
         tracemalloc.start()
-    t0 = time.perf_counter()
+    t0, c0 = time.perf_counter(), time.process_time()
     try:
         read_fcl(text, filename=Path(path).name)
         outcome = "read"
@@ -215,11 +227,28 @@ def main() -> int:
                     t = run(src, ["readmem", str(path)], limit_gb=limit, timeout=timeout)
                     traced = f"{t['traced_mb']:6.0f} MB" if "traced_mb" in t else t["outcome"]
                     print(
-                        f"  {name:<6} {m['s']:7.2f} s  peak size +{m['rss_mb']:5.0f} MB  "
-                        f"Python's allocations {traced}  {m['outcome']}"
+                        f"  {name:<6} {m['s']:7.2f} s (cpu {m['cpu']:5.2f} s)  peak size "
+                        f"+{m['rss_mb']:5.0f} MB  Python's allocations {traced}  {m['outcome']}"
                     )
                 else:
                     print(f"  {name:<6} {m['outcome']}")
+        print(
+            "\nthe reader's speed devices, judged on the rules file (cpu seconds; alternated, 3 runs)"
+        )
+        runs: dict[str, list[float]] = {"all": [], "fast": [], "gc-pause": []}
+        for _ in range(3):
+            for without in runs:
+                m = run(after, ["read", str(rules_path), without if without != "all" else ""])
+                runs[without].append(m.get("cpu", float("nan")))
+        best = {k: min(v) for k, v in runs.items()}
+        for without, label in (
+            ("fast", "the fast path (lark reads)"),
+            ("gc-pause", "the gc pause"),
+        ):
+            saved = 1.0 - best["all"] / best[without]
+            print(
+                f"  without {label:<26} {best[without]:5.2f} s vs {best['all']:5.2f} s: saves {saved:.0%}"
+            )
     return 0
 
 
@@ -229,7 +258,8 @@ if __name__ == "__main__":
         if kind == "fire":
             result = child_fire(sys.argv[3], int(sys.argv[4]))
         else:
-            result = child_read(sys.argv[3], traced=kind == "readmem")
+            without = sys.argv[4] if len(sys.argv) > 4 else ""
+            result = child_read(sys.argv[3], traced=kind == "readmem", without=without)
         print(json.dumps(result))
         sys.exit(0)
     sys.exit(main())
