@@ -146,15 +146,11 @@ def child_read(path: str, traced: bool, without: str = "") -> dict:
         outcome = f"refused: {str(err)[:70]}..."
     except MemoryError:
         outcome = "MemoryError"
-    seconds = time.perf_counter() - t0
-    peak = tracemalloc.get_traced_memory()[1]
+    seconds, cpu = time.perf_counter() - t0, time.process_time() - c0
+    if traced:
+        return {"traced_mb": tracemalloc.get_traced_memory()[1] / 1e6}
     rss = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
-    return {
-        "s": seconds,
-        "traced_mb": peak / 1e6,
-        "rss_mb": (rss - base) / 1024,
-        "outcome": outcome,
-    }
+    return {"s": seconds, "cpu": cpu, "rss_mb": (rss - base) / 1024, "outcome": outcome}
 
 
 # ---------------------------------------------------------------------------------- the run
