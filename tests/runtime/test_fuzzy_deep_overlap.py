@@ -225,3 +225,5 @@ def test_a_deep_rule_base_equals_the_dense_oracle(peaks, x, sem) -> None:
         assert engine.defaulted("s") == ("y",)
     else:
         assert engine.get("y") == pytest.approx(want, abs=2e-6 * 100)
+    batch = engine.batch("s", {"x": [x, x]})["y"]  # the batch call loops over the deep output
+    assert list(batch) == pytest.approx([engine.get("y")] * 2, abs=1e-12)
