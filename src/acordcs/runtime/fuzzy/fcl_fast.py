@@ -80,8 +80,8 @@ def _token(raw: tuple, kind: str | None = None) -> Token:
     return Token(kind or k, value, start, line, column, line, column + n, start + n)
 
 
-def _meta(tree: Tree, first, last) -> Tree:
-    """Positions as lark's propagate_positions sets them: from the first raw child to the last
+def _tree(data: str, children: list, first, last) -> Tree:
+    """A tree with positions as lark's propagate_positions sets them: from the first raw child to the last
     (punctuation included); a subtree counts by its container (itself, or the parentheses that
     grouped it)."""
     meta = Meta()
@@ -107,8 +107,7 @@ def _meta(tree: Tree, first, last) -> Tree:
     meta.end_column = meta.container_end_column = end_column
     meta.end_pos = meta.container_end_pos = end
     meta.empty = False
-    tree._meta = meta
-    return tree
+    return Tree(data, children, meta)
 
 
 def _contain(tree: Tree, first: tuple, last: tuple) -> Tree:
@@ -163,7 +162,7 @@ class _Parser:
         blocks = [self.function_block()]
         while self.peek() != "$END":
             blocks.append(self.function_block())
-        return _meta(Tree("start", blocks), blocks[0], blocks[-1])
+        return _tree("start", blocks, blocks[0], blocks[-1])
 
     def function_block(self) -> Tree:
         first = self.take("FUNCTION_BLOCK")
@@ -181,7 +180,7 @@ class _Parser:
             kids.append(read())
         last = self.take("END_FUNCTION_BLOCK")
         kids.append(_token(last))
-        return _meta(Tree("function_block", kids), first, last)
+        return _tree("function_block", kids, first, last)
 
     def var_block(self) -> Tree:
         first = self.advance()
@@ -196,10 +195,10 @@ class _Parser:
             if self.peek() == "RANGE":
                 last = self.range()
                 d.append(last)
-            kids.append(_meta(Tree("var_def", d), name, last))
+            kids.append(_tree("var_def", d, name, last))
         last = self.take("END_VAR")
         kids.append(_token(last))
-        return _meta(Tree(first[0].lower(), kids), first, last)
+        return _tree(first[0].lower(), kids, first, last)
 
     def range(self) -> Tree:
         first = self.take("RANGE")
@@ -210,7 +209,7 @@ class _Parser:
         hi = self.take("NUMBER")
         self.take(")")
         last = self.take(";")
-        return _meta(Tree("range", [_token(first), _token(lo), _token(hi)]), first, last)
+        return _tree("range", [_token(first), _token(lo), _token(hi)], first, last)
 
     def fuzzify(self) -> Tree:
         first = self.advance()
@@ -228,7 +227,7 @@ class _Parser:
                 break
         last = self.take("END_DEFUZZIFY" if out else "END_FUZZIFY")
         kids.append(_token(last))
-        return _meta(Tree("defuzzify" if out else "fuzzify", kids), first, last)
+        return _tree("defuzzify" if out else "fuzzify", kids, first, last)
 
     def setting(self, kind: str) -> Tree:
         first = self.take(kind)
@@ -238,7 +237,7 @@ class _Parser:
             raise Decline
         self.advance()
         last = self.take(";")
-        return _meta(Tree(kind.lower(), [_token(first), _token(value)]), first, last)
+        return _tree(kind.lower(), [_token(first), _token(value)], first, last)
 
     def term(self) -> Tree:
         first = self.take("TERM")
@@ -246,7 +245,7 @@ class _Parser:
         self.take(":=")
         mf = self.mf()
         last = self.take(";")
-        return _meta(Tree("term", [_token(first), _token(name), mf]), first, last)
+        return _tree("term", [_token(first), _token(name), mf], first, last)
 
     def mf(self) -> Tree:
         kind = self.peek()
@@ -254,10 +253,10 @@ class _Parser:
             points = [self.point()]
             while self.peek() == "(":
                 points.append(self.point())
-            return _meta(Tree("mf_points", points), points[0], points[-1])
+            return _tree("mf_points", points, points[0], points[-1])
         if kind == "NUMBER":
             raw = self.take("NUMBER")
-            return _meta(Tree("mf_singleton", [_token(raw)]), raw, raw)
+            return _tree("mf_singleton", [_token(raw)], raw, raw)
         first = self.name()
         kids: list = [_token(first)]
         last: object = first
@@ -270,7 +269,7 @@ class _Parser:
                 last = self.point()
                 kids.append(last)
             else:
-                return _meta(Tree("mf_named", kids), first, last)
+                return _tree("mf_named", kids, first, last)
 
     def point(self) -> Tree:
         first = self.take("(")
@@ -278,7 +277,7 @@ class _Parser:
         self.take(",")
         y = self.take("NUMBER")
         last = self.take(")")
-        return _meta(Tree("point", [_token(x), _token(y)]), first, last)
+        return _tree("point", [_token(x), _token(y)], first, last)
 
     # ---------------------------------------------------------------------------------- rules
     def ruleblock(self) -> Tree:
@@ -293,14 +292,14 @@ class _Parser:
                 self.take(":")
                 value = self.name()
                 last = self.take(";")
-                kids.append(_meta(Tree("operator", [_token(op), _token(value)]), op, last))
+                kids.append(_tree("operator", [_token(op), _token(value)], op, last))
             elif kind == "PRAGMA":
                 kids.append(_token(self.take("PRAGMA")))
             else:
                 break
         last = self.take("END_RULEBLOCK")
         kids.append(_token(last))
-        return _meta(Tree("ruleblock", kids), first, last)
+        return _tree("ruleblock", kids, first, last)
 
     def rule(self) -> Tree:
         first = self.take("RULE")
@@ -318,9 +317,9 @@ class _Parser:
         if self.peek() == "WITH":
             w = self.take("WITH")
             number = self.take("NUMBER")
-            kids.append(_meta(Tree("weight", [_token(w), _token(number)]), w, number))
+            kids.append(_tree("weight", [_token(w), _token(number)], w, number))
         last = self.take(";")
-        return _meta(Tree("rule", kids), first, last)
+        return _tree("rule", kids, first, last)
 
     def cond(self) -> Tree:
         # left to right, AND and OR of equal precedence: built as a loop, not a recursion
@@ -328,7 +327,7 @@ class _Parser:
         while (kind := self.peek()) in ("AND", "OR"):
             op = _token(self.take(kind))
             right = self.atom()
-            left = _meta(Tree("c_and" if kind == "AND" else "c_or", [left, op, right]), left, right)
+            left = _tree("c_and" if kind == "AND" else "c_or", [left, op, right], left, right)
         return left
 
     def atom(self) -> Tree:
@@ -340,7 +339,7 @@ class _Parser:
                 kids.append(_token(self.take(k), "NOT" if k == "NOT" else "HEDGE"))
             term = self.name()
             kids.append(_token(term))
-            return _meta(Tree("c_is", kids), var, term)
+            return _tree("c_is", kids, var, term)
         self.depth += 1
         if self.depth > MAX_DEPTH:
             raise Decline
@@ -348,7 +347,7 @@ class _Parser:
             first = self.take("NOT")
             inner = self.atom()
             self.depth -= 1
-            return _meta(Tree("c_not", [_token(first), inner]), first, inner)
+            return _tree("c_not", [_token(first), inner], first, inner)
         if kind == "(":
             # a group: the condition inside, with its own positions (as lark's ?atom gives it)
             first = self.advance()
@@ -361,4 +360,4 @@ class _Parser:
     def conclusion(self) -> Tree:
         var = self.name()
         is_, term = self.take("IS"), self.name()
-        return _meta(Tree("conclusion", [_token(var), _token(is_), _token(term)]), var, term)
+        return _tree("conclusion", [_token(var), _token(is_), _token(term)], var, term)

@@ -5,8 +5,8 @@ Mff* classes): ``+ - * / ^ %`` (``%`` is Java's remainder, sign of the dividend)
 (natural), ``log`` (base 10), ``sin``, ``cos``, ``tan``, ``abs``, numbers and input variables.
 Parsed with ``fcl_function.lark`` and compiled to a postfix program that a loop evaluates: no
 ``eval``, no recursion, and limits on size (:data:`MAX_TEXT` characters, :data:`MAX_DEPTH`
-nested parentheses) checked before parsing. A value that is not a finite number (a division by
-0, ``ln`` of a negative) makes the term undefined for that firing.
+nested parentheses) checked before parsing. A value that is not a finite number at any step (a
+division by 0, ``ln`` of 0) makes the term undefined for that firing.
 """
 
 from __future__ import annotations
@@ -83,20 +83,23 @@ class Expression:
     def evaluate(self, values: Mapping[str, float | None]) -> float:
         """The value on ``values`` (variable -> number; a missing one or None gives NaN)."""
         stack: list[float] = []
-        push, pop = stack.append, stack.pop
+        push, pop, finite = stack.append, stack.pop, math.isfinite
         for op, arg in self.program:
             if op == "num":
-                push(arg)
+                v = arg
             elif op == "var":
                 v = values.get(arg)
-                push(math.nan if v is None else float(v))
+                v = math.nan if v is None else float(v)
             elif op == "neg":
-                push(-pop())
+                v = -pop()
             elif op == "call":
-                push(FUNCTIONS[arg](pop()))
+                v = FUNCTIONS[arg](pop())
             else:
                 b = pop()
-                push(_BINARY[op](pop(), b))
+                v = _BINARY[op](pop(), b)
+            if not finite(v):  # undefined from here on (1 ^ ln(0) is not 1)
+                return math.nan
+            push(v)
         return stack[0]
 
 
