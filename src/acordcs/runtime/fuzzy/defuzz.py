@@ -4,7 +4,9 @@ The output's terms are cut at every breakpoint of every term (:class:`OutputShap
 interval every term is a straight line. An activated term is then ``min(level, line)`` (activation
 MIN) or ``level * line`` (PROD); their max, sum or bounded sum is piecewise linear again, with kinks
 only where a line meets a clip level or another line. Evaluating the aggregated set at those kinks
-and integrating each straight piece gives the centroid in closed form (no sampling error).
+and integrating each straight piece gives the centroid in closed form (no sampling error). An
+output whose terms overlap more than :data:`DEEP` deep is not cut (an interval of n lines costs n**3
+per firing): its activated terms are merged as whole polylines (:class:`Envelope`), O(N log n).
 
 Non-linear output terms (gaussian, bell, sigmoid) and PROBOR accumulation are not piecewise linear:
 they are sampled on :data:`acordcs.runtime.fuzzy.sampled.FALLBACK_SAMPLES` evenly spaced points over the range and integrated with
