@@ -13,7 +13,7 @@ process (peak memory is that process's), both in this same run:
 3. reading a 1 MB FCL file that is 26,000 terms of one output: refused at the first term past the
    limit; before, run with 1.5 GB of address space and 60 s at most (it would take 5 GB).
 
-Run: .venv/bin/python benchmarks/bench_fuzzy_deep.py   (about 1 minute on 2 cores)
+Run: .venv/bin/python benchmarks/bench_fuzzy_deep.py   (3 to 5 minutes on 2 cores, most of it the "before" runs)
 """
 
 from __future__ import annotations
