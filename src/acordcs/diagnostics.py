@@ -54,6 +54,23 @@ def suggestion(word: str, names: list[str]) -> str:
     return f" (did you mean {close[0]!r}?)" if close else ""
 
 
+def within_edits(a: str, b: str, limit: int) -> bool:
+    """Whether ``a`` becomes ``b`` in at most ``limit`` single-character insertions, deletions or
+    substitutions (Levenshtein distance, case-insensitive), without computing more than needed."""
+    a, b = a.casefold(), b.casefold()
+    if abs(len(a) - len(b)) > limit:
+        return False
+    previous = list(range(len(b) + 1))
+    for i, x in enumerate(a, start=1):
+        current = [i]
+        for j, y in enumerate(b, start=1):
+            current.append(min(previous[j] + 1, current[j - 1] + 1, previous[j - 1] + (x != y)))
+        if min(current) > limit:
+            return False
+        previous = current
+    return previous[-1] <= limit
+
+
 class Severity(IntEnum):
     INFO = 0
     WARNING = 1
@@ -110,6 +127,12 @@ CODES: dict[str, tuple[Severity, str]] = {
     "T312": (E, "two terms of a variable share a name"),
     "T313": (W, "the model applies no ACORDCS stereotype (nothing to check)"),
     "T314": (E, "container port outside 1-65535"),
+    "T315": (
+        E,
+        "linguistic variable beyond the fuzzy engine's limits (1,000 terms, 500 points per term)",
+    ),
+    "T320": (E, "misspelt tag: within two edits of a tag of the stereotype"),
+    "T321": (W, "a profile the model applies by reference is not found"),
     # L: rules
     "L401": (E, "rule syntax error"),
     "L402": (E, "rule variable is not an attribute in the policy set's scope"),

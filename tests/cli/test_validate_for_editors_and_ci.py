@@ -6,8 +6,8 @@ from __future__ import annotations
 
 import json
 import re
-import tomllib
 import subprocess
+import tomllib
 from pathlib import Path
 
 from acordcs.diagnostics import CODES, MAX_QUOTED, help_uri, shorten

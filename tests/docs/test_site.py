@@ -39,6 +39,10 @@ def _example_files(folder: Path) -> None:
     papyrus = (ROOT / "samples" / "papyrus" / "thermostat.uml").read_text(encoding="utf-8")
     bare = papyrus.split("  <ACORDCS:CtxContainer", 1)[0] + "</xmi:XMI>\n"
     (folder / "bare.uml").write_text(bare, encoding="utf-8")
+    profile = ROOT / "samples" / "papyrus" / "ACORDCS.profile.uml"
+    (folder / "ACORDCS.profile.uml").write_text(
+        profile.read_text(encoding="utf-8"), encoding="utf-8"
+    )
     (folder / "thermostat.notation").write_text(NOTATION, encoding="utf-8")
 
 

@@ -43,6 +43,7 @@ from acordcs.runtime.policy_binding import (
 )
 from acordcs.runtime.registry import Variable, lookup_engine
 from acordcs.runtime.rule_engine import RuleEngine, RuleError
+from acordcs.vocabularies import TRIGGERS
 
 if TYPE_CHECKING:
     from acordcs.runtime.clock import Timer
@@ -404,9 +405,10 @@ class PolicySet:
 
 
 def _check_trigger(name: str, trigger: str, frequency: float | None) -> None:
-    if trigger not in ("event", "periodic"):
+    if trigger not in TRIGGERS:
         raise ConfigurationError(
-            f"policy set {name!r}: trigger must be 'event' or 'periodic', not {trigger!r}"
+            f"policy set {name!r}: trigger must be {' or '.join(map(repr, TRIGGERS))}, "
+            f"not {trigger!r}"
         )
     if trigger == "periodic" and not (frequency and frequency > 0):
         raise ConfigurationError(f"policy set {name!r}: a periodic set needs a frequency > 0 Hz")

@@ -7,9 +7,8 @@ from __future__ import annotations
 
 import hmac
 
-from weblab_sim import world
-
 from weblab_app.base.Access import AccessBase
+from weblab_sim import world
 
 
 class Access(AccessBase):

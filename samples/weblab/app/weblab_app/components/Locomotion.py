@@ -23,9 +23,8 @@ from __future__ import annotations
 
 import json
 
-from weblab_sim import steering, world
-
 from weblab_app.base.Locomotion import LocomotionBase
+from weblab_sim import steering, world
 
 TELEMETRY_PERIOD = 0.5  # s
 STATUS_PERIOD = 5.0  # s between live mode's status lines

@@ -24,11 +24,11 @@ import os
 from typing import Any
 
 import serpent
+from weblab_app import model_types
+from weblab_app.base.Navigator import NavigatorBase
 from weblab_sim import detector, world
 
 from acordcs.runtime.errors import RemoteUnreachableError
-from weblab_app import model_types
-from weblab_app.base.Navigator import NavigatorBase
 
 USER = "navigator"
 TIME_CAP_ENV = "WEBLAB_TIME_CAP"  # seconds a live run drives at most

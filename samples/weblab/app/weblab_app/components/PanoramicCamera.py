@@ -9,9 +9,8 @@ would without rendering a picture nobody looks at. The rate is read at every fra
 
 from __future__ import annotations
 
-from weblab_sim import camera
-
 from weblab_app.base.PanoramicCamera import PanoramicCameraBase
+from weblab_sim import camera
 
 IDLE_CHECK = 1.0  # s between looks at the rate while it is 0
 

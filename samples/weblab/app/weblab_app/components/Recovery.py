@@ -17,9 +17,8 @@ from __future__ import annotations
 import json
 import math
 
-from weblab_sim import steering, world
-
 from weblab_app.base.Recovery import RecoveryBase
+from weblab_sim import steering, world
 
 BACKUP_SPEED = 100.0  # mm/s
 SPEED_CAP = 60.0  # mm/s

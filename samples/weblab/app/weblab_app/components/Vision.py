@@ -5,9 +5,8 @@
 from __future__ import annotations
 
 import cv2
-from weblab_sim import camera, world
-
 from weblab_app.base.Vision import VisionBase
+from weblab_sim import camera, world
 
 
 class Vision(VisionBase):

@@ -12,8 +12,9 @@ from __future__ import annotations
 from collections import deque
 from typing import Any
 
-from acordcs.runtime.api import ObservedCall
 from weblab_app.base.Control import ControlBase
+
+from acordcs.runtime.api import ObservedCall
 
 RATE_WINDOW = 5
 
