@@ -10,9 +10,9 @@ from functools import cache
 from pathlib import Path
 from types import ModuleType
 
-from acordcs.xmi.writer.bouml import BoumlWriter, ctx
-from acordcs.xmi.writer.elements import Cls, Pkg
 from tests.support.toolchain import SAMPLES
+from tools.bouml_writer.bouml import BoumlWriter, ctx
+from tools.bouml_writer.elements import Cls, Pkg
 
 Edit = Callable[[Pkg], None]
 

@@ -143,7 +143,7 @@ class Management:
     ) -> dict[str, Any]:
         """Apply the new ``descriptor`` (its XML text) to the container, which must run the
         descriptor of digest ``expected``; ``remote``: URIs of other containers (the ones it was
-        started with win); ``reset``: set new defaults also over values changed at run time.
+        started with win; only those it reaches in the new model are used); ``reset``: set new defaults also over values changed at run time.
 
         Returns ``status`` (``applied``, ``unchanged``, ``refused`` or ``rolled back``), the
         plan lines ``applied``, the defaults ``kept``, ``rolled_back`` and ``unrolled`` (undone,
@@ -175,7 +175,12 @@ class Management:
             if fixed:
                 return {**out, "status": "refused", "digest": self.digest,
                         "error": f"{fixed[0].line}: cannot apply live ({fixed[0].why})"}  # fmt: skip
-            remotes = {**dict(remote or {}), **self.remote}
+            # What its start script would give it (the containers it reaches in the new model),
+            # those it was started with winning.
+            mine = next((c for c in new.containers if c.name == self.name), None)
+            reaches = set(mine.reaches) if mine is not None else set()
+            remotes = {n: u for n, u in (remote or {}).items() if n in reaches}
+            remotes.update(self.remote)
             self._applying = threading.get_ident()
             try:
                 outcome = apply_part(self.running, self.name, self.application, new, part,
