@@ -33,6 +33,7 @@ from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Protocol
 
 from acordcs.descriptor.diff import Change
+from acordcs.errors import AcordError
 from acordcs.runtime.assembly import MonitorMaker, RunningApplication
 from acordcs.runtime.component import ComponentFactory, CtxComponent
 from acordcs.runtime.errors import RuntimeFailure
@@ -162,8 +163,9 @@ def apply_part(
         rolled, unrolled = part.undo()
         classes.restore()
         failed = part.current.line if part.current is not None else "loading the classes"
+        why = exc.message if isinstance(exc, AcordError) else f"{type(exc).__name__}: {exc}"
         raise UpdateFailed(
-            f"{failed}: {type(exc).__name__}: {exc}",
+            f"{failed}: {why}",
             failed=failed,
             rolled_back=[line for line in rolled if line != failed],
             unrolled=unrolled,
