@@ -150,9 +150,13 @@ def test_the_second_identical_update_does_nothing(served):
     first = ask(uri, "apply", new.decode(), digest(data), {}, False)
     assert first["status"] == "applied" and first["digest"] == digest(new)
     assert first["applied"] == ["~ policy set Comfort: rule hot: ... > 30 ... -> ... > 25 ..."]
+    house = run.container("house")
+    run.clock.run_for(2.5)
+    house.monitor("Thermo").update(temp=26.0)  # the set's first firing after the update
+    taken = ask(uri, "status")["last_update"]
+    assert taken["fired_before"] == {"Comfort": None} and taken["applied"] == 0.0
+    assert taken["first_fired"] == {"Comfort": 2.5}
     second = ask(uri, "apply", new.decode(), digest(new), {}, False)
     assert second["status"] == "unchanged" and second["applied"] == []
     assert ask(uri, "status")["updates"] == 2
-    house = run.container("house")
-    house.monitor("Thermo").update(temp=27.0)
     assert house.get_property("Heater", "mode") == "cool"

@@ -75,6 +75,7 @@ class Management:
         self.remote_timeout = remote_timeout
         self.token = token
         self.updates = 0
+        self.last_update: dict[str, Any] | None = None
         # Called with the new digest once an update applied (the launcher logs it).
         self.on_applied: Callable[[str], None] | None = None
         self._lock = threading.Lock()
@@ -97,13 +98,15 @@ class Management:
 
     def close(self) -> None:
         self.container.unsubscribe("management")
+        self.container.unsubscribe("management:fired")
 
     # -------------------------------------------------------------------------------- calls
     def status(self) -> dict[str, Any]:
         """The container, its application, the digest of the descriptor it runs, the updates
         applied since it started, whether it takes updates (``refusal``: why not), its clock's
-        ``time`` and, per policy set, how often it ``fires`` and its last firing (``time``,
-        ``inputs``, ``outputs``)."""
+        ``time``, per policy set how often it ``fires`` and its last firing (``time``,
+        ``inputs``, ``outputs``), and when the ``last_update`` started and was applied, and when
+        each policy set it replanned fired last before it and first after it (clock times)."""
         sets: dict[str, Any] = {}
         here = next((c for c in self.application.containers if c.name == self.name), None)
         for name in here.hosted("policy-set") if here is not None else ():
@@ -126,6 +129,7 @@ class Management:
             "refusal": self.refusal,
             "time": self.container.clock.now(),
             "policy_sets": sets,
+            "last_update": self.last_update,
         }
 
     def properties(self, elements: list[str]) -> dict[str, dict[str, Any]]:
@@ -142,66 +146,138 @@ class Management:
         reset: bool = False,
     ) -> dict[str, Any]:
         """Apply the new ``descriptor`` (its XML text) to the container, which must run the
-        descriptor of digest ``expected``; ``remote``: URIs of other containers (the ones it was
-        started with win; only those it reaches in the new model are used); ``reset``: set new defaults also over values changed at run time.
+        descriptor of digest ``expected``; ``remote``: URIs of other containers (only those it
+        reaches in the new model are used; those it was started with win); ``reset``: set new
+        defaults also over values changed at run time.
 
         Returns ``status`` (``applied``, ``unchanged``, ``refused`` or ``rolled back``), the
         plan lines ``applied``, the defaults ``kept``, ``rolled_back`` and ``unrolled`` (undone,
         and what could not be), ``error`` (why refused or what failed), the container's
-        ``digest`` after it and ``seconds`` it took."""
+        ``digest`` after it and the ``seconds`` the part took."""
+        if self.refusal is not None:
+            return self._reply("refused", error=self.refusal)
+        if not self._lock.acquire(blocking=False):
+            return self._reply(
+                "refused", error="another update is being applied to it: try again when it is done"
+            )
+        try:
+            return self._apply(descriptor, expected, dict(remote or {}), reset)
+        finally:
+            self._lock.release()
+
+    def _reply(self, status: str, **fields: Any) -> dict[str, Any]:
+        out: dict[str, Any] = {
+            "container": self.name,
+            "status": status,
+            "digest": self.digest,
+            "applied": [],
+            "kept": [],
+            "rolled_back": [],
+            "unrolled": [],
+            "error": None,
+            "seconds": 0.0,
+        }
+        out.update(fields)
+        return out
+
+    def _apply(
+        self, descriptor: str, expected: str, remote: dict[str, str], reset: bool
+    ) -> dict[str, Any]:
         from acordcs.descriptor import DescriptorError, from_xml
         from acordcs.descriptor.diff import diff
 
-        out: dict[str, Any] = {"container": self.name, "applied": [], "kept": [],
-                               "rolled_back": [], "unrolled": [], "error": None, "seconds": 0.0}  # fmt: skip
-        if self.refusal is not None:
-            return {**out, "status": "refused", "error": self.refusal, "digest": self.digest}
-        if not self._lock.acquire(blocking=False):
-            return {**out, "status": "refused", "digest": self.digest,
-                    "error": "another update is being applied to it: try again when it is done"}  # fmt: skip
+        if expected != self.digest:
+            return self._reply(
+                "refused",
+                error=f"it runs descriptor {self.digest[:12]}, not {expected[:12]}: it changed "
+                "since the plan was made; run the update again",
+            )
+        data = descriptor.encode("utf-8")
         try:
-            if expected != self.digest:
-                return {**out, "status": "refused", "digest": self.digest,
-                        "error": f"it runs descriptor {self.digest[:12]}, not {expected[:12]}: "
-                        "it changed since the plan was made; run the update again"}  # fmt: skip
-            data = descriptor.encode("utf-8")
-            try:
-                new = from_xml(data, file=f"the descriptor sent to container {self.name}")
-            except DescriptorError as err:
-                return {**out, "status": "refused", "digest": self.digest, "error": str(err)}
-            plan = diff(self.application, new)
-            part = plan.part(self.name)
-            fixed = [c for c in part if not c.live]
-            if fixed:
-                return {**out, "status": "refused", "digest": self.digest,
-                        "error": f"{fixed[0].line}: cannot apply live ({fixed[0].why})"}  # fmt: skip
-            # What its start script would give it (the containers it reaches in the new model),
-            # those it was started with winning.
-            mine = next((c for c in new.containers if c.name == self.name), None)
-            reaches = set(mine.reaches) if mine is not None else set()
-            remotes = {n: u for n, u in (remote or {}).items() if n in reaches}
-            remotes.update(self.remote)
-            self._applying = threading.get_ident()
-            try:
-                outcome = apply_part(self.running, self.name, self.application, new, part,
-                                     classes=self.classes, touched=self.touched, remote=remotes,
-                                     reset=reset, remote_timeout=self.remote_timeout,
-                                     token=self.token)  # fmt: skip
-            except UpdateFailed as err:
-                return {**out, "status": "rolled back", "digest": self.digest,
-                        "error": err.message, "rolled_back": list(err.rolled_back),
-                        "unrolled": list(err.unrolled)}  # fmt: skip
-            finally:
-                self._applying = None
-            self.application, self.data, self.digest = new, data, digest(data)
-            self.updates += 1
-            if self.on_applied is not None:
-                self.on_applied(self.digest)
-            status = "applied" if part else "unchanged"
-            return {**out, "status": status, "digest": self.digest, "applied": outcome.applied,
-                    "kept": outcome.kept, "seconds": outcome.seconds}  # fmt: skip
+            new = from_xml(data, file=f"the descriptor sent to container {self.name}")
+        except DescriptorError as err:
+            return self._reply("refused", error=str(err))
+        part = diff(self.application, new).part(self.name)
+        fixed = [c for c in part if not c.live]
+        if fixed:
+            return self._reply(
+                "refused", error=f"{fixed[0].line}: cannot apply live ({fixed[0].why})"
+            )
+        # What its start script would give it (the containers it reaches in the new model),
+        # those it was started with winning.
+        mine = next((c for c in new.containers if c.name == self.name), None)
+        reaches = set(mine.reaches) if mine is not None else set()
+        remotes = {n: u for n, u in remote.items() if n in reaches}
+        remotes.update(self.remote)
+        sets = {c.element for c in part if c.kind == "policy set" and c.action in ("add", "replan")}
+        started = self.container.clock.now()
+        before = {n: self._last_fired(n) for n in sets}
+        self._applying = threading.get_ident()
+        try:
+            outcome = apply_part(
+                self.running,
+                self.name,
+                self.application,
+                new,
+                part,
+                classes=self.classes,
+                touched=self.touched,
+                remote=remotes,
+                reset=reset,
+                remote_timeout=self.remote_timeout,
+                token=self.token,
+            )
+        except UpdateFailed as err:
+            return self._reply(
+                "rolled back",
+                error=err.message,
+                rolled_back=list(err.rolled_back),
+                unrolled=list(err.unrolled),
+            )
         finally:
-            self._lock.release()
+            self._applying = None
+        self.application, self.data, self.digest = new, data, digest(data)
+        self.updates += 1
+        self._watch(started, before)
+        if self.on_applied is not None:
+            self.on_applied(self.digest)
+        return self._reply(
+            "applied" if part else "unchanged",
+            applied=outcome.applied,
+            kept=outcome.kept,
+            seconds=outcome.seconds,
+        )
+
+    # ------------------------------------------------------------ when an update took effect
+    def _last_fired(self, name: str) -> float | None:
+        try:
+            firing = self.container.policy_set(name).last_firing
+        except RuntimeFailure:
+            return None
+        return firing.time if firing is not None else None
+
+    def _watch(self, started: float, before: dict[str, float | None]) -> None:
+        """Note when the update started and was applied (the container's clock) and, for each
+        policy set it gave a plan, when it fired last before and first after (``status``'s
+        ``last_update``): listening to ``policy.fired`` only until each has fired."""
+        self.container.unsubscribe("management:fired")
+        first: dict[str, float] = {}
+        self.last_update = {
+            "started": started,
+            "applied": self.container.clock.now(),
+            "fired_before": before,
+            "first_fired": first,
+        }
+        if not before:
+            return
+
+        def fired(event: Event) -> None:
+            if event.element in before and event.element not in first:
+                first[event.element] = event.time
+                if len(first) == len(before):
+                    self.container.unsubscribe("management:fired")
+
+        self.container.subscribe(ev.POLICY_FIRED, fired, name="management:fired")
 
 
 def _plain(values: Mapping[str, object]) -> dict[str, Any]:
