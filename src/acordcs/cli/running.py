@@ -189,8 +189,14 @@ def apply(
         )
         return reply
     except RuntimeFailure as err:
-        return {"status": "unreachable", "error": _why(err.message), "applied": [],
-                "kept": [], "rolled_back": [], "unrolled": []}  # fmt: skip
+        return {
+            "status": "unreachable",
+            "error": _why(err.message),
+            "applied": [],
+            "kept": [],
+            "rolled_back": [],
+            "unrolled": [],
+        }
     finally:
         connector.close()
 

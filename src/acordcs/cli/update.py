@@ -201,12 +201,15 @@ def _apply(running: list, plans: dict, new_data: bytes, found, reset: bool, time
             click.echo(f"{name}: runs descriptor {target[:12]} already: nothing to do")
             continue
         if code:
-            click.echo(f"{name}: not updated (a container before it failed); runs "
-                       f"descriptor {r.status['digest'][:12]}")  # fmt: skip
+            click.echo(
+                f"{name}: not updated (a container before it failed); runs "
+                f"descriptor {r.status['digest'][:12]}"
+            )
             continue
         others = {n: u for n, u in uris.items() if n != name}
-        reply = apply(r, text, r.status["digest"], others, reset, token=found.token,
-                      timeout=timeout * 6)  # fmt: skip
+        reply = apply(
+            r, text, r.status["digest"], others, reset, token=found.token, timeout=timeout * 6
+        )
         code = max(code, _report(name, reply))
     return code
 

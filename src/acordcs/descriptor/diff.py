@@ -32,9 +32,11 @@ Pure: no toolchain, no runtime (this package is a leaf).
 
 from __future__ import annotations
 
-from collections.abc import Iterable, Sequence
+from collections.abc import Iterable, Iterator, Sequence
 from dataclasses import dataclass
+from typing import Protocol, TypeVar
 
+from acordcs.descriptor.formatting import elided, hz, names, shown, signature
 from acordcs.descriptor.model import (
     Application,
     Component,
@@ -46,8 +48,8 @@ from acordcs.descriptor.model import (
     Port,
     Property,
     Value,
-    Variable,
 )
+from acordcs.descriptor.policy_diff import policy_set_changes
 
 RESTART = (
     "build, then stop and start the application (bin/stop-all, bin/start-all): a running "
@@ -119,60 +121,24 @@ def diff(old: Application, new: Application) -> Plan:
     return Plan(tuple(out.changes))
 
 
-# ------------------------------------------------------------------------------------ showing
-def shown(value: object) -> str:
-    """A default as a plan line shows it: numbers as written (``200``, ``0.5``), text quoted."""
-    if isinstance(value, bool):
-        return "true" if value else "false"
-    if isinstance(value, float):
-        return f"{value:g}" if value == float(f"{value:g}") else repr(value)
-    if isinstance(value, int):
-        return str(value)
-    if value is None:
-        return "(none)"
-    return repr(str(value))
+class _Named(Protocol):
+    @property
+    def name(self) -> str: ...
 
 
-def elided(old: str, new: str) -> str:
-    """``old -> new`` with the words both start and end with left out (``...``), keeping one
-    word of context before the first difference: ``... is slow -> ... is fast``."""
-    a, b = old.split(" "), new.split(" ")
-    head = 0
-    while head < min(len(a), len(b)) and a[head] == b[head]:
-        head += 1
-    tail = 0
-    while tail < min(len(a), len(b)) - head and a[-1 - tail] == b[-1 - tail]:
-        tail += 1
-    keep = max(head - 1, 0)
-    if keep < 2:  # too little in common to be worth leaving out
-        keep = 0
-    left = "... " if keep else ""
-    right = " ..." if tail > 1 else ""
-    tail = tail if tail > 1 else 0
-    mid_a = " ".join(a[keep : len(a) - tail])
-    mid_b = " ".join(b[keep : len(b) - tail])
-    return f"{left}{mid_a}{right} -> {left}{mid_b}{right}"
+N = TypeVar("N", bound=_Named)
 
 
-def _names(items: Iterable[object]) -> str:
-    listed = [getattr(i, "name", str(i)) for i in items]
-    return ", ".join(listed) if listed else "(none)"
-
-
-def _hz(value: float | None) -> str:
-    return "(none)" if value is None else f"{shown(value)} Hz"
-
-
-def _signature(op: Operation) -> str:
-    params = ", ".join(
-        (f"{p.direction} " if p.direction != "in" else "") + f"{p.name}: {p.type or '?'}"
-        for p in op.parameters
-    )
-    return f"{op.name}({params})" + (f": {op.return_type}" if op.return_type else "")
-
-
-def _by_name(items: Iterable[object]) -> dict[str, object]:
-    return {getattr(i, "name"): i for i in items}  # noqa: B009 (any named element)
+def pairs(old: Sequence[N], new: Sequence[N]) -> Iterator[tuple[str, N | None, N | None]]:
+    """(name, old or None, new or None) of the elements of ``old`` and ``new``, matched by
+    name: the old ones in their order, then the added ones."""
+    before = {i.name: i for i in old}
+    after = {i.name: i for i in new}
+    for name, item in before.items():
+        yield name, item, after.get(name)
+    for name, item in after.items():
+        if name not in before:
+            yield name, None, item
 
 
 # ------------------------------------------------------------------------------------ the diff
@@ -190,69 +156,103 @@ class _Differ:
             return self.new_place.get(name, self.new_default)
         return self.old_place.get(name, self.old_default)
 
-    def add(self, sign: str, kind: str, element: str, what: str, containers: Iterable[str],
-            action: str, **more: object) -> None:  # fmt: skip
-        found = tuple(dict.fromkeys(containers))
-        if action == "restart":
-            more.setdefault("live", False)
-            more.setdefault("why", RESTART)
-        self.changes.append(Change(sign, kind, element, what, found, action, **more))  # type: ignore[arg-type]
-
-    def pairs(self, old: Sequence[object], new: Sequence[object]):
-        """(name, old or None, new or None): the old ones in their order, then the added ones."""
-        before, after = _by_name(old), _by_name(new)
-        for name, item in before.items():
-            yield name, item, after.get(name)
-        for name, item in after.items():
-            if name not in before:
-                yield name, None, item
+    def add(
+        self,
+        sign: str,
+        kind: str,
+        element: str,
+        what: str,
+        containers: Iterable[str],
+        action: str,
+        *,
+        target: str = "",
+        attribute: str = "",
+        old: Value | None = None,
+        value: Value | None = None,
+    ) -> None:
+        restart = action == "restart"
+        self.changes.append(
+            Change(
+                sign,
+                kind,
+                element,
+                what,
+                tuple(dict.fromkeys(containers)),
+                action,
+                live=not restart,
+                why=RESTART if restart else "",
+                target=target,
+                attribute=attribute,
+                old=old,
+                value=value,
+            )
+        )
 
     # ------------------------------------------------------------------------ application
     def application(self) -> None:
         if self.old.name != self.new.name:
             everywhere = [c.name for c in self.old.containers] or [self.old.name]
-            self.add("~", "application", self.old.name, f"renamed {self.new.name}",
-                     everywhere, "restart")  # fmt: skip
+            self.add(
+                "~", "application", self.old.name, f"renamed {self.new.name}", everywhere, "restart"
+            )
 
     # ------------------------------------------------------------------------- containers
     def containers(self) -> None:
-        for name, a, b in self.pairs(self.old.containers, self.new.containers):
+        for name, a, b in pairs(self.old.containers, self.new.containers):
             if a is None:
                 self.add("+", "container", name, "", [name], "restart")
             elif b is None:
                 self.add("-", "container", name, "", [name], "restart")
             else:
-                self.container(a, b)  # type: ignore[arg-type]
+                self.container(a, b)
 
     def container(self, a: Container, b: Container) -> None:
         if a.host != b.host:
             self.add("~", "container", a.name, f"host {a.host} -> {b.host}", [a.name], "restart")
         if a.endpoint != b.endpoint:
             self.add("~", "container", a.name, "remote endpoint changed", [a.name], "restart")
-        for name, p, q in self.pairs(a.properties, b.properties):
-            if p is None or q is None or p.kind != q.kind:  # type: ignore[union-attr]
-                how = "added" if p is None else "removed" if q is None else "retyped"
-                self.add(
-                    "~",
-                    "container",
-                    a.name,
-                    f"property {name} {how}",
-                    [a.name],
-                    "property",
-                    target=a.name,
-                    attribute=name,
-                    old=None if p is None else p.default,  # type: ignore[union-attr]
-                    value=None if q is None else q.default,  # type: ignore[union-attr]
-                )
-            else:
-                self.default("container", a.name, a.name, p, q, [a.name])  # type: ignore[arg-type]
+        for name, p, q in pairs(a.properties, b.properties):
+            if p is not None and q is not None and p.kind == q.kind:
+                self.default("container", a.name, a.name, p, q, [a.name])
+                continue
+            how = "added" if p is None else "removed" if q is None else "retyped"
+            self.add(
+                "~",
+                "container",
+                a.name,
+                f"property {name} {how}",
+                [a.name],
+                "property",
+                target=a.name,
+                attribute=name,
+                old=p.default if p is not None else None,
+                value=q.default if q is not None else None,
+            )
 
-    def default(self, kind: str, element: str, target: str, p: Property, q: Property,
-                containers: Iterable[str], label: str = "property") -> None:  # fmt: skip
+    def default(
+        self,
+        kind: str,
+        element: str,
+        target: str,
+        p: Property,
+        q: Property,
+        containers: Iterable[str],
+        label: str = "property",
+    ) -> None:
         if p.default != q.default or type(p.default) is not type(q.default):
             what = f"{label} {p.name}: default {shown(p.default)} -> {shown(q.default)}"
-            self.add("~", kind, element, what, containers, "default", target=target,
-                     attribute=p.name, old=p.default, value=q.default)  # fmt: skip
+            self.add(
+                "~",
+                kind,
+                element,
+                what,
+                containers,
+                "default",
+                target=target,
+                attribute=p.name,
+                old=p.default,
+                value=q.default,
+            )
 
     def moved(self, kind: str, name: str) -> bool:
         """Whether element ``name`` runs in another container now (a change that cannot apply)."""
@@ -264,14 +264,14 @@ class _Differ:
 
     # ------------------------------------------------------------------------- components
     def components(self) -> None:
-        for name, a, b in self.pairs(self.old.components, self.new.components):
+        for name, a, b in pairs(self.old.components, self.new.components):
             if a is None:
                 here = self.where(name, new=True)
                 self.add("+", "component", name, f"in container {here}", [here], "add")
             elif b is None:
                 self.add("-", "component", name, "", [self.where(name, new=False)], "remove")
             elif not self.moved("component", name):
-                self.component(a, b)  # type: ignore[arg-type]
+                self.component(a, b)
 
     def component(self, a: Component, b: Component) -> None:
         here = [self.where(a.name, new=True)]
@@ -279,49 +279,49 @@ class _Differ:
         if a.language != b.language:
             replaced.append(f"language {a.language} -> {b.language}")
         replaced += self.operations(a.operations, b.operations)
-        for name, p, q in self.pairs(a.properties, b.properties):
+        for name, p, q in pairs(a.properties, b.properties):
             if p is None:
                 replaced.append(f"property {name} added")
             elif q is None:
                 replaced.append(f"property {name} removed")
-            elif p.kind != q.kind:  # type: ignore[union-attr]
-                replaced.append(f"property {name}: type {p.type} -> {q.type}")  # type: ignore[union-attr]
-        for name, p, q in self.pairs(a.ports, b.ports):
-            if p is None:
+            elif p.kind != q.kind:
+                replaced.append(f"property {name}: type {p.type} -> {q.type}")
+        for name, r, s in pairs(a.ports, b.ports):
+            if r is None:
                 replaced.append(f"port {name} added")
-            elif q is None:
+            elif s is None:
                 replaced.append(f"port {name} removed")
             else:
-                replaced += self.port(p, q)  # type: ignore[arg-type]
+                replaced += self.port(r, s)
         for what in replaced:
             self.add("~", "component", a.name, what, here, "replace")
-        for _, p, q in self.pairs(a.properties, b.properties):
-            if p is not None and q is not None and p.kind == q.kind:  # type: ignore[union-attr]
-                self.default("component", a.name, a.name, p, q, here)  # type: ignore[arg-type]
-        for name, p, q in self.pairs(a.ports, b.ports):
-            if p is None or q is None:
+        for _, p, q in pairs(a.properties, b.properties):
+            if p is not None and q is not None and p.kind == q.kind:
+                self.default("component", a.name, a.name, p, q, here)
+        for name, r, s in pairs(a.ports, b.ports):
+            if r is None or s is None:
                 continue
-            for _, r, s in self.pairs(p.properties, q.properties):  # type: ignore[union-attr]
-                if r is not None and s is not None and r.kind == s.kind:  # type: ignore[union-attr]
-                    self.default("component", a.name, f"{a.name}.{name}", r, s, here,  # type: ignore[arg-type]
-                                 label=f"port {name}: property")  # fmt: skip
+            for _, p, q in pairs(r.properties, s.properties):
+                if p is not None and q is not None and p.kind == q.kind:
+                    label = f"port {name}: property"
+                    self.default("component", a.name, f"{a.name}.{name}", p, q, here, label)
 
     def operations(self, old: Sequence[Operation], new: Sequence[Operation]) -> list[str]:
-        before = [_signature(o) for o in old]
-        after = [_signature(o) for o in new]
+        before = [signature(o) for o in old]
+        after = [signature(o) for o in new]
         return [f"operation {s} removed" for s in before if s not in after] + [
             f"operation {s} added" for s in after if s not in before
         ]
 
-    def port(self, p: Port, q: Port) -> list[str]:
+    def port(self, r: Port, s: Port) -> list[str]:
         out = []
-        if (p.kind, p.role) != (q.kind, q.role):
-            out.append(f"port {p.name}: {p.kind} {p.role} -> {q.kind} {q.role}")
-        out += [f"port {p.name}: {w}" for w in self.operations(p.operations, q.operations)]
-        for name, r, s in self.pairs(p.properties, q.properties):
-            if r is None or s is None or r.kind != s.kind:  # type: ignore[union-attr]
-                how = "added" if r is None else "removed" if s is None else "retyped"
-                out.append(f"port {p.name}: property {name} {how}")
+        if (r.kind, r.role) != (s.kind, s.role):
+            out.append(f"port {r.name}: {r.kind} {r.role} -> {s.kind} {s.role}")
+        out += [f"port {r.name}: {w}" for w in self.operations(r.operations, s.operations)]
+        for name, p, q in pairs(r.properties, s.properties):
+            if p is None or q is None or p.kind != q.kind:
+                how = "added" if p is None else "removed" if q is None else "retyped"
+                out.append(f"port {r.name}: property {name} {how}")
         return out
 
     # ------------------------------------------------------------------------ connections
@@ -329,14 +329,14 @@ class _Differ:
         return [self.where(e.component, new=new) for e in (conn.required, conn.provided)]
 
     def connections(self) -> None:
-        for name, a, b in self.pairs(self.old.connections, self.new.connections):
-            if a is None:
-                what = f"{_end(b.required)} -> {_end(b.provided)} ({b.connector})"  # type: ignore[union-attr]
-                self.add("+", "connection", name, what, self.ends(b, new=True), "add")  # type: ignore[arg-type]
-            elif b is None:
-                self.add("-", "connection", name, "", self.ends(a, new=False), "remove")  # type: ignore[arg-type]
-            else:
-                self.connection(a, b)  # type: ignore[arg-type]
+        for name, a, b in pairs(self.old.connections, self.new.connections):
+            if a is None and b is not None:
+                what = f"{_end(b.required)} -> {_end(b.provided)} ({b.connector})"
+                self.add("+", "connection", name, what, self.ends(b, new=True), "add")
+            elif b is None and a is not None:
+                self.add("-", "connection", name, "", self.ends(a, new=False), "remove")
+            elif a is not None and b is not None:
+                self.connection(a, b)
 
     def connection(self, a: Connection, b: Connection) -> None:
         where = self.ends(a, new=False) + self.ends(b, new=True)
@@ -348,15 +348,16 @@ class _Differ:
                 f"{_end(a.required)} -> {_end(a.provided)} becomes "
                 f"{_end(b.required)} -> {_end(b.provided)}"
             )
-        for name, p, q in self.pairs(a.qos, b.qos):
-            if p is None or q is None or p.kind != q.kind:  # type: ignore[union-attr]
+        for name, p, q in pairs(a.qos, b.qos):
+            if p is None or q is None or p.kind != q.kind:
                 how = "added" if p is None else "removed" if q is None else "retyped"
                 redo.append(f"qos {name} {how}")
         for what in redo:
             self.add("~", "connection", a.name, what, where, "reconnect")
         if not redo:
-            for _, p, q in self.pairs(a.qos, b.qos):
-                self.default("connection", a.name, a.name, p, q, where, label="qos")  # type: ignore[arg-type]
+            for _, p, q in pairs(a.qos, b.qos):
+                if p is not None and q is not None:
+                    self.default("connection", a.name, a.name, p, q, where, label="qos")
 
     # --------------------------------------------------------------------------- monitors
     def fed(self, mon: Monitor, *, new: bool) -> list[str]:
@@ -364,163 +365,62 @@ class _Differ:
         return [self.where(mon.name, new=new)] + [self.where(f.name, new=new) for f in mon.feeds]
 
     def monitors(self) -> None:
-        for name, a, b in self.pairs(self.old.monitors, self.new.monitors):
-            if a is None:
+        for name, a, b in pairs(self.old.monitors, self.new.monitors):
+            if a is None and b is not None:
                 here = self.where(name, new=True)
-                self.add("+", "monitor", name, f"in container {here}", self.fed(b, new=True), "add")  # type: ignore[arg-type]
-            elif b is None:
-                self.add("-", "monitor", name, "", self.fed(a, new=False), "remove")  # type: ignore[arg-type]
-            elif not self.moved("monitor", name):
-                self.monitor(a, b)  # type: ignore[arg-type]
+                self.add("+", "monitor", name, f"in container {here}", self.fed(b, new=True), "add")
+            elif b is None and a is not None:
+                self.add("-", "monitor", name, "", self.fed(a, new=False), "remove")
+            elif a is not None and b is not None and not self.moved("monitor", name):
+                self.monitor(a, b)
 
     def monitor(self, a: Monitor, b: Monitor) -> None:
         here = [self.where(a.name, new=True)]
         redo: list[str] = []
         for label, x, y in (
             ("acquisition", a.acquisition, b.acquisition),
-            ("frequency", _hz(a.frequency), _hz(b.frequency)),
+            ("frequency", hz(a.frequency), hz(b.frequency)),
             ("xpath", a.xpath or "(none)", b.xpath or "(none)"),
             ("operation", a.operation or "(none)", b.operation or "(none)"),
-            ("sources", _names(a.sources), _names(b.sources)),
+            ("sources", names(a.sources), names(b.sources)),
         ):
             if x != y:
                 redo.append(f"{label} {x} -> {y}")
-        for name, p, q in self.pairs(a.properties, b.properties):
-            if p is None or q is None or p.kind != q.kind:  # type: ignore[union-attr]
+        for name, p, q in pairs(a.properties, b.properties):
+            if p is None or q is None or p.kind != q.kind:
                 how = "added" if p is None else "removed" if q is None else "retyped"
                 redo.append(f"attribute {name} {how}")
         for what in redo:
             self.add("~", "monitor", a.name, what, here, "replace")
-        feeds = (_names(a.feeds), _names(b.feeds))
+        feeds = (names(a.feeds), names(b.feeds))
         if feeds[0] != feeds[1]:
             where = self.fed(a, new=False) + self.fed(b, new=True)
             self.add("~", "monitor", a.name, f"feeds {feeds[0]} -> {feeds[1]}", where, "feeds")
-        for _, p, q in self.pairs(a.properties, b.properties):
-            if p is not None and q is not None and p.kind == q.kind:  # type: ignore[union-attr]
-                self.default("monitor", a.name, a.name, p, q, here, label="attribute")  # type: ignore[arg-type]
+        for _, p, q in pairs(a.properties, b.properties):
+            if p is not None and q is not None and p.kind == q.kind:
+                self.default("monitor", a.name, a.name, p, q, here, label="attribute")
 
     # ------------------------------------------------------------------------ policy sets
     def policy_sets(self) -> None:
-        for name, a, b in self.pairs(self.old.policy_sets, self.new.policy_sets):
-            if a is None:
+        for name, a, b in pairs(self.old.policy_sets, self.new.policy_sets):
+            if a is None and b is not None:
                 here = self.where(name, new=True)
-                rules = len(b.rules())  # type: ignore[union-attr]
-                what = f"in container {here}, {rules} rule{'s' if rules != 1 else ''}"
+                count = len(b.rules())
+                what = f"in container {here}, {count} rule{'s' if count != 1 else ''}"
                 self.add("+", "policy set", name, what, [here], "add")
             elif b is None:
                 self.add("-", "policy set", name, "", [self.where(name, new=False)], "remove")
-            elif not self.moved("policy set", name):
-                self.policy_set(a, b)  # type: ignore[arg-type]
+            elif a is not None and not self.moved("policy set", name):
+                self.policy_set(a, b)
 
     def policy_set(self, a: PolicySet, b: PolicySet) -> None:
-        found: list[str] = []
-        for label, x, y in (
-            ("engine", a.engine, b.engine),
-            ("semantics", a.semantics, b.semantics),
-            ("trigger", a.trigger, b.trigger),
-            ("frequency", _hz(a.frequency), _hz(b.frequency)),
-            ("adapts", _names(a.adapts), _names(b.adapts)),
-            ("fed by", ", ".join(self.old.fed_by(a.name)) or "(none)",
-             ", ".join(self.new.fed_by(b.name)) or "(none)"),
-        ):  # fmt: skip
-            if x != y:
-                found.append(f"{label} {x} -> {y}")
-        found += self.rules(a, b)
-        found += self.variables(a.variables, b.variables)
-        for label, x, y in (
-            ("reads", a.inputs, b.inputs),
-            ("writes", a.outputs, b.outputs),
-            ("fires on", a.triggers, b.triggers),
-        ):
-            if x != y:
-                found.append(f"{label} {', '.join(x) or '(none)'} -> {', '.join(y) or '(none)'}")
-        if not found and _bound(a) != _bound(b):
-            found.append("what its rules name is bound differently (types, defaults, arities)")
-        for what in found:
+        fed = (self.old.fed_by(a.name), self.new.fed_by(b.name))
+        for what in policy_set_changes(a, b, fed):
             self.add("~", "policy set", a.name, what, [self.where(a.name, new=True)], "replan")
-
-    def rules(self, a: PolicySet, b: PolicySet) -> list[str]:
-        out = []
-        owners: dict[str, set[str]] = {}
-        for policy in (*a.policies, *b.policies):
-            for r in policy.rules:
-                owners.setdefault(r.label, set()).add(policy.name)
-
-        def rule(policy: str, label: str) -> str:
-            # a label is unique in its policy; the policy is named when another has it too
-            return f"rule {label}" if len(owners[label]) == 1 else f"rule {policy}.{label}"
-
-        for name, p, q in self.pairs(a.policies, b.policies):
-            if p is None:
-                count = len(q.rules)  # type: ignore[union-attr]
-                out.append(f"policy {name} added ({count} rule{'s' if count != 1 else ''})")
-                continue
-            if q is None:
-                out.append(f"policy {name} removed")
-                continue
-            for label, r, s in self.pairs_by_label(p.rules, q.rules):  # type: ignore[union-attr]
-                if r is None:
-                    out.append(f"{rule(name, label)} added: {s.text}")
-                elif s is None:
-                    out.append(f"{rule(name, label)} removed")
-                else:
-                    if r.text != s.text:
-                        out.append(f"{rule(name, label)}: {elided(r.text, s.text)}")
-                    if r.priority != s.priority:
-                        out.append(f"{rule(name, label)}: priority {r.priority} -> {s.priority}")
-        return out
-
-    @staticmethod
-    def pairs_by_label(old, new):
-        before = {r.label: r for r in old}
-        after = {r.label: r for r in new}
-        for label, r in before.items():
-            yield label, r, after.get(label)
-        for label, s in after.items():
-            if label not in before:
-                yield label, None, s
-
-    def variables(self, old: Sequence[Variable], new: Sequence[Variable]) -> list[str]:
-        out = []
-        before = {v.name: v for v in old}
-        after = {v.name: v for v in new}
-        for name, v in before.items():
-            w = after.get(name)
-            if w is None:
-                out.append(f"variable {name} removed")
-                continue
-            if (v.minimum, v.maximum) != (w.minimum, w.maximum):
-                out.append(
-                    f"variable {name}: range {shown(v.minimum)}..{shown(v.maximum)} -> "
-                    f"{shown(w.minimum)}..{shown(w.maximum)}"
-                )
-            terms_before = {t.name: t for t in v.terms}
-            terms_after = {t.name: t for t in w.terms}
-            for term, t in terms_before.items():
-                u = terms_after.get(term)
-                if u is None:
-                    out.append(f"variable {name}: term {term} removed")
-                elif t.fcl != u.fcl:
-                    out.append(f"variable {name}: term {term}: {t.fcl} -> {u.fcl}")
-            for term, u in terms_after.items():
-                if term not in terms_before:
-                    out.append(f"variable {name}: term {term} added: {u.fcl}")
-        for name, w in after.items():
-            if name not in before:
-                out.append(f"variable {name} added: {w.terms_text}")
-        return out
-
-
-def _bound(ps: PolicySet) -> list[tuple[object, ...]]:
-    """What the set's rules name, as bound, without the ids (which say nothing that runs)."""
-    return [
-        (b.kind, b.element, b.member, b.names, b.value_kind, b.type, b.default, b.arity)
-        for b in ps.bound
-    ]
 
 
 def _end(end) -> str:
     return f"{end.component}.{end.port}"
 
 
-__all__ = ["RESTART", "Change", "Plan", "diff", "elided", "shown"]
+__all__ = ["RESTART", "Change", "Plan", "diff", "elided", "pairs", "shown"]

@@ -81,6 +81,7 @@ def bind(name: str, container: PolicyHost, plan: PolicyPlan, call: Call) -> Boun
     constructor, _syntax, loads_plan = lookup_engine(plan.engine)
     # Built-in engines name variables and operations Element.member; another engine sees the
     # names as its rules write them (a variable written two ways is set under both).
+    spelled: dict[str, tuple[str, ...]]
     if loads_plan:
         spelled = {v: (v,) for v in (*plan.inputs, *plan.outputs)}
         calls = {c: c for c in plan.operations}

@@ -155,8 +155,19 @@ def apply_part(
     """Apply ``changes`` (the part of container ``container``, all live) to ``running``; see the
     module docstring. Raises :class:`UpdateFailed` (everything undone) when a step fails."""
     started = time.perf_counter()
-    part = Part(running, container, old, new, changes, classes, touched, dict(remote or {}),
-                 reset, remote_timeout, token)  # fmt: skip
+    part = Part(
+        running,
+        container,
+        old,
+        new,
+        changes,
+        classes,
+        touched,
+        dict(remote or {}),
+        reset,
+        remote_timeout,
+        token,
+    )
     try:
         part.run()
     except Exception as exc:

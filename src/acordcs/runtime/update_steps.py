@@ -5,6 +5,7 @@ from __future__ import annotations
 
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
+from functools import partial
 from typing import TYPE_CHECKING
 
 from acordcs.descriptor.diff import Change, shown
@@ -180,7 +181,12 @@ class Part:
             c.install_factory(factory)
             self.did(lambda: c.remove_factory(factory.type_name))
             self.asm.component(desc, c, factory.type_name)
-            self.did(lambda: (self.drop_checks(name), c.destroy(name)))
+
+            def created() -> None:
+                self.drop_checks(name)
+                c.destroy(name)
+
+            self.did(created)
             return
         old_factory = c.instance(name).factory
         checks = self.drop_checks(name)
@@ -247,7 +253,11 @@ class Part:
         ]
         connector, qos = found.connector, dict(found.qos)
         c.disconnect(name)
-        self.did(lambda: c.connect(ends[0], ends[1], connector=connector, name=name, qos=qos))
+
+        def back() -> None:
+            c.connect(ends[0], ends[1], connector=connector, name=name, qos=qos)
+
+        self.did(back)
 
     def connect(self, name: str) -> None:
         conn = next(x for x in self.new.connections if x.name == name)
@@ -309,7 +319,7 @@ class Part:
                 continue
             if feed.source == self.name:
                 c.unsubscribe(f"feed:{name}->{feed.target}")
-                self.did(lambda f=feed: self.asm_old.relay_to(f, self.replica_of(f)))
+                self.did(partial(self.relay_again, feed))
             if feed.target == self.name and feed.source != self.name:
                 self.remove_monitor(name)  # the replica here
 
@@ -326,7 +336,10 @@ class Part:
                 self.did(lambda: c.remove_monitor(name))
             if feed.source == self.name:
                 self.asm.relay_to(feed, self.replica_of(feed))
-                self.did(lambda f=feed: c.unsubscribe(f"feed:{name}->{f.target}"))
+                self.did(partial(c.unsubscribe, f"feed:{name}->{feed.target}"))
+
+    def relay_again(self, feed: Feed) -> None:
+        self.asm_old.relay_to(feed, self.replica_of(feed))
 
     def replica_of(self, feed: Feed) -> Monitor | None:
         target = self.running.containers.get(feed.target)
