@@ -20,7 +20,7 @@ from acordcs.runtime.context.delivery import (
 from acordcs.runtime.context.errors import ContextError, SubscriptionError
 from acordcs.runtime.context.index import SubscriptionIndex
 from acordcs.runtime.context.xmlparse import Limits, parse_document, to_bytes
-from acordcs.runtime.context.xpathcost import check_linear
+from acordcs.runtime.context.xpathcost import check_cost
 from acordcs.runtime.context.xpathexpr import compile_expression, recognise
 
 log = logging.getLogger("acordcs.runtime.context")
@@ -103,8 +103,8 @@ class ProviderCore:
         ``on_change``: only when the selection differs from the previous document of that publisher
         (including when it becomes empty: then ``nodes`` is empty). ``on_suspend(handle, reason)``:
         called (on a thread of its own) if the subscription is suspended for overrunning its time
-        budget. Unless ``Limits.trusted_subscribers``, an expression the index does not evaluate
-        itself must be of the linear forms (:mod:`.xpathcost`)."""
+        budget. Unless ``Limits.trusted_subscribers``, an expression the index does not walk along
+        its trie of ``/a/b/c`` paths must pass the cost check (:mod:`.xpathcost`)."""
         self._check_open()
         if not callable(callback):
             raise SubscriptionError(
@@ -143,8 +143,11 @@ class ProviderCore:
         if xpath is not None:
             compiled = compile_expression(xpath, self.limits.max_expression_chars)
             form = recognise(xpath)
-            if form is None and not self.limits.trusted_subscribers:
-                check_linear(xpath)
+            # a /a/b/c path is walked once along the index's trie; every other expression runs
+            # as an XPath of its own (a fallback) or shared with the same path (``//a//b``)
+            linear = form is not None and form.child_steps is not None
+            if not linear and not self.limits.trusted_subscribers:
+                check_cost(xpath, self.limits.max_xpath_cost)
         sub = Subscription(callback, xpath, publisher, max_rate, bool(on_change), queue_size)
         with self._lock:
             self._check_open()

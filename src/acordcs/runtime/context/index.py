@@ -14,6 +14,7 @@ returns when evaluating each subscription on its own.
 from __future__ import annotations
 
 import logging
+import threading
 import time
 from collections import deque
 from collections.abc import Callable
@@ -31,14 +32,28 @@ Entry = Any  # the index stores any hashable subscription object
 
 
 class Fallback:
-    """A subscription matched by its own compiled XPath: the expression, and when it overran."""
+    """A subscription matched by its own compiled XPath: the expression, and when it overran.
 
-    __slots__ = ("compiled", "strikes", "suspended")
+    An lxml ``XPath`` object evaluates one document at a time (it holds a lock while it runs), so
+    one compiled object shared by the publishing threads would make a publisher whose small
+    document matches wait for another publisher's large one. Each thread gets its own copy."""
+
+    __slots__ = ("compiled", "per_thread", "strikes", "suspended")
 
     def __init__(self, compiled: Callable[[etree._ElementTree], object]) -> None:
         self.compiled = compiled
+        self.per_thread = threading.local()
         self.strikes: deque[float] = deque()  # monotonic times of recent overruns
         self.suspended = False
+
+    def evaluator(self) -> Callable[[etree._ElementTree], object]:
+        """This thread's compiled expression (a copy of ``compiled`` when it is an lxml XPath)."""
+        own = getattr(self.per_thread, "compiled", None)
+        if own is None:
+            compiled = self.compiled
+            own = etree.XPath(compiled.path) if isinstance(compiled, etree.XPath) else compiled
+            self.per_thread.compiled = own
+        return own
 
 
 class _PublisherIndex:
@@ -268,7 +283,7 @@ class SubscriptionIndex:
                 continue
             started = time.perf_counter()
             try:
-                value = state.compiled(tree)
+                value = state.evaluator()(tree)
             except etree.XPathError as err:
                 log.warning("subscription %s: XPath evaluation failed: %s", sub, err)
                 continue
