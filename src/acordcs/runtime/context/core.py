@@ -314,7 +314,7 @@ class ProviderCore:
             tell = self._on_suspend.pop(sub, None)
         sub.stats.suspended = True
         reason = (
-            f"its XPath took {elapsed * 1e3:.1f} ms on one document, over the "
+            f"its XPath took {elapsed * 1e3:.1f} ms of CPU on one document, over the "
             f"{self.limits.max_eval_seconds * 1e3:.1f} ms budget {self.limits.max_strikes} times "
             f"within {self.limits.strike_window:g} s"
         )

@@ -38,7 +38,8 @@ class Limits:
     # document); True only when every subscriber is trusted code.
     trusted_subscribers: bool = False
     max_xpath_cost: int = 128
-    # A fallback (non-indexed) subscription whose evaluation exceeds this many seconds gets a strike;
+    # A fallback (non-indexed) subscription whose evaluation uses more than this many seconds of
+    # CPU time (not wall time: a busy host does not make an expression costly) gets a strike;
     # after ``max_strikes`` strikes within ``strike_window`` seconds it is suspended, reported and its
     # subscriber told (lxml cannot interrupt an evaluation); older strikes are forgotten.
     max_eval_seconds: float = 0.05
