@@ -12,9 +12,9 @@ alarm's delay, from ``publish`` to its callback (p50, p99, max). The attacker's 
 - the costliest kind the check admits to an untrusted subscriber on this document,
   ``//*[contains(., 'xxxb')]``.
 
-``--baseline SRC`` also runs the trusted scenario with the ``acordcs`` package found in ``SRC``
-(the ``src`` directory of another checkout, e.g. the version before this change), in a child
-process, in the same run: the before/after pair.
+``--baseline SRC`` also runs the issue's expression for an untrusted subscriber with the ``acordcs``
+package found in ``SRC`` (the ``src`` directory of another checkout, e.g. the version before this
+change, whose check admitted it), in a child process, in the same run: the before/after pair.
 """
 
 from __future__ import annotations
@@ -115,14 +115,15 @@ def main() -> None:
     print(f"attacker's document: {len(DOCUMENT):,} bytes; alarm subscription {ALARM}")
     if args.baseline:
         child = subprocess.run(
-            [sys.executable, __file__, "--child", HOSTILE, "1", str(args.seconds)],
+            [sys.executable, __file__, "--child", HOSTILE, "0", str(args.seconds)],
             env={**os.environ, "PYTHONPATH": os.path.abspath(args.baseline)},
             capture_output=True,
             text=True,
             timeout=600,
             check=True,
         )
-        show(f"before ({args.baseline}), {HOSTILE}", json.loads(child.stdout.splitlines()[-1]))
+        before = json.loads(child.stdout.splitlines()[-1])
+        show(f"before ({args.baseline}), untrusted, {HOSTILE}", before)
     show(f"untrusted, {HOSTILE}", scenario(HOSTILE, False, args.seconds))
     show(f"trusted (admitted), {HOSTILE}", scenario(HOSTILE, True, args.seconds))
     show(f"untrusted, {ADMITTED}", scenario(ADMITTED, False, args.seconds))

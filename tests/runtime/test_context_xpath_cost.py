@@ -5,7 +5,7 @@ adversarial documents that pass the document limits, over every axis and functio
 Evaluation is measured in CPU time of the evaluating thread with the garbage collector off (a
 loaded host delays the thread but adds little to its CPU time), best of two when the first is
 over. On the development VM under load (load average 6 on 2 cores) the costliest accepted
-expressions took 20-40 ms on these documents, typical ones under 5 ms; what the check refuses
+expressions took 20-35 ms on these documents, typical ones under 5 ms; what the check refuses
 (``//*[string-length(..) = 1]``, ``//*//*``, a union of two large sets) takes from 0.1 s to
 minutes. The limit is twice the provider's budget (``Limits.max_eval_seconds``, 50 ms): a margin
 for a slower or busier host, still far below what the refused forms cost."""

@@ -35,7 +35,7 @@ checks it on adversarial documents with expressions generated over every axis an
 
 from __future__ import annotations
 
-from dataclasses import dataclass, replace
+from dataclasses import dataclass
 
 from lxml import etree
 
@@ -70,10 +70,9 @@ _READ_CONTEXT = frozenset(("string", "number", "string-length", "normalize-space
 _FORWARD = frozenset(("child", "attribute", "self"))
 _UPWARD = frozenset(("parent", "ancestor", "ancestor-or-self"))
 _SIDEWAYS = frozenset(("following", "following-sibling", "preceding", "preceding-sibling"))
-_PROBE = etree.ElementTree(etree.fromstring(b"<probe/>"))
 
 
-@dataclass(frozen=True)
+@dataclass(slots=True)
 class _Value:
     """What an evaluated (sub)expression yields, as far as its cost is concerned."""
 
@@ -81,10 +80,7 @@ class _Value:
     single: bool = False  # a node-set of at most one node
     document: bool = False  # the document node itself (its element child is single)
     shared: bool = False  # reached upwards from a predicate's node: many nodes share it
-    constant: str | None = None  # a scalar known now, as its XPath string
-
-
-_CONTEXT = _Value(nodes=True, single=True)
+    constant: int | None = None  # a scalar known now: at most this many characters as a string
 
 
 class _Refused(Exception):
@@ -114,10 +110,11 @@ class _Costing:
         """Cost ``node``; ``inside``: within a predicate (evaluated once per node)."""
         if isinstance(node, Literal):
             self.units += UNIT
-            return _Value(constant=node.value)
+            return _Value(constant=len(node.value))
         if isinstance(node, Number):
             self.units += UNIT
-            return _Value(constant=str(etree.XPath(f"string({node.text})")(_PROBE)))
+            # as a string, a number literal is at most one character longer (".5" is "0.5")
+            return _Value(constant=len(node.text) + 1)
         if isinstance(node, Variable):
             raise _Refused("uses a variable", node.pos)
         if isinstance(node, Negate):
@@ -130,9 +127,8 @@ class _Costing:
             return self.call(node, inside)
         if isinstance(node, Filter):
             value = self.expression(node.primary, inside)
-            return self.predicates(
-                node.predicates, replace(value, document=False), inside, node.pos
-            )
+            value.document = False
+            return self.predicates(node.predicates, value, inside, node.pos)
         return self.path(node, inside)
 
     def binary(self, node: Binary, inside: bool) -> _Value:
@@ -185,7 +181,7 @@ class _Costing:
         if name in _NO_ARGS or name in _NO_READ:
             return _Value()
         if not args and name in _READ_CONTEXT:
-            self.read(_CONTEXT, pos)  # the context node's string-value
+            self.read(_Value(nodes=True, single=True), pos)  # the context node's string-value
             return _Value()
         searched = _SEARCHED.get(name, ())
         for index, (arg, value) in enumerate(zip(node.args, args, strict=True)):
@@ -197,12 +193,12 @@ class _Costing:
                         "their lengths (give a literal)",
                         arg.pos,
                     )
-                self.units += NEEDLE * len(value.constant)
+                self.units += NEEDLE * value.constant
             else:
                 self.read(value, arg.pos)
         if name == "concat":
             if all(v.constant is not None for v in args):
-                return _Value(constant="".join(v.constant or "" for v in args))
+                return _Value(constant=sum(v.constant or 0 for v in args))
             # libxml2 appends each argument to the result so far: k arguments copy the first
             # k times, the second k - 1 times...
             self.units += PASS * (len(args) * (len(args) + 1) // 2 - len(args))
@@ -215,9 +211,10 @@ class _Costing:
                 raise _Refused("has a path from the root inside a predicate", node.pos)
             current = _Value(nodes=True, single=True, document=True)
         elif node.start is not None:
-            current = replace(self.expression(node.start, inside), document=False)
+            current = self.expression(node.start, inside)
+            current.document = False
         else:
-            current = _CONTEXT
+            current = _Value(nodes=True, single=True)  # the context node
         for step in node.steps:
             current = self.step(step, current, inside)
         return current
@@ -245,7 +242,9 @@ class _Costing:
                 pos,
             )
         if axis == "self":
-            result = replace(current, document=current.document and step.test == "node()")
+            result = _Value(
+                True, current.single, current.document and step.test == "node()", current.shared
+            )
         elif axis == "parent":
             result = _Value(nodes=True, single=True, shared=inside or current.shared)
         elif axis in _UPWARD:
@@ -267,7 +266,8 @@ class _Costing:
         for predicate in predicates:
             self.units += UNIT
             self.expression(predicate, inside=True)
-        return replace(value, constant=None, document=False)
+        value.constant, value.document = None, False
+        return value
 
 
 def _refusal(expression: str, why: str, position: int) -> SubscriptionError:

@@ -133,6 +133,10 @@ _OPERAND_FOLLOWS = frozenset(
 ) | {"=", "!=", "<", "<=", ">", ">="}
 
 
+_PRECEDENCE = {"or": 1, "and": 2, "=": 3, "!=": 3, "<": 4, "<=": 4, ">": 4, ">=": 4, "+": 5, "-": 5}
+_PRECEDENCE |= {"*op": 6, "div": 6, "mod": 6}
+
+
 @dataclass
 class _Token:
     kind: str  # literal, number, name, operator (an OperatorName or '*' as multiply), or the text
@@ -161,7 +165,7 @@ def _tokens(text: str) -> list[_Token]:
         else:
             found.append(_Token(kind, word, pos))
         pos = match.end()
-    found.append(_Token("end", "", len(text)))
+    found += [_Token("end", "", len(text))] * 3  # peeking two ahead never runs off the end
     return found
 
 
@@ -172,7 +176,7 @@ class _Parser:
 
     # -- tokens -----------------------------------------------------------------------------------
     def peek(self, ahead: int = 0) -> _Token:
-        return self.tokens[min(self.at + ahead, len(self.tokens) - 1)]
+        return self.tokens[self.at + ahead]
 
     def take(self, *kinds: str) -> _Token:
         token = self.peek()
@@ -187,20 +191,19 @@ class _Parser:
 
     # -- expressions (lowest precedence first) ----------------------------------------------------
     def expression(self) -> Expr:
-        return self.binary(0)
+        return self.binary(1)
 
-    _LEVELS = (("or",), ("and",), ("=", "!="), ("<", "<=", ">", ">="), ("+", "-"))
-    _LEVELS += (("*op", "div", "mod"),)
-
-    def binary(self, level: int) -> Expr:
-        if level == len(self._LEVELS):
-            return self.unary()
-        left = self.binary(level + 1)
-        while self.peek().kind in self._LEVELS[level]:
-            token = self.take()
+    def binary(self, lowest: int) -> Expr:
+        """Operators of precedence ``lowest`` or higher, left-associative (precedence climbing)."""
+        left = self.unary()
+        while True:
+            token = self.tokens[self.at]
+            level = _PRECEDENCE.get(token.kind, 0)
+            if level < lowest:
+                return left
+            self.at += 1
             right = self.binary(level + 1)
             left = Binary(token.pos, "*" if token.kind == "*op" else token.kind, left, right)
-        return left
 
     def unary(self) -> Expr:
         if self.peek().kind == "-":
