@@ -8,7 +8,8 @@ over. On the development VM under load (load average 6 on 2 cores) the costliest
 expressions took 20-35 ms on these documents, typical ones under 5 ms; what the check refuses
 (``//*[string-length(..) = 1]``, ``//*//*``, a union of two large sets) takes from 0.1 s to
 minutes. The limit is twice the provider's budget (``Limits.max_eval_seconds``, 50 ms): a margin
-for a slower or busier host, still far below what the refused forms cost."""
+for a slower or busier host, still far below what the refused forms cost. The cost check's own
+reader of XPath is checked against lxml's grammar: whatever lxml compiles, it reads."""
 
 from __future__ import annotations
 
@@ -23,6 +24,7 @@ from lxml import etree
 
 from acordcs.runtime.context import ContextProvider, Limits, SubscriptionError
 from acordcs.runtime.context.xmlparse import parse_document
+from acordcs.runtime.context.xpathcost import expression_cost
 
 LIMIT = 2 * Limits().max_eval_seconds
 
@@ -260,3 +262,45 @@ def test_the_cost_limit_is_a_setting() -> None:
 def test_the_adversarial_documents_pass_the_document_limits() -> None:
     # parse_document raises for any over a limit; these must reach the subscriptions
     assert len(documents()) == 9
+
+
+@pytest.mark.parametrize(
+    "xpath",
+    [
+        "div div div",
+        "//and[or and mod]",
+        "* * *",
+        "a*b",
+        "- -1",
+        ".5 > 1.",
+        "child::text() | self::node()",
+        "//processing-instruction('x')",
+        "(//a)[1]/b",
+        "//a[@b][2]/@*",
+        "string(/) != ''",
+        "count(/a/b) mod 2 = 1",
+        "concat(\"it's\", '\"')",
+        "/",
+        "//a[-1 < 2]",
+        "  //a [ 1 ] / b  ",
+    ],
+)
+def test_the_cost_check_reads_every_xpath_lxml_compiles(xpath: str) -> None:
+    etree.XPath(xpath)  # lxml's grammar: the oracle
+    try:
+        expression_cost(xpath)
+    except SubscriptionError as refused:
+        assert "cannot be read by the cost check" not in str(refused)
+
+
+@settings(max_examples=300, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(expressions())
+def test_the_cost_checks_reader_agrees_with_lxml_on_what_is_xpath(xpath: str) -> None:
+    try:
+        etree.XPath(xpath)
+    except etree.XPathSyntaxError:
+        return
+    try:
+        expression_cost(xpath)
+    except SubscriptionError as refused:
+        assert "cannot be read by the cost check" not in str(refused)
