@@ -15,18 +15,17 @@ evaluate itself (the fallback subscriptions) is bounded before they run, in two 
   (:data:`PASS`: a step, a reading of string-values) or one unit (an operator, a literal, a
   function call, a predicate). Operations that would revisit the document once per node are
   refused, whatever their count (libxml2's algorithms, measured): a path from the root, a
-  descendant step, a sibling, preceding or following step inside a predicate (every node walks
-  the document again); the string-value of, or a step from, a node reached by the parent or
-  ancestor axis inside a predicate (``//*[string-length(..) = 1]`` reads the parent once per child:
-  quadratic on a flat document); a descendant, parent or ancestor step after a step that selects
-  several nodes (libxml2 merges the overlapping results with a quadratic duplicate check); a union
-  or a comparison of two node-sets that may each hold several nodes (every node of one against
-  every node of the other); ``lang()`` (reads every ancestor's attributes) and ``id()``;
-  ``translate()`` (about 30 passes per call: libxml2 handles every character separately);
-  ``contains``, ``substring-before`` and ``substring-after`` unless their second argument is a
-  literal (libxml2 compares it at every character of the first: each of its characters costs one
-  pass); the namespace axis (namespace nodes are not counted by ``max_nodes``); a predicate inside a
-  predicate.
+  descendant, ancestor, sibling, preceding or following step inside a predicate (every node walks
+  the document again); the string-value of, or a step from, the parent (``..``) inside a predicate
+  (``//*[string-length(..) = 1]`` reads the parent once per child: quadratic on a flat document);
+  a descendant, parent or ancestor step after a step that selects several nodes (libxml2 merges
+  the overlapping results with a quadratic duplicate check); a union or a comparison of two
+  node-sets that may each hold several nodes (every node of one against every node of the other);
+  ``lang()`` (reads every ancestor's attributes) and ``id()``; ``translate()`` (about 30 passes per
+  call: libxml2 handles every character separately); ``contains``, ``substring-before`` and
+  ``substring-after`` unless their second argument is a literal (libxml2 compares it at every
+  character of the first: each of its characters costs two passes); the namespace axis (namespace
+  nodes are not counted by ``max_nodes``); a predicate inside a predicate.
 
 An expression costing more than ``Limits.max_xpath_cost`` units is refused. What passes costs at most
 that many units on a document within the limits: ``tests/runtime/test_context_xpath_cost.py``
@@ -79,7 +78,7 @@ class _Value:
     nodes: bool = False
     single: bool = False  # a node-set of at most one node
     document: bool = False  # the document node itself (its element child is single)
-    shared: bool = False  # reached upwards from a predicate's node: many nodes share it
+    shared: bool = False  # a predicate node's parent: the other children share it
     constant: int | None = None  # a scalar known now: at most this many characters as a string
 
 
@@ -100,8 +99,8 @@ class _Costing:
             return
         if value.shared:
             raise _Refused(
-                "reads the string-value of a node reached by the parent or ancestor axis, once "
-                "for every node the predicate is evaluated on (quadratic)",
+                "reads the string-value of a node reached by the parent axis ('..'), once for "
+                "every node the predicate is evaluated on (quadratic)",
                 pos,
             )
         self.units += PASS
@@ -226,8 +225,8 @@ class _Costing:
             raise _Refused("uses the namespace axis (namespace nodes are not counted)", pos)
         if current.shared and axis not in _UPWARD and axis != "self":
             raise _Refused(
-                f"takes a {axis} step from a node reached by the parent or ancestor axis, once "
-                "for every node the predicate is evaluated on (quadratic)",
+                f"takes a {axis} step from a node reached by the parent axis ('..'), once for "
+                "every node the predicate is evaluated on (quadratic)",
                 pos,
             )
         if (axis in _SIDEWAYS or axis.startswith("ancestor")) and inside:
@@ -262,7 +261,7 @@ class _Costing:
         if inside:
             raise _Refused("has a predicate inside a predicate", pos)
         if value.shared:
-            raise _Refused("has a predicate on nodes reached by the parent or ancestor axis", pos)
+            raise _Refused("has a predicate on a node reached by the parent axis ('..')", pos)
         for predicate in predicates:
             self.units += UNIT
             self.expression(predicate, inside=True)
