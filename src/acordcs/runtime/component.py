@@ -56,7 +56,8 @@ class CtxComponent:
     Subclasses declare ``properties`` (name -> default), ``ports`` (PortSpecs) and optionally
     ``state_fields`` (plain attributes saved with the state besides the properties). Override
     :meth:`save_state` / :meth:`restore_state` for state that is neither. Hooks: :meth:`on_start`
-    after creation (or replacement), :meth:`on_stop` before destruction.
+    after creation (or replacement), :meth:`on_stop` before destruction,
+    :meth:`on_property_changed` after a property changed.
     """
 
     properties: ClassVar[dict[str, object]] = {}
@@ -126,6 +127,12 @@ class CtxComponent:
 
     def on_stop(self) -> None:
         """Called before the component is destroyed or replaced."""
+
+    def on_property_changed(self, name: str, old: object, new: object) -> None:
+        """Called after one of this component's properties changed value (a policy set's action,
+        another component, the component itself), once the change's event has been delivered.
+        Runs on the thread that made the change: keep it short. An exception is recorded as a
+        fault of this component; the change stands."""
 
     @classmethod
     def operation_names(cls) -> frozenset[str]:
