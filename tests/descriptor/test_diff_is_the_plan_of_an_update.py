@@ -19,7 +19,7 @@ from acordcs.model.reading import read_model
 from tests.support.codegen import weblab_variant
 from tests.support.toolchain import SMARTROOM, WEBLAB
 
-SETTINGS = settings(max_examples=60, deadline=None)
+SETTINGS = settings(max_examples=30, deadline=None)
 KINDS = ("components", "connections", "monitors", "policy_sets")
 LABEL = {
     "components": "component",

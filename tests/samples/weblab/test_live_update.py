@@ -197,7 +197,7 @@ def test_a_rule_change_applies_while_the_robot_drives(live: Live):
     seen = 0
     differs = False
     t1, after = time.monotonic(), live.odometry()["distance"]
-    while seen < 6 or not differs:
+    while seen < 3 or not differs:
         last = fires
         firing = live.until(
             "SpeedLimiting fires", lambda last=last: (f := lab_fires())["fires"] > last and f
