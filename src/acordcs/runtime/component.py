@@ -16,7 +16,7 @@ from __future__ import annotations
 import copy
 from collections.abc import Callable
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING, Any, ClassVar, Protocol
+from typing import TYPE_CHECKING, Any, ClassVar, Generic, Protocol, TypeVar, cast, overload
 
 from acordcs.runtime.callgate import CallGate
 from acordcs.runtime.errors import ComponentDestroyedError, FactoryError, PortError
@@ -136,6 +136,39 @@ class CtxComponent:
             for n in dir(cls)
             if not n.startswith("_") and n not in base and callable(getattr(cls, n, None))
         )
+
+
+T = TypeVar("T")
+
+
+class ModelProperty(Generic[T]):
+    """A property of the model as a typed attribute of a component class: ``self.maxSpeed`` reads
+    ``self.get("maxSpeed")`` and ``self.maxSpeed = v`` is ``self.set("maxSpeed", v)``, through the
+    container (policies and monitors see the change). The generated base classes declare one per
+    property, typed by the model (``maxSpeed = ModelProperty[float]("maxSpeed")``), so that code
+    using them needs no cast. The value is what the container holds: the model's default, what a
+    policy set wrote (an engine's number rounded for an ``int`` property) or what code set; it is
+    not converted on reading."""
+
+    def __init__(self, name: str) -> None:
+        self.name = name
+
+    def __repr__(self) -> str:
+        return f"<ModelProperty {self.name}>"
+
+    @overload
+    def __get__(self, instance: None, owner: type[Any]) -> ModelProperty[T]: ...
+
+    @overload
+    def __get__(self, instance: CtxComponent, owner: type[Any]) -> T: ...
+
+    def __get__(self, instance: CtxComponent | None, owner: type[Any]) -> ModelProperty[T] | T:
+        if instance is None:
+            return self
+        return cast(T, instance.get(self.name))
+
+    def __set__(self, instance: CtxComponent, value: T) -> None:
+        instance.set(self.name, value)
 
 
 def attach_component(
