@@ -10,7 +10,8 @@ Prints, measured in one run on the same file:
 - the same for a model with no classes (start-up alone), to show where the time goes;
 - in-process read + check time of an ISO-8859-1 BOUML export with over 1,000 stereotype
   applications (target: well under a second);
-- reading (``read_uml``, in-process) a 3.5 MB Umbrello export and a 2 MB MagicDraw export, tiled
+- reading every element (``read_uml`` and the counts ``inspect`` shows, in-process) of a 3.5 MB
+  Umbrello export and a 2 MB MagicDraw export, tiled
   from the real ones in ``../shared/reference/xmi-other-tools`` (see ``tiled_exports.py``), beside the
   BOUML reader on a synthetic BOUML export of the same size (target: no slower; alternated, 15 runs);
 - the model's 1,200 rules parsed by our parser (our LALR driver on lark's tables) and by lark's
@@ -18,7 +19,9 @@ Prints, measured in one run on the same file:
   analysing the grammar when the cached tables are missing (a fresh interpreter, lark import
   included).
 
-Run: ``.venv/bin/python benchmarks/bench_validate.py``
+Run: ``.venv/bin/python benchmarks/bench_validate.py [--before PATH]``; with ``--before``, the
+``acordcs-gen`` of another checkout (the code before a change: ``../main/.venv/bin/acordcs-gen``) is
+one more variant of the same alternated run, so that before and after are measured together.
 """
 
 from __future__ import annotations
@@ -88,7 +91,17 @@ def run_cli(path: Path, command: list[str] = CLI) -> None:
 
 
 def main() -> int:
+    import argparse
+
     from acordcs.model.reading import read_model
+
+    parser = argparse.ArgumentParser(description=__doc__.split("\n", 1)[0])
+    parser.add_argument(
+        "--before", metavar="PATH", help="acordcs-gen of the checkout before a change"
+    )
+    args = parser.parse_args()
+    if args.before:
+        VARIANTS["before (--before)"] = [args.before, "validate"]
 
     with tempfile.TemporaryDirectory() as tmp:
         big = Path(tmp, "synthetic-2000.xmi")
@@ -124,6 +137,11 @@ def main() -> int:
     by_name = dict(zip(VARIANTS, variants, strict=True))
     for name, seconds in by_name.items():
         print(f"     {name:38s} {seconds * 1e3:8.1f} ms = {seconds / b:5.2f} B")
+    if "before (--before)" in by_name:
+        before = by_name["before (--before)"]
+        print(
+            f"     validate now / before: {whole / before:5.2f} ({whole / b:.2f} B vs {before / b:.2f} B)"
+        )
     without = by_name["without os._exit"]
     print(f"     os._exit saves {(without - whole) / without:6.1%} of the time without it")
     gc_off = by_name["not kept: garbage collector off"]
@@ -175,9 +193,11 @@ def _other_tools() -> None:
             # Each read from a clean heap: a model is a graph of cycles (owners and members) that
             # the cyclic collector frees during whatever runs next; alternated without this, each
             # reader would pay for collecting the other's model.
+            # Every element read, as inspect counts them: the BOUML reader leaves the features of
+            # a class unread until asked for, the XMI 1.x reader reads them at once.
             t_theirs, t_ours = alternated(
-                lambda p=theirs: read_uml(str(p)),
-                lambda p=ours: read_uml(str(p)),
+                lambda p=theirs: read_uml(str(p)).counts(),
+                lambda p=ours: read_uml(str(p)).counts(),
                 before=gc.collect,
             )
             print(
