@@ -91,7 +91,7 @@ class Classifier(Element):
     # The reader's way to read the features later: called once, with this classifier.
     features_pending: Callable[[Classifier], None] | None = None
 
-    def _features(self) -> None:
+    def read_pending(self) -> None:
         read, self.features_pending = self.features_pending, None
         if read is not None:
             read(self)
@@ -99,26 +99,41 @@ class Classifier(Element):
     @property
     def attributes(self) -> list[Property]:
         if self.features_pending is not None:
-            self._features()
+            self.read_pending()
         return self._attributes
 
     @property
     def ends(self) -> list[Property]:
         if self.features_pending is not None:
-            self._features()
+            self.read_pending()
         return self._ends
 
     @property
     def operations(self) -> list[Operation]:
         if self.features_pending is not None:
-            self._features()
+            self.read_pending()
         return self._operations
 
 
 @dataclass(slots=True, eq=False)
 class Association(Element):
+    """An association. Its owned ends may be read when first asked for, as a classifier's
+    features (see :class:`Classifier`)."""
+
     member_ends: list[str] = field(default_factory=list)  # ids of the end properties
-    owned_ends: list[Property] = field(default_factory=list)
+    _owned_ends: list[Property] = field(default_factory=list)
+    features_pending: Callable[[Association], None] | None = None
+
+    def read_pending(self) -> None:
+        read, self.features_pending = self.features_pending, None
+        if read is not None:
+            read(self)
+
+    @property
+    def owned_ends(self) -> list[Property]:
+        if self.features_pending is not None:
+            self.read_pending()
+        return self._owned_ends
 
 
 @dataclass(slots=True, eq=False)
@@ -190,7 +205,7 @@ class Elements(dict):
 
     def __init__(self) -> None:
         super().__init__()
-        self.pending: dict[str, Classifier] = {}
+        self.pending: dict[str, Classifier | Association] = {}
         self.pending_types: dict[str, str | None] = {}  # unread property -> its type's id
 
     def property_type(self, ident: str) -> tuple[bool, str | None]:
@@ -207,7 +222,7 @@ class Elements(dict):
         owner = self.pending.pop(ident, None) if self.pending else None  # type: ignore[call-overload]
         if owner is None:
             return None
-        owner.attributes  # noqa: B018  (reads its features, ``ident`` among them)
+        owner.read_pending()  # ``ident`` among them
         return dict.get(self, ident)
 
     def __missing__(self, ident: str) -> Element:
@@ -229,7 +244,7 @@ class Elements(dict):
         """Read every feature left unread."""
         while self.pending:
             _, owner = self.pending.popitem()
-            owner.attributes  # noqa: B018
+            owner.read_pending()
 
     def __iter__(self):
         self.read_all()

@@ -10,7 +10,8 @@ elements of the parsed file, and reads them (the same code, :meth:`xmi2._Reader.
 when its ``attributes``, ``ends`` or ``operations`` are first asked for, or when
 :class:`~acordcs.xmi.uml.Elements` is asked for one of their ids. On the 2,000-class synthetic model of
 ``benchmarks/bench_validate.py``, 500 classes play a role: the features of the other 1,500 are never
-built by ``validate``.
+built by ``validate``, nor the owned ends of the associations that join no two roles. An
+association's owned ends wait the same way.
 """
 
 from __future__ import annotations
@@ -19,9 +20,10 @@ from collections.abc import Callable
 
 from lxml import etree
 
-from acordcs.xmi.uml import Classifier, UmlModel
+from acordcs.xmi.uml import Association, Classifier, UmlModel
 
 FEATURE_TAGS = frozenset(("ownedAttribute", "ownedOperation", "ownedPort"))
+END_TAGS = frozenset(("ownedEnd",))  # of an association
 
 
 def application_bases(root: etree._Element) -> set[str]:
@@ -47,16 +49,18 @@ class DeferredFeatures:
         xidref: str,
         extension: str,
         bases: set[str],
-        read: Callable[[Classifier, list[etree._Element]], None],
+        read: Callable[[Classifier | Association, list[etree._Element]], None],
     ) -> None:
         self.model = model
         self.XID, self.XIDREF, self.EXTENSION = xid, xidref, extension
         self.bases = bases
         self._read = read
-        self.waiting: list[tuple[Classifier, list[str]]] = []  # (classifier, ids its features name)
+        # (classifier or association, ids its features name)
+        self.waiting: list[tuple[Classifier | Association, list[str]]] = []
 
-    def offer(self, cls: Classifier, features: list[etree._Element]) -> bool:
-        """Whether ``cls``'s ``features`` wait (True) or must be read now (False)."""
+    def offer(self, cls: Classifier | Association, features: list[etree._Element]) -> bool:
+        """Whether ``cls``'s ``features`` (an association's: its owned ends) wait (True) or must
+        be read now (False)."""
         refs: list[str] = []
         ids: list[str] = []
         types: dict[str, str | None] = {}
@@ -125,4 +129,4 @@ class DeferredFeatures:
             if cls.features_pending is not None and any(
                 not built(elements, r) and r not in waiting for r in refs
             ):
-                cls.attributes  # noqa: B018  (reads the features)
+                cls.read_pending()

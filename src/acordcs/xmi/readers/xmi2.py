@@ -20,7 +20,12 @@ from lxml import etree
 from acordcs.diagnostics import diagnostic
 from acordcs.xmi.readers import unread
 from acordcs.xmi.readers.common import check_ids, dangling, primitive_from_href
-from acordcs.xmi.readers.deferred import FEATURE_TAGS, DeferredFeatures, application_bases
+from acordcs.xmi.readers.deferred import (
+    END_TAGS,
+    FEATURE_TAGS,
+    DeferredFeatures,
+    application_bases,
+)
 from acordcs.xmi.readers.skipped import Skipped, metamodel_of
 from acordcs.xmi.readers.stereotypes import StereotypeApplications, local_name
 from acordcs.xmi.source import XmlInput
@@ -276,9 +281,15 @@ class _Reader:
         # One dict lookup per child: a 4 MB export has some 40,000 of them.
         handlers = self._handlers
         features: list[etree._Element] | None = None
-        classifier = isinstance(owner, Classifier)
+        waits = (
+            FEATURE_TAGS
+            if isinstance(owner, Classifier)
+            else END_TAGS
+            if isinstance(owner, Association)
+            else ()
+        )
         for child in el:
-            if classifier and child.tag in FEATURE_TAGS:  # read below, or when asked for
+            if child.tag in waits:  # read below, or when asked for
                 if features is None:
                     features = []
                 features.append(child)
@@ -296,8 +307,11 @@ class _Reader:
         if features is not None and not self.deferred.offer(owner, features):
             self._read_features(owner, features)
 
-    def _read_features(self, owner: Classifier, features: list[etree._Element]) -> None:
-        """Read ``owner``'s attributes, ports and operations, in the file's order. After the
+    def _read_features(
+        self, owner: Classifier | Association, features: list[etree._Element]
+    ) -> None:
+        """Read ``owner``'s attributes, ports and operations (an association's owned ends), in
+        the file's order. After the
         references were resolved (features read when first asked for), their types are named here:
         :class:`DeferredFeatures` made sure that every id they name was read."""
         typed, referring = len(self.type_refs), len(self.refs)
