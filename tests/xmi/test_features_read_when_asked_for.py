@@ -82,11 +82,11 @@ def _edit_first_plain_attribute(old: str, new: str):
     return edit
 
 
-def _edit_last_owned_end(old: str, new: str):
-    """An association's owned end (BOUML writes one for each one-way relation): the last one."""
+def _edit_first_owned_end(old: str, new: str):
+    """An association's owned end (BOUML writes one for each one-way relation): the first."""
 
     def edit(text: str) -> str:
-        start = text.rindex("<ownedEnd")
+        start = text.index("<ownedEnd", text.index('xmi:type="uml:Association"'))
         end = text.index(">", start)
         assert old in text[start:end], text[start:end]
         return text[:start] + text[start:end].replace(old, new, 1) + text[end:]
@@ -95,14 +95,14 @@ def _edit_last_owned_end(old: str, new: str):
 
 
 EDITS = {
-    "owned end with a dangling type": _edit_last_owned_end(' type="', ' type="nowhere_'),
-    "owned end without id": _edit_last_owned_end(' xmi:id="', ' xmi:nid="'),
+    "owned end with a dangling type": _edit_first_owned_end(' type="', ' type="nowhere_'),
+    "owned end without id": _edit_first_owned_end(' xmi:id="', ' xmi:nid="'),
     "as generated": None,
     "dangling type": _edit_first_plain_attribute('xmi:idref="', 'xmi:idref="nowhere_'),
     "attribute without id": _edit_first_plain_attribute(' xmi:id="', ' xmi:nid="'),
     "BOUML stereotype on it": _edit_first_plain_attribute(
         "</ownedAttribute>",
-        '<xmi:Extension extender="Bouml"><stereotype name="entity"/>'
+        '<xmi:Extension extender="Bouml"><stereotype name="CtxVariable"/>'
         '<taggedValue tag="note" value="x"/></xmi:Extension></ownedAttribute>',
     ),
     "comment on it": _edit_first_plain_attribute(
