@@ -64,10 +64,9 @@ class DeferredFeatures:
         refs: list[str] = []
         ids: list[str] = []
         types: dict[str, str | None] = {}
+        plain = self._plain
         for feature in features:
-            if not self._plain(
-                feature, refs, ids, types if feature.tag != "ownedOperation" else None
-            ):
+            if not plain(feature, refs, ids, None if feature.tag == "ownedOperation" else types):
                 return False
         cls.features_pending = lambda owner: self._read(owner, features)
         self.waiting.append((cls, refs))
@@ -89,34 +88,37 @@ class DeferredFeatures:
         references go to ``refs``, its id to ``ids`` and, for a property (``types`` given), the id
         of its type to ``types``, as the reader would set it (the last ``<type xmi:idref>``, else
         the first id of ``type=``). Called for every feature of every classifier: kept lean."""
-        ident = el.get(self.XID)
+        get = el.get
+        ident = get(self.XID)
         if ident is None or ident in self.bases:
             return False
         ids.append(ident)
         type_ref = None
-        for name in ("type", "association"):
-            value = el.get(name)
-            if value and (first := value.split(None, 1)):  # a blank one names nothing
-                refs.append(first[0])
-                if name == "type":
-                    type_ref = first[0]
-        xidref = self.XIDREF
-        for child in el:
-            tag = child.tag
-            if tag == "type":
-                ref = child.get(xidref)
-                if ref:
-                    refs.append(ref)
-                    type_ref = ref
-            elif tag == "ownedParameter":
-                if not self._plain(child, refs, ids, None):
+        value = get("type")
+        if value and (first := value.split(None, 1)):  # a blank one names nothing
+            type_ref = first[0]
+            refs.append(type_ref)
+        value = get("association")
+        if value and (first := value.split(None, 1)):
+            refs.append(first[0])
+        if len(el):
+            xidref = self.XIDREF
+            for child in el:
+                tag = child.tag
+                if tag == "type":
+                    ref = child.get(xidref)
+                    if ref:
+                        refs.append(ref)
+                        type_ref = ref
+                elif tag == "ownedParameter":
+                    if not self._plain(child, refs, ids, None):
+                        return False
+                elif tag.__class__ is not str:
+                    continue  # an XML comment
+                elif tag[0] == "{" or tag == "ownedComment":  # an xmi:Extension, a comment, ...
                     return False
-            elif tag.__class__ is not str:
-                continue  # an XML comment
-            elif tag[0] == "{" or tag == "ownedComment":  # an xmi:Extension, a comment, ...
-                return False
         if types is not None:
-            types[ident] = type_ref or None
+            types[ident] = type_ref
         return True
 
     def check(self) -> None:
