@@ -4,7 +4,7 @@ and the two copies of the WebLab model with mistakes that the documentation's ex
 
 The samples are what BOUML's xmi2 exporter writes for the models described in each sample's README.
 They are written by the same writer as the synthetic benchmark model
-(:mod:`acordcs.xmi.writer`), so that both places BOUML puts a stereotype (root-level
+(`tools/bouml_writer`), so that both places BOUML puts a stereotype (root-level
 application, ``xmi:Extension``) always agree. Run ``.venv/bin/python samples/build_samples.py``;
 the output is deterministic.
 """
@@ -14,10 +14,10 @@ from __future__ import annotations
 import sys
 from pathlib import Path
 
-from acordcs.xmi.writer.bouml import BoumlWriter, ctx, ctx_var
-from acordcs.xmi.writer.elements import Pkg
-
 HERE = Path(__file__).resolve().parent
+sys.path.insert(0, str(HERE.parent))  # the repository: tools/ is not installed
+from tools.bouml_writer.bouml import BoumlWriter, ctx, ctx_var  # noqa: E402
+from tools.bouml_writer.elements import Pkg  # noqa: E402
 
 # ------------------------------------------------------------------------------------------ WebLab
 # Linguistic terms (our choices; the paper gives names of some terms, never their shapes).

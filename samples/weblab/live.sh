@@ -38,7 +38,8 @@ stop() {
 trap stop EXIT
 trap 'echo "live: interrupted"; exit 130' INT TERM
 
-mkdir -p -- "$ACORDCS_RUN_DIR" || exit 1
+# The run directory is the user's alone (the scripts refuse one others can write).
+(umask 077 && mkdir -p -- "$ACORDCS_RUN_DIR") || exit 1
 rm -f -- "$user_log" "$lab_log"
 echo "live: the WebLab on loopback in real time, at most $seconds s of driving (logs in $ACORDCS_RUN_DIR)"
 sh "$app/bin/start-all" || exit 1

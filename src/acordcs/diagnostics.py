@@ -128,6 +128,10 @@ CODES: dict[str, tuple[Severity, str]] = {
     "T312": (E, "two terms of a variable share a name"),
     "T313": (W, "the model applies no ACORDCS stereotype (nothing to check)"),
     "T314": (E, "container port outside 1-65535"),
+    "T315": (
+        E,
+        "linguistic variable beyond the fuzzy engine's limits (1,000 terms, 500 points per term)",
+    ),
     "T320": (E, "misspelt tag: within two edits of a tag of the stereotype"),
     "T321": (W, "a profile the model applies by reference is not found"),
     # L: rules

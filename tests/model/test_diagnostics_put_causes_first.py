@@ -101,7 +101,8 @@ def test_a_papyrus_model_whose_profile_file_is_missing_is_told_so(tmp_path):
     assert codes_in(result.out) == {"T321"}
     assert "applies the profile in 'ACORDCS.profile.uml', which is not there" in result.out
     assert "acordcs-gen profile export DIR --tool papyrus" in result.out
-    assert str(tmp_path) not in result.out.split("T321", 1)[1]  # no path of this machine in it
+    (line,) = [line for line in result.out.splitlines() if "T321" in line]
+    assert str(tmp_path) not in line.split("T321", 1)[1]  # no path of this machine in it
     assert result.code == 0  # a warning: the model itself is whole
     shutil.copy(PAPYRUS.with_name("ACORDCS.profile.uml"), tmp_path)
     assert run_main(["validate", "--fail-on", "warning", str(model)]).code == 0

@@ -11,6 +11,7 @@ from __future__ import annotations
 from collections.abc import Callable
 from dataclasses import dataclass
 
+from acordcs import vocabularies
 from acordcs.descriptor.model import parse_integer, parse_real
 from acordcs.diagnostics import suggestion
 from acordcs.model.architecture import Architecture, Role
@@ -58,7 +59,7 @@ def rule_kind(policy_set: Role) -> RuleKind:
 _TERMS_CACHE: dict[str, list[TermDef] | RuleSyntaxError] = {}
 
 
-ACQUISITIONS = ("intercept", "subscribe", "poll", "custom")
+ACQUISITIONS = vocabularies.ACQUISITIONS  # the metamodel's MonitorAcquisition
 
 
 def monitor_acquisition(monitor: Role) -> str:
