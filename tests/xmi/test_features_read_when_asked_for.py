@@ -17,8 +17,8 @@ from acordcs.descriptor import to_xml
 from acordcs.model.describe import describe
 from acordcs.model.reading import read_model
 from acordcs.xmi.readers import deferred, read_uml
-from acordcs.xmi.writer.synthetic import generate
 from tests.support.toolchain import SMARTROOM, WEBLAB
+from tools.bouml_writer.synthetic import generate
 
 MODELS = Path(__file__).parent / "tool_models"
 
