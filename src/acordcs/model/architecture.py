@@ -265,15 +265,8 @@ def _covered(metaclasses: tuple[str, ...]) -> frozenset[str]:
 def _link_relations(arch: Architecture) -> None:
     uml = arch.uml
     roles = arch.roles
-    elements = uml.elements
     for assoc in uml.associations:
         own = roles.get(assoc.id)
-        if own is None:
-            # An association joins roles only when both its property ends are typed by roles:
-            # decided without reading the features of the classes that own its ends.
-            typed = [t for p, t in map(elements.property_type, assoc.member_ends) if p]
-            if len(typed) != 2 or typed[0] not in roles or typed[1] not in roles:
-                continue
         ends = [
             e for e in (uml.elements.get(i) for i in assoc.member_ends) if isinstance(e, Property)
         ]

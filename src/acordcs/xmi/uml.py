@@ -9,7 +9,6 @@ and owner positionally (half the cost of keywords).
 from __future__ import annotations
 
 from collections import Counter
-from collections.abc import Callable
 from dataclasses import dataclass, field
 
 from acordcs.diagnostics import Diagnostic
@@ -76,64 +75,19 @@ class Operation(Element):
 
 @dataclass(slots=True, eq=False)
 class Classifier(Element):
-    """A classifier. Its attributes, ends and operations may be read when first asked for: a
-    reader can leave them unread (``features_pending``) when nothing in them needs saying at once
-    (no reference it could not resolve, no stereotype, no missing id), so that a check that looks
-    at a few hundred classes of a model does not pay for building the features of thousands."""
-
     literals: list[str] = field(default_factory=list)
     generals: list[str] = field(default_factory=list)  # ids of general classifiers
     nested: list[Classifier] = field(default_factory=list)
     member_ends: list[str] = field(default_factory=list)  # for AssociationClass
-    _attributes: list[Property] = field(default_factory=list)  # owned, not association ends
-    _ends: list[Property] = field(default_factory=list)  # owned association ends
-    _operations: list[Operation] = field(default_factory=list)
-    # The reader's way to read the features later: called once, with this classifier.
-    features_pending: Callable[[Classifier], None] | None = None
-
-    def read_pending(self) -> None:
-        read, self.features_pending = self.features_pending, None
-        if read is not None:
-            read(self)
-
-    @property
-    def attributes(self) -> list[Property]:
-        if self.features_pending is not None:
-            self.read_pending()
-        return self._attributes
-
-    @property
-    def ends(self) -> list[Property]:
-        if self.features_pending is not None:
-            self.read_pending()
-        return self._ends
-
-    @property
-    def operations(self) -> list[Operation]:
-        if self.features_pending is not None:
-            self.read_pending()
-        return self._operations
+    attributes: list[Property] = field(default_factory=list)  # owned, not association ends
+    ends: list[Property] = field(default_factory=list)  # owned association ends
+    operations: list[Operation] = field(default_factory=list)
 
 
 @dataclass(slots=True, eq=False)
 class Association(Element):
-    """An association. Its owned ends may be read when first asked for, as a classifier's
-    features (see :class:`Classifier`)."""
-
     member_ends: list[str] = field(default_factory=list)  # ids of the end properties
-    _owned_ends: list[Property] = field(default_factory=list)
-    features_pending: Callable[[Association], None] | None = None
-
-    def read_pending(self) -> None:
-        read, self.features_pending = self.features_pending, None
-        if read is not None:
-            read(self)
-
-    @property
-    def owned_ends(self) -> list[Property]:
-        if self.features_pending is not None:
-            self.read_pending()
-        return self._owned_ends
+    owned_ends: list[Property] = field(default_factory=list)
 
 
 @dataclass(slots=True, eq=False)
@@ -195,78 +149,6 @@ CLASSIFIER_KINDS = frozenset(
 )
 
 
-class Elements(dict):
-    """Every element of a model by id. The features of a classifier that a reader left unread
-    (see :class:`Classifier`) are in ``pending`` (id -> classifier) and read as soon as one of them
-    is asked for, by ``[]``, ``get`` or ``in``, and all of them when the elements are listed: to
-    whoever looks, the dict is complete. The reader fills it with ``setdefault``, not wrapped."""
-
-    __slots__ = ("pending", "pending_types")
-
-    def __init__(self) -> None:
-        super().__init__()
-        self.pending: dict[str, Classifier | Association] = {}
-        self.pending_types: dict[str, str | None] = {}  # unread property -> its type's id
-
-    def property_type(self, ident: str) -> tuple[bool, str | None]:
-        """Whether ``ident`` is a property, and the id of its type, without reading the features
-        of a classifier for it: what decides whether an association joins two roles."""
-        found = dict.get(self, ident)
-        if found is None and ident in self.pending:
-            return (ident in self.pending_types, self.pending_types.get(ident))
-        if isinstance(found, Property):
-            return True, found.type_ref
-        return False, None
-
-    def _read(self, ident: object) -> Element | None:
-        owner = self.pending.pop(ident, None) if self.pending else None  # type: ignore[call-overload]
-        if owner is None:
-            return None
-        owner.read_pending()  # ``ident`` among them
-        return dict.get(self, ident)
-
-    def __missing__(self, ident: str) -> Element:
-        found = self._read(ident)
-        if found is None:
-            raise KeyError(ident)
-        return found
-
-    def get(self, ident: str, default: Element | None = None) -> Element | None:  # type: ignore[override]
-        found = dict.get(self, ident)
-        if found is None and self.pending:
-            found = self._read(ident)
-        return default if found is None else found
-
-    def __contains__(self, ident: object) -> bool:
-        return dict.__contains__(self, ident) or self._read(ident) is not None
-
-    def read_all(self) -> None:
-        """Read every feature left unread."""
-        while self.pending:
-            _, owner = self.pending.popitem()
-            owner.read_pending()
-
-    def __iter__(self):
-        self.read_all()
-        return dict.__iter__(self)
-
-    def __len__(self) -> int:
-        self.read_all()
-        return dict.__len__(self)
-
-    def keys(self):  # type: ignore[override]
-        self.read_all()
-        return dict.keys(self)
-
-    def values(self):  # type: ignore[override]
-        self.read_all()
-        return dict.values(self)
-
-    def items(self):  # type: ignore[override]
-        self.read_all()
-        return dict.items(self)
-
-
 @dataclass(eq=False)
 class UmlModel:
     """Everything read from one file."""
@@ -276,7 +158,7 @@ class UmlModel:
     name: str = ""
     exporter: str | None = None  # as the file states it: name and version
     tool: str | None = None  # the known tool it names (see readers.exporters.KNOWN_TOOLS)
-    elements: Elements = field(default_factory=lambda: Elements())  # by id
+    elements: dict[str, Element] = field(default_factory=dict)  # by id
     packages: list[Package] = field(default_factory=list)
     classifiers: list[Classifier] = field(default_factory=list)
     associations: list[Association | Classifier] = field(default_factory=list)

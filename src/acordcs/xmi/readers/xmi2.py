@@ -20,12 +20,6 @@ from lxml import etree
 from acordcs.diagnostics import diagnostic
 from acordcs.xmi.readers import unread
 from acordcs.xmi.readers.common import check_ids, dangling, primitive_from_href
-from acordcs.xmi.readers.deferred import (
-    END_TAGS,
-    FEATURE_TAGS,
-    DeferredFeatures,
-    application_bases,
-)
 from acordcs.xmi.readers.skipped import Skipped, metamodel_of
 from acordcs.xmi.readers.stereotypes import StereotypeApplications, local_name
 from acordcs.xmi.source import XmlInput
@@ -151,15 +145,6 @@ class _Reader:
         self.refs: list[tuple[str, str, int, Element]] = []  # (id, what, line, from element)
         self.type_refs: list[Element] = []
         self._own_prefixes = (f"{{{self.uml_ns}}}", f"{{{self.xmi_ns}}}")
-        self.deferred = DeferredFeatures(
-            self.model,
-            self.XID,
-            self.XIDREF,
-            self.EXTENSION,
-            application_bases(root),
-            self._read_features,
-        )
-        self._resolved = False
 
     # ------------------------------------------------------------------ entry
     def read(self) -> UmlModel:
@@ -280,20 +265,7 @@ class _Reader:
     def _members(self, el: etree._Element, owner: Element) -> None:
         # One dict lookup per child: a 4 MB export has some 40,000 of them.
         handlers = self._handlers
-        features: list[etree._Element] | None = None
-        waits = (
-            FEATURE_TAGS
-            if isinstance(owner, Classifier)
-            else END_TAGS
-            if isinstance(owner, Association)
-            else ()
-        )
         for child in el:
-            if child.tag in waits:  # read below, or when asked for
-                if features is None:
-                    features = []
-                features.append(child)
-                continue
             handler = handlers.get(child.tag) or _by_local_name(handlers, child.tag)
             if handler is not None:
                 handler(child, owner)
@@ -304,25 +276,6 @@ class _Reader:
         member_ends = el.get("memberEnd")
         if member_ends and isinstance(owner, Association | Classifier):
             owner.member_ends.extend(member_ends.split())
-        if features is not None and not self.deferred.offer(owner, features):
-            self._read_features(owner, features)
-
-    def _read_features(
-        self, owner: Classifier | Association, features: list[etree._Element]
-    ) -> None:
-        """Read ``owner``'s attributes, ports and operations (an association's owned ends), in
-        the file's order. After the
-        references were resolved (features read when first asked for), their types are named here:
-        :class:`DeferredFeatures` made sure that every id they name was read."""
-        typed, referring = len(self.type_refs), len(self.refs)
-        handlers = self._handlers
-        for child in features:
-            handlers[child.tag](child, owner)
-        if self._resolved:
-            elements = self.model.elements
-            for obj in self.type_refs[typed:]:
-                obj.type_name = elements[obj.type_ref].name
-            del self.type_refs[typed:], self.refs[referring:]
 
     def _unread_child(self, el: etree._Element) -> None:
         """A child the walk does not read: noted (R211) when it is a model element (it has a type
@@ -494,14 +447,6 @@ class _Reader:
     def _resolve(self, ids: list[str], known: set[str]) -> None:
         model = self.model
         known = self._known_ids(ids, known)
-        # Features waiting to be read that an unresolved reference, a comment or an application
-        # names are read now, so that their types are resolved below with the others.
-        self.deferred.check()
-        elements = model.elements
-        for ident, _ in self.annotated:
-            elements.get(ident)
-        for app in model.applications.values():
-            elements.get(app.base)
         self.stereotypes.resolve_references()
         # types defined where the walk does not read (EA's own types, in its extension)
         outside = self._outside(
@@ -552,7 +497,6 @@ class _Reader:
                         xmi_id=app.base,
                     )
                 )
-        self._resolved = True
 
     def _outside(self, wanted: set[str]) -> dict[str, Element]:
         return unread.elements_by_id(self.xml.root, self.XID, self.XTYPE, wanted)
