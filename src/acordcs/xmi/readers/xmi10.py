@@ -33,12 +33,14 @@ def long_names(root: etree._Element) -> bool:
 
 
 def normalise(root: etree._Element) -> None:
-    """Rewrite ``root``'s XMI 1.0 content in place into XMI 1.1's unqualified form."""
+    """Rewrite ``root``'s XMI 1.0 content in place into XMI 1.1's unqualified form, in one pass
+    that holds no list of the elements (a large file stays a tree, not a tree and a list). A value
+    element stays where it is, under its long name, once its value is its element's attribute:
+    the reader looks for no such child."""
     content = root.find("XMI.content")
     if content is None:
         return
-    # A snapshot: values become attributes and their elements are removed on the way.
-    for el in list(content.iter(etree.Element)):
+    for el in content.iter(etree.Element):
         tag = el.tag
         if not tag.startswith(_PACKAGES):
             continue
@@ -51,13 +53,9 @@ def normalise(root: etree._Element) -> None:
                 el.tag = f"{parts[-2]}.{last}"
             else:  # a value: Foundation.Core.ModelElement.name
                 parent = el.getparent()
-                value = el.get("xmi.value")
-                if value is None:
-                    value = el.text or ""
-                if parent is not None:
-                    if parent.get(last) is None:
-                        parent.set(last, value)
-                    parent.remove(el)
+                if parent is not None and parent.get(last) is None:
+                    value = el.get("xmi.value")
+                    parent.set(last, value if value is not None else el.text or "")
         except ValueError:
             # Not a name XML allows once shortened ("Foundation.Core.Class.-x"): left as written,
             # so the reader skips it and says so.
