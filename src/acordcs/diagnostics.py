@@ -112,6 +112,7 @@ CODES: dict[str, tuple[Severity, str]] = {
     "R208": (E, "the file holds class-like elements but the reader found no classifier"),
     "R209": (INFO, "exporter not among the known tools; the file read cleanly"),
     "R210": (W, "exporter not among the known tools, and reading it found errors"),
+    "R211": (INFO, "elements of a UML metaclass the reader does not read (skipped)"),
     # T: stereotypes and tagged values
     "T301": (E, "ACORDCS stereotype applied to the wrong metaclass"),
     "T302": (E, "unknown ACORDCS stereotype"),
