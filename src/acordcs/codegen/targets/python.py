@@ -22,20 +22,15 @@ runs wherever it is copied.
 
 from __future__ import annotations
 
-import keyword
 import re
 from importlib import resources
 from pathlib import Path
 
 from acordcs.codegen.registry import Target, target
-from acordcs.codegen.targets.names import NameRefused, refused, require_identifiers
+from acordcs.codegen.targets.names import NameRefused, refused
+from acordcs.model.generated_names import OWN_MODULES, Named, python_name_problem
 
 STYLESHEET = resources.files(__package__) / "python.xsl"
-
-# Modules and packages of the generated package a container module must not shadow.
-OWN_MODULES = frozenset(
-    {"__init__", "__main__", "registry", "base", "components", "monitors", "descriptor"}
-)
 
 
 def package_name(application: str) -> str:
@@ -47,39 +42,24 @@ def package_name(application: str) -> str:
 
 def _names(app):
     for c in app.containers:
-        yield "container", c.name, c.id, c.qualified_name
+        yield Named("container", c.name, c.id, c.qualified_name)
     for mon in app.monitors:
-        yield "monitor", mon.name, mon.id, mon.qualified_name
+        yield Named("monitor", mon.name, mon.id, mon.qualified_name)
     for comp in app.components:
-        yield "component", comp.name, comp.id, comp.qualified_name
+        yield Named("component", comp.name, comp.id, comp.qualified_name)
         for op in comp.operations:
-            yield "operation", op.name, op.id, op.qualified_name
+            yield Named("operation", op.name, op.id, op.qualified_name)
             for p in op.parameters:
-                yield "parameter", p.name, p.id or op.id, op.qualified_name
+                yield Named("parameter", p.name, p.id or op.id, op.qualified_name)
 
 
 def check_names(app) -> None:
-    """Raise :class:`NameRefused` for the first name that cannot become Python code."""
-    names = list(_names(app))
-    require_identifiers(names)
-    from acordcs.runtime.component import COMPONENT_API as reserved
-
-    for what, name, element_id, qualified in names:
-        if keyword.iskeyword(name):
-            raise NameRefused(f"{what} (a Python keyword)", name, element_id, qualified)
-        if what == "operation" and (name in reserved or name.startswith("_")):
-            raise NameRefused(
-                f"{what} (a name of the component API CtxComponent, or private)",
-                name,
-                element_id,
-                qualified,
-            )
-        if what == "parameter" and name == "self":
-            raise NameRefused(what, name, element_id, qualified)
-        if what == "container" and name.lower() in OWN_MODULES:
-            raise NameRefused(
-                f"{what} (a module of the generated package)", name, element_id, qualified
-            )
+    """Raise :class:`NameRefused` for the first name that cannot become Python code (the rules of
+    :mod:`acordcs.model.generated_names`, which ``validate`` runs on the model too)."""
+    for named in _names(app):
+        problem = python_name_problem(named)
+        if problem is not None:
+            raise NameRefused(named.kind, named.name, named.id, named.qualified, problem.reason)
 
 
 # The stylesheet as a target object, not registered: run by the function target below.
