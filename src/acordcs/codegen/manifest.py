@@ -2,9 +2,12 @@
 
 It lists every file the builds wrote there, with its sha256, the target that made it, the model
 element it comes from and the ids of the model elements it holds (traceability), and, per target,
-the fingerprint of its code and the sha256 of the model it was last built from. A build deletes a
-file only when the manifest lists it (never a user's own file), and does nothing at all when the
-model and the targets' code are those of the manifest and every listed file is intact.
+the fingerprint of its code and the sha256 of the model it was last built from. A file with
+protected regions also has the sha256 of its lines outside them (``outside_sha256``). A build
+deletes a file only when the manifest lists it (never a user's file: one recorded as ``user``, or
+whose header says so), and does nothing at all when the model and the targets' code are those of
+the manifest and every listed file is intact. The manifest says which files are generated, never
+what they hold: ``build --check`` compares the bytes a build makes with the files on disk.
 
 Written with sorted keys and without a date: the same build writes the same bytes.
 """
@@ -13,6 +16,7 @@ from __future__ import annotations
 
 import hashlib
 import json
+import re
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -20,6 +24,7 @@ from acordcs.codegen.headers import GENERATOR
 from acordcs.codegen.paths import MANIFEST, path_problem
 
 FORMAT = 1
+_SHA256 = re.compile(r"[0-9a-f]{64}")
 
 
 @dataclass(frozen=True)
@@ -29,6 +34,7 @@ class Entry:
     element: str = ""
     ids: tuple[str, ...] = ()
     user: bool = False  # written once, then the user's: never overwritten, never deleted
+    outside: str = ""  # a file with protected regions: sha256 of its lines outside them
 
 
 @dataclass
@@ -51,6 +57,7 @@ class Manifest:
                     "element": e.element,
                     "ids": list(e.ids),
                     **({"user": True} if e.user else {}),
+                    **({"outside_sha256": e.outside} if e.outside else {}),
                 }
                 for path, e in sorted(self.files.items())
             },
@@ -81,12 +88,16 @@ def read_manifest(output: Path) -> Manifest | None:
             problem = path_problem(rel)
             if problem:
                 raise ManifestError(f"it lists {rel!r}: {problem}")
+            for key in ("sha256", "outside_sha256"):
+                if key in e and not _SHA256.fullmatch(str(e[key])):
+                    raise ManifestError(f"the {key} of {rel!r} is not a sha256")
             files[rel] = Entry(
                 str(e["sha256"]),
                 str(e["target"]),
                 str(e.get("element", "")),
                 tuple(map(str, e.get("ids", ()))),
                 e.get("user", False) is True,
+                str(e.get("outside_sha256", "")),
             )
         targets = {
             str(k): {str(a): str(b) for a, b in v.items()} for k, v in data["targets"].items()
