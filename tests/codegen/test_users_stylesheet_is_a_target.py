@@ -134,7 +134,7 @@ def test_serialization_attributes_are_the_stylesheets(project: Path):
     mine = _mine(
         project,
         '<xsl:result-document href="a.xml" method="xml" indent="yes" omit-xml-declaration="yes">'
-        "<a xmlns=\"\"><b/></a></xsl:result-document>"
+        '<a xmlns=""><b/></a></xsl:result-document>'
         '<xsl:result-document href="b.txt" method="text" encoding="US-ASCII">plain &amp; '
         "text</xsl:result-document>"
         '<files><file path="a.xml"/><file path="b.txt"/></files>',

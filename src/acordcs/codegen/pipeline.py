@@ -353,6 +353,21 @@ def _check_files(
             )
         else:
             by_path[f.path] = f
+    for f in by_path.values():  # a file where another file needs a directory
+        parts = f.path.split("/")
+        for n in range(1, len(parts)):
+            other = by_path.get("/".join(parts[:n]))
+            if other is not None:
+                found.append(
+                    diagnostic(
+                        "G702",
+                        f"target {f.target} would write {f.path!r} inside {other.path!r}, a file "
+                        f"target {other.target} writes (from {other.element or '?'}); rename one "
+                        "element",
+                        **where(f),
+                    )
+                )
+                break
     for first, second in case_collisions(by_path):
         f = by_path[second]
         found.append(

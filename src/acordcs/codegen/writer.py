@@ -34,6 +34,7 @@ that removed, and the manifest written last.
 
 from __future__ import annotations
 
+import errno
 import os
 import secrets
 import shutil
@@ -273,8 +274,12 @@ def _create(path: Path, data: bytes, executable: bool) -> None:
     """Write a new file at ``path`` (never through a link, never over an existing file)."""
     mode = 0o777 if executable else 0o666  # less the umask, as open() applies it
     descriptor = os.open(path, os.O_WRONLY | os.O_CREAT | os.O_EXCL | os.O_NOFOLLOW, mode)
-    with open(descriptor, "wb") as handle:
-        handle.write(data)
+    try:
+        view = memoryview(data)
+        while view:
+            view = view[os.write(descriptor, view) :]
+    finally:
+        os.close(descriptor)
 
 
 def _replace(path: Path, data: bytes, executable: bool = False) -> None:
@@ -290,7 +295,7 @@ def _replace(path: Path, data: bytes, executable: bool = False) -> None:
 
 def apply(output: Path, result: Plan) -> None:
     """Carry out ``result`` in ``output`` (created if missing)."""
-    if result.fresh and not os.path.lexists(output):
+    if result.fresh:
         _apply_fresh(output, result)
         return
     done: list[str] = []
@@ -325,8 +330,11 @@ def apply(output: Path, result: Plan) -> None:
 def _apply_fresh(output: Path, result: Plan) -> None:
     """Write a new output directory whole, under a temporary name beside it, then rename it: each
     file is created once, in place, and the directory appears complete or not at all."""
+    output = Path(os.path.abspath(output))  # a name to rename onto, whatever was given
     staging = output.with_name(f".{output.name}.acordcs-{secrets.token_hex(6)}")
     try:
+        if os.path.lexists(output):  # planned without reading it: its files are unknown
+            raise FileExistsError(errno.EEXIST, "it exists", str(output))
         output.parent.mkdir(parents=True, exist_ok=True)
         staging.mkdir()  # the mode a new directory gets (0o777 less the umask)
         made = {staging}
@@ -342,8 +350,9 @@ def _apply_fresh(output: Path, result: Plan) -> None:
     except OSError as err:
         shutil.rmtree(staging, ignore_errors=True)
         appeared = os.path.lexists(output)
+        where = str(err.filename or output).replace(str(staging), str(output), 1)
         raise BuildError(
-            f"{err.filename or output}: cannot write: {err.strerror}"
+            f"{where}: cannot write: {err.strerror}"
             + (" (the output directory appeared while the build ran)" if appeared else ""),
             hint="check the permissions and free space of the output directory's parent, then "
             "build again; nothing was written",
