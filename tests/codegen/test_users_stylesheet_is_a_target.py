@@ -162,3 +162,36 @@ def test_a_missing_stylesheet_is_a_usage_error(project: Path):
 def test_list_is_unchanged_by_a_stylesheet_path(project: Path):
     listed = run_main(["build", "--list"])
     assert "systemd.xsl" not in listed.out
+
+
+def test_a_listing_says_once_regions_and_executable(project: Path):
+    out = project / "out"
+    mine = _mine(
+        project,
+        '<xsl:result-document href="run.sh" method="text">#!/bin/sh&#10;exit 0&#10;'
+        '</xsl:result-document><xsl:result-document href="env.sh" method="text">X=1&#10;'
+        "# BEGIN USER k&#10;# END USER k&#10;</xsl:result-document>"
+        '<xsl:result-document href="yours.txt" method="text">fill me&#10;</xsl:result-document>'
+        '<files><file path="run.sh" executable="yes"/><file path="env.sh" regions="hash"/>'
+        '<file path="yours.txt" once="yes"/></files>',
+    )
+    assert build(WEBLAB, out, "-t", str(mine)).code == 0
+    assert os.access(out / "run.sh", os.X_OK) and not os.access(out / "env.sh", os.X_OK)
+    (out / "env.sh").write_text("X=1\n# BEGIN USER k\nMINE=2\n# END USER k\n", encoding="utf-8")
+    (out / "yours.txt").write_text("filled\n", encoding="utf-8")
+    assert build(WEBLAB, out, "-t", str(mine), "--force").code == 0
+    assert "MINE=2" in (out / "env.sh").read_text(encoding="utf-8")
+    assert (out / "yours.txt").read_text(encoding="utf-8") == "filled\n"
+    manifest = json.loads((out / MANIFEST).read_text(encoding="utf-8"))
+    assert manifest["files"]["yours.txt"]["user"] is True
+    assert "outside_sha256" in manifest["files"]["env.sh"]
+
+    wrong = _mine(
+        project,
+        '<xsl:result-document href="a.txt" method="text">a</xsl:result-document>'
+        '<files><file path="a.txt" regions="semicolon"/></files>',
+    )
+    result = build(WEBLAB, project / "out2", "-t", str(wrong))
+    assert (
+        result.code == 1 and "regions='semicolon', not a syntax of protected regions" in result.err
+    )

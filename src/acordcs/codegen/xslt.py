@@ -12,7 +12,9 @@ output directory; the principal result lists the files::
 
 ``path`` is the file's path as a relative '/'-separated path (the href, before URI encoding),
 ``element`` the model element it comes from (for messages), ``ids`` the model element ids it holds,
-``once="yes"`` a file written only when absent, the user's from then on (``TargetContext.emit``).
+``once="yes"`` a file written only when absent, the user's from then on, ``regions="hash"`` a file
+with protected regions in that syntax, ``executable="yes"`` a file written executable (as
+``TargetContext.emit``'s arguments of the same names).
 A file written but not listed, listed but not written, or outside the output directory fails the
 target.
 
@@ -48,12 +50,14 @@ from urllib.parse import unquote, urlsplit
 
 from acordcs.codegen.errors import BuildError
 from acordcs.codegen.paths import path_problem
+from acordcs.codegen.regions import PREFIXES
 
 if TYPE_CHECKING:
     from acordcs.codegen.context import TargetContext
     from acordcs.codegen.registry import Target
 
 LISTING_NAMESPACE = "http://acordcs.org/codegen/1.0"
+_YES = ("yes", "true", "1")
 
 BASE_OUTPUT = "file:///acordcs-output/"
 """The base output URI the stylesheets run with: the output directory as they see it. A fixed URI
@@ -303,9 +307,23 @@ def _collect(
                 hint="list exactly the xsl:result-document hrefs it writes, each once",
             )
         listed.add(path)
-        ids = tuple((entry.get("ids") or "").split())
-        once = entry.get("once", "") in ("yes", "true", "1")
-        context.emit(path, data, element=entry.get("element", ""), ids=ids, once=once)
+        regions = entry.get("regions", "")
+        if regions and regions not in PREFIXES:
+            raise BuildError(
+                f"target {target.name}: listed file {path!r} has regions={regions!r}, not a "
+                "syntax of protected regions",
+                file=str(target.stylesheet),
+                hint=f"regions is one of {', '.join(map(repr, PREFIXES))}, or absent",
+            )
+        context.emit(
+            path,
+            data,
+            element=entry.get("element", ""),
+            ids=tuple((entry.get("ids") or "").split()),
+            once=entry.get("once", "") in _YES,
+            regions=regions,
+            executable=entry.get("executable", "") in _YES,
+        )
     unlisted = sorted(set(documents) - listed)
     if unlisted:
         raise BuildError(
