@@ -12,7 +12,7 @@ from __future__ import annotations
 import re
 from collections.abc import Iterable
 
-from acordcs.model.generated_names import NAME_BYTES, RULE, segment_problem
+from acordcs.model.generated_names import DEVICE_NAMES, NAME_BYTES, RULE, segment_problem
 
 __all__ = [
     "MANIFEST",
@@ -27,8 +27,23 @@ MANIFEST = ".acordcs-manifest.json"
 """The build's record of what it wrote (see :mod:`acordcs.codegen.manifest`); no target may write it."""
 
 
+# Paths made of plain names (what targets write): no character a rule below is about. Such a path
+# is accepted without looking at each name again (a manifest lists thousands); what it does not
+# match goes through every rule.
+_PLAIN = re.compile(r"[A-Za-z0-9_][A-Za-z0-9_.+-]{0,199}(?:/[A-Za-z0-9_][A-Za-z0-9_.+-]{0,199})*\Z")
+
+
 def path_problem(path: str) -> str | None:
     """Why ``path`` (relative, '/'-separated) cannot be a generated file (None when it can)."""
+    if (
+        isinstance(path, str)
+        and _PLAIN.match(path)
+        and not path.endswith(".")
+        and "./" not in path
+        and path != MANIFEST
+        and not any(name.split(".", 1)[0].upper() in DEVICE_NAMES for name in path.split("/"))
+    ):
+        return None
     if not isinstance(path, str) or not path:
         return "the path is empty"
     if path.startswith("/") or re.match(r"[A-Za-z]:", path):

@@ -22,12 +22,12 @@ from dataclasses import dataclass
 # Characters no portable file name holds: separators, NUL and other controls, and what Windows
 # refuses (a generated tree is copied, committed, checked out elsewhere).
 _BAD_CHARS = re.compile(r'[\x00-\x1f\x7f/\\<>:"|?*]')
-# Device names Windows reserves whatever the extension (CON.txt is CON).
-_DEVICES = frozenset(
+DEVICE_NAMES = frozenset(
     ["CON", "PRN", "AUX", "NUL"]
     + [f"COM{n}" for n in range(1, 10)]
     + [f"LPT{n}" for n in range(1, 10)]
 )
+"""Device names Windows reserves whatever the extension (``CON.txt`` is ``CON``), in upper case."""
 RULE = (
     "a file name: not empty, not '.' or '..', no '/', '\\', control characters or <>:\"|?*, "
     "not ending in a dot or space, not a Windows device name such as CON or NUL, at most 200 bytes"
@@ -93,7 +93,7 @@ def segment_problem(name: str, limit: int = 255) -> str | None:
     if len(name.encode("utf-8", "surrogatepass")) > limit:
         room = "" if limit == 255 else ", to leave room for what a target adds to it"
         return f"it is longer than {limit} bytes (file systems allow 255{room})"
-    if name.split(".", 1)[0].rstrip(" ").upper() in _DEVICES:
+    if name.split(".", 1)[0].rstrip(" ").upper() in DEVICE_NAMES:
         return f"{name.split('.', 1)[0]!r} is a device name on Windows"
     return None
 
@@ -185,6 +185,7 @@ def name_problems(names: Iterable[Named], *, identifiers: bool = True) -> Iterat
 
 
 __all__ = [
+    "DEVICE_NAMES",
     "FILE_KINDS",
     "IDENTIFIER",
     "NAME_BYTES",
