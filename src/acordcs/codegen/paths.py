@@ -31,6 +31,9 @@ MANIFEST = ".acordcs-manifest.json"
 # is accepted without looking at each name again (a manifest lists thousands); what it does not
 # match goes through every rule.
 _PLAIN = re.compile(r"[A-Za-z0-9_][A-Za-z0-9_.+-]{0,199}(?:/[A-Za-z0-9_][A-Za-z0-9_.+-]{0,199})*\Z")
+_DEVICE = re.compile(
+    f"(?:^|/)(?:{'|'.join(sorted(DEVICE_NAMES))})(?:[./]|\\Z)", re.IGNORECASE
+)  # a name that is a device name, with or without an extension
 
 
 def path_problem(path: str) -> str | None:
@@ -41,7 +44,7 @@ def path_problem(path: str) -> str | None:
         and not path.endswith(".")
         and "./" not in path
         and path != MANIFEST
-        and not any(name.split(".", 1)[0].upper() in DEVICE_NAMES for name in path.split("/"))
+        and not _DEVICE.search(path)
     ):
         return None
     if not isinstance(path, str) or not path:

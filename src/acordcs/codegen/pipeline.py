@@ -284,15 +284,17 @@ def _intact(out: Path, old: Manifest, fingerprints: dict[str, str], model_sha: s
         record = old.targets.get(name)
         if record != {"fingerprint": fingerprint, "model_sha256": model_sha}:
             return False
+    root = os.fspath(out)
     for rel, entry in old.files.items():
         if entry.target not in fingerprints:
             continue
+        path = os.path.join(root, rel)  # strings: thousands of files, no Path objects
         if entry.user:  # the user's: edited, as expected; a deleted one is written again
-            if not (out / rel).is_file():
+            if not os.path.isfile(path):
                 return False
             continue
         try:
-            with open(out / rel, "rb") as handle:
+            with open(path, "rb") as handle:
                 if sha256(handle.read()) != entry.sha256:
                     return False
         except OSError:
