@@ -12,7 +12,8 @@ runs alternated with the others (the host's speed drifts between minutes, as
 - a no-op rebuild of the same model into a built directory (target: at most 2 B, zero files
   written: the mtime_ns of every file is checked after the runs);
 - a forced rebuild (``--force``: the model read and every target run, nothing written since
-  nothing changed), and ``--check`` (the same, comparing bytes with the files on disk).
+  nothing changed), and ``--check`` (the same, comparing bytes with the files on disk);
+- ``acordcs-gen validate`` of the model, for comparison (what every build does first).
 
 "before" is another installation's ``acordcs-gen`` measured in the same run (``BENCH_BEFORE``:
 its path; default ``/work/main/.venv/bin/acordcs-gen`` when it exists, else none), "after" the
@@ -86,7 +87,7 @@ def main() -> int:
             said = run(cli, "build", str(model), "-o", str(built[name]), "-q")
             found = re.search(r": (\d+) written", said)
             written[name] = int(found.group(1)) if found else -1
-        for name, cli in tools.items():  # and validate's modules compiled too
+        for cli in tools.values():  # validate's modules compiled too
             run(cli, "validate", "-q", str(model))
         files = {name: state(directory) for name, directory in built.items()}
         counter = iter(range(10**6))
@@ -105,6 +106,7 @@ def main() -> int:
         for name, cli in tools.items():
             fns[f"cold {name}"] = cold(cli)
             fns[f"no-op {name}"] = noop(cli, built[name])
+            fns[f"validate {name}"] = lambda cli=cli: run(cli, "validate", "-q", str(model))
         fns["force after"] = lambda: run(
             AFTER, "build", str(model), "-o", str(built["after"]), "--force"
         )
@@ -135,6 +137,11 @@ def main() -> int:
             f"   no-op rebuild, {name:6s} (target <= 2 B)  {medians[f'no-op {name}'] * 1e3:7.1f} ms = "
             f"{medians[f'no-op {name}'] / b:5.2f} B; files written: "
             f"{'0' if unchanged[name] else 'SOME (mtimes changed)'}"
+        )
+    for name in tools:
+        print(
+            f"   validate, {name:6s} (for comparison)     {medians[f'validate {name}'] * 1e3:7.1f} ms = "
+            f"{medians[f'validate {name}'] / b:5.2f} B"
         )
     for what in ("force", "check"):
         print(
