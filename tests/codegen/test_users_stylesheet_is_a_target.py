@@ -137,11 +137,14 @@ def test_serialization_attributes_are_the_stylesheets(project: Path):
         '<a xmlns=""><b/></a></xsl:result-document>'
         '<xsl:result-document href="b.txt" method="text" encoding="US-ASCII">plain &amp; '
         "text</xsl:result-document>"
-        '<files><file path="a.xml"/><file path="b.txt"/></files>',
+        '<xsl:result-document href="c 1;2.txt" method="text">&#x1F600;:9:&#10;'
+        "</xsl:result-document>"
+        '<files><file path="a.xml"/><file path="b.txt"/><file path="c 1;2.txt"/></files>',
     )
     assert build(WEBLAB, project / "out", "-t", str(mine)).code == 0
     assert (project / "out" / "a.xml").read_text() == "<a>\n   <b/>\n</a>\n"
     assert (project / "out" / "b.txt").read_bytes() == b"plain & text"
+    assert (project / "out" / "c 1;2.txt").read_text(encoding="utf-8") == "\U0001f600:9:\n"
     ascii_only = _mine(
         project,
         '<xsl:result-document href="c.txt" method="text" encoding="US-ASCII">caf&#233;'

@@ -1,10 +1,11 @@
 <?xml version="1.0" encoding="UTF-8"?>
 <!--
   Runs one XSLT target of acordcs-gen (acordcs/codegen/xslt.py): the target's stylesheet through
-  fn:transform with the delivery format "serialized", over the descriptor given as the source. The
-  result is the map of every output URI (the principal output under the base output URI) to the
-  string Saxon's serializer made of it, with the serialization parameters of its
-  xsl:result-document: nothing is written by Saxon. The target's xsl:messages reach this
+  fn:transform with the delivery format "serialized", over the descriptor given as the source: every
+  output (the principal one under the base output URI) comes back as the string Saxon's serializer
+  made of it, with the serialization parameters of its xsl:result-document; nothing is written by
+  Saxon. The result is one string: each output's URI, then its text, each preceded by its length
+  in characters and a colon. The target's xsl:messages reach this
   stylesheet's messages. "cache" is off: an edited stylesheet is compiled again.
 -->
 <xsl:stylesheet version="3.0"
@@ -15,7 +16,7 @@
   <xsl:param name="base" as="xs:string" required="yes"/>
   <xsl:param name="parameters" as="map(xs:string, xs:string)" required="yes"/>
   <xsl:template match="/">
-    <xsl:sequence select="transform(map {
+    <xsl:variable name="outputs" as="map(*)" select="transform(map {
         'stylesheet-location': $stylesheet,
         'source-node': .,
         'delivery-format': 'serialized',
@@ -24,5 +25,10 @@
         'stylesheet-params': map:merge(map:for-each($parameters,
             function ($name, $value) { map { QName('', $name): $value } }))
       })"/>
+    <!-- One string for all of them, each URI and text preceded by its length in characters and a
+         colon: the build reads it in one call instead of two per file. -->
+    <xsl:sequence select="string-join(map:keys($outputs) ! (
+        let $text := string($outputs(.))
+        return string-length(.) || ':' || . || string-length($text) || ':' || $text))"/>
   </xsl:template>
 </xsl:stylesheet>

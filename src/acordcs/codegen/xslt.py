@@ -65,7 +65,7 @@ BASE_OUTPUT = "file:///acordcs-output/"
 
 DRIVER = "transform-target.xsl"
 """The stylesheet (beside this module) that runs a target's stylesheet with ``fn:transform`` and
-returns the map of its outputs to their serializations."""
+returns its outputs' URIs and serializations (:func:`_outputs` reads them)."""
 
 # Static errors: the stylesheet did not compile (the others happen while it runs).
 _STATIC = re.compile(r"\b(?:XTSE|XPST|XQST)\d{4}\b")
@@ -186,9 +186,7 @@ def run_stylesheet(
         try:
             document = _parsed(processor, context.descriptor_xml)
             result = driver.transform_to_value(xdm_node=document)
-            outputs = result.head.get_map_value()
-            uris = outputs.keys()  # a PyXdmMap iterates as one item, not over its keys
-            serialized = {str(uri): outputs.get(uri).head.string_value for uri in uris}
+            serialized = _outputs(result.head.string_value if result.size else "")
         except PySaxonApiError as err:
             failure: Exception | None = err
         else:
@@ -202,6 +200,22 @@ def run_stylesheet(
     if listing is None:
         listing = serialized.pop("output", "")
     _collect(target, context, listing, _documents(target, serialized))
+
+
+def _outputs(framed: str) -> dict[str, str]:
+    """The driver's result read: URI -> text, from ``<length>:<uri><length>:<text>`` pairs (lengths
+    in characters)."""
+    out: dict[str, str] = {}
+    at, pieces = 0, []
+    while at < len(framed):
+        colon = framed.index(":", at)
+        length = int(framed[at:colon])
+        pieces.append(framed[colon + 1 : colon + 1 + length])
+        at = colon + 1 + length
+        if len(pieces) == 2:
+            out[pieces[0]] = pieces[1]
+            pieces = []
+    return out
 
 
 _LAST: list = []  # [(descriptor bytes, its parsed document)]: the last descriptor parsed
