@@ -15,11 +15,12 @@ runs alternated with the others (the host's speed drifts between minutes, as
   nothing changed), and ``--check`` (the same, comparing bytes with the files on disk);
 - ``acordcs-gen validate`` of the model, for comparison (what every build does first).
 
-"before" is another installation's ``acordcs-gen`` measured in the same run (``BENCH_BEFORE``:
-its path; default ``/work/main/.venv/bin/acordcs-gen`` when it exists, else none), "after" the
-one beside this interpreter.
+"after" is the ``acordcs-gen`` beside this interpreter; "before", when ``BENCH_BEFORE`` names
+another installation's ``acordcs-gen`` (an older checkout's ``.venv/bin/acordcs-gen``), is measured
+in the same run, alternated with it.
 
-Run: ``.venv/bin/python benchmarks/bench_build.py`` (``BENCH_PAIRS=15`` runs of each).
+Run: ``BENCH_BEFORE=../old/.venv/bin/acordcs-gen .venv/bin/python benchmarks/bench_build.py``
+(``BENCH_PAIRS=15`` runs of each).
 """
 
 from __future__ import annotations
@@ -40,8 +41,7 @@ from acordcs.xmi.writer.synthetic import generate
 
 PAIRS = int(os.environ.get("BENCH_PAIRS", "15"))
 AFTER = str(Path(sys.executable).with_name("acordcs-gen"))
-_MAIN = "/work/main/.venv/bin/acordcs-gen"
-BEFORE = os.environ.get("BENCH_BEFORE", _MAIN if os.path.exists(_MAIN) else "")
+BEFORE = os.environ.get("BENCH_BEFORE", "")
 
 
 def alternated(fns: dict[str, Callable[[], None]], rounds: int = PAIRS) -> dict[str, float]:
