@@ -269,7 +269,7 @@ def _encode(target: Target, path: str, text: str) -> bytes:
     declared = _XML_DECLARATION.match(text)
     encoding = declared.group(1) if declared else "utf-8"
     try:
-        return text.encode(codecs.lookup(encoding).name)
+        return text.encode(codecs.lookup(encoding).name if declared else "utf-8")
     except (LookupError, UnicodeEncodeError) as err:
         raise BuildError(
             f"target {target.name}: result document {path!r} cannot be written in encoding "
