@@ -143,6 +143,8 @@ def test_hostile_text_parses_and_reads_back(tmp_path: Path, weblab):
         ("monitor", "x y", "not an identifier"),
         ("component", "__init__", "base/__init__.py and components/__init__.py"),
         ("monitor", "__init__", "base/__init__.py and monitors/__init__.py"),
+        ("operation", "PortSpec", "the generated base class uses that name"),
+        ("container", "model_types", "a module of the generated package"),
     ],
 )
 def test_names_that_cannot_be_python_are_refused(tmp_path: Path, weblab, where, name, why):

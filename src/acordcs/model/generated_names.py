@@ -42,10 +42,29 @@ IDENTIFIER = re.compile(r"[A-Za-z_][A-Za-z0-9_]*\Z")
 NOT_AN_IDENTIFIER = "it is not an identifier (letters, digits and _, not starting with a digit)"
 
 OWN_MODULES = frozenset(
-    {"__init__", "__main__", "registry", "base", "components", "monitors", "descriptor"}
+    {
+        "__init__",
+        "__main__",
+        "registry",
+        "base",
+        "components",
+        "monitors",
+        "descriptor",
+        "model_types",
+    }
 )
 """Modules and packages of the generated Python package: no container's module may take one of
 these names (in any letter case: one file on case-insensitive file systems)."""
+
+CLASS_SCOPE = frozenset(
+    {
+        "CtxComponent", "ModelProperty", "PortSpec", "OperationNotImplementedError",
+        "unimplemented", "model_types", "annotations", "int", "float", "bool", "str", "object",
+        "tuple",
+    }
+)  # fmt: skip
+"""The names a generated base module binds and uses in its class's scope (imports, annotations):
+no operation may take one (it would hide them)."""
 
 SUBPACKAGE_MODULES = frozenset({"__init__"})
 """What a component's or monitor's modules (``base/<Name>.py``, ``components/<Name>.py``,
@@ -138,6 +157,8 @@ def _python_reason(named: Named, identifiers: bool) -> str | None:
                 )
         if name.startswith("_"):
             return "it starts with _: private to the generated base class and the runtime"
+        if name in CLASS_SCOPE:
+            return "the generated base class uses that name (an import or a type in its scope)"
     if kind == "parameter" and name == "self":
         return "'self' is the method's own first parameter"
     if kind == "container" and name.lower() in OWN_MODULES:
@@ -185,6 +206,7 @@ def name_problems(names: Iterable[Named], *, identifiers: bool = True) -> Iterat
 
 
 __all__ = [
+    "CLASS_SCOPE",
     "DEVICE_NAMES",
     "FILE_KINDS",
     "IDENTIFIER",
