@@ -143,7 +143,7 @@ def test_hostile_text_parses_and_reads_back(tmp_path: Path, weblab):
         ("monitor", "x y", "not an identifier"),
         ("component", "__init__", "base/__init__.py and components/__init__.py"),
         ("monitor", "__init__", "base/__init__.py and monitors/__init__.py"),
-        ("operation", "PortSpec", "the generated base class uses that name"),
+        ("operation", "PortSpec", "a name the generated base class uses"),
         ("container", "model_types", "a module of the generated package"),
     ],
 )

@@ -158,7 +158,7 @@ def _python_reason(named: Named, identifiers: bool) -> str | None:
         if name.startswith("_"):
             return "it starts with _: private to the generated base class and the runtime"
         if name in CLASS_SCOPE:
-            return "the generated base class uses that name (an import or a type in its scope)"
+            return "it is a name the generated base class uses (an import or a type in its scope)"
     if kind == "parameter" and name == "self":
         return "'self' is the method's own first parameter"
     if kind == "container" and name.lower() in OWN_MODULES:
