@@ -174,7 +174,10 @@ CODES: dict[str, tuple[Severity, str]] = {
         E,
         "two generated files would be one file (same path, or paths differing only in case)",
     ),
-    "G703": (E, "a model name cannot be written into a generated file (not an identifier)"),
+    "G703": (
+        E,
+        "a model name cannot be written into a generated file (not an identifier, or a name the generated code already has)",
+    ),
     # Z: the toolchain itself
     "Z901": (E, "internal error in a check (a bug in acordcs: please report it)"),
 }
