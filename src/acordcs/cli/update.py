@@ -84,6 +84,10 @@ def update(model: str, output: str, dry_run: bool, reset: bool, timeout: float) 
             click.echo(f"acordcs-gen update: {printable(line)}", err=True)
         _fail("nothing changed (neither the application's directory nor its containers)", 1)
     if dry_run:
+        if result.plan is not None:
+            from acordcs.cli.build import report_notes
+
+            report_notes(result.plan, out, write=False)
         click.echo("dry run: nothing changed")
         raise click.exceptions.Exit(0)
     _write(result, app)
@@ -123,7 +127,7 @@ def _build(model: str, app: Path, package: str) -> tuple[BuildResult, bytes]:
 
 def _write(result: BuildResult, app: Path) -> None:
     """Write what :func:`_build` made, as ``build`` does last."""
-    from acordcs.cli.build import report_failure
+    from acordcs.cli.build import report_failure, report_notes
     from acordcs.codegen import BuildError
     from acordcs.codegen.pipeline import write_out
 
@@ -133,10 +137,13 @@ def _write(result: BuildResult, app: Path) -> None:
         report_failure(err, "update")
         raise click.exceptions.Exit(err.exit_code) from None
     plan = result.plan
+    out = printable(click.format_filename(str(app)))
+    if plan is not None:
+        report_notes(plan, out, write=True)
     if plan is not None and result.written:
         click.echo(
-            f"{printable(click.format_filename(str(app)))}: built: {len(plan.writes)} written, "
-            f"{len(plan.deletes)} deleted, {len(plan.unchanged)} unchanged"
+            f"{out}: built: {len(plan.writes)} written, {len(plan.deletes)} deleted, "
+            f"{len(plan.unchanged)} unchanged"
         )
 
 
