@@ -253,7 +253,11 @@ class _Reader:
             handler = handlers.get(child.tag) or _by_local_name(handlers, child.tag)
             if handler is not None:  # others (imports, profile applications, ...) are not read
                 handler(child, owner)
-            elif child.tag[0:1] == "{" and not child.tag.startswith(self._own_prefixes):
+            elif (
+                isinstance(child.tag, str)  # not an XML comment or processing instruction
+                and child.tag[0:1] == "{"
+                and not child.tag.startswith(self._own_prefixes)
+            ):
                 self._inner_application(child)
         member_ends = el.get("memberEnd")
         if member_ends and isinstance(owner, Association | Classifier):
