@@ -72,15 +72,23 @@ def median_seconds(fn, rounds: int = ROUNDS) -> float:
 def alternated(*fns, rounds: int = PAIRS, before=None) -> list[float]:
     """Medians of ``fns`` run one after the other ``rounds`` times: the host's speed drifts (a
     noisy neighbour, frequency changes), and a ratio of two medians taken minutes apart measures
-    the drift as much as the code. ``before`` runs, untimed, before each call."""
+    the drift as much as the code. Each round runs them in another order (shuffled, the same
+    sequence every run): in a fixed order, a variant always run right after another (after B's
+    parse, or after a process that filled the page cache) is measured in that one's wake.
+    ``before`` runs, untimed, before each call."""
+    import random
+
+    order = random.Random(20261126)
     times: list[list[float]] = [[] for _ in fns]
     for _ in range(rounds):
-        for fn, runs in zip(fns, times, strict=True):
+        turn = list(range(len(fns)))
+        order.shuffle(turn)
+        for n in turn:
             if before is not None:
                 before()
             start = time.perf_counter()
-            fn()
-            runs.append(time.perf_counter() - start)
+            fns[n]()
+            times[n].append(time.perf_counter() - start)
     return [statistics.median(runs) for runs in times]
 
 

@@ -112,6 +112,7 @@ CODES: dict[str, tuple[Severity, str]] = {
     "R208": (E, "the file holds class-like elements but the reader found no classifier"),
     "R209": (INFO, "exporter not among the known tools; the file read cleanly"),
     "R210": (W, "exporter not among the known tools, and reading it found errors"),
+    "R211": (INFO, "elements of a UML metaclass the reader does not read (skipped)"),
     # T: stereotypes and tagged values
     "T301": (E, "ACORDCS stereotype applied to the wrong metaclass"),
     "T302": (E, "unknown ACORDCS stereotype"),
@@ -173,7 +174,10 @@ CODES: dict[str, tuple[Severity, str]] = {
         E,
         "two generated files would be one file (same path, or paths differing only in case)",
     ),
-    "G703": (E, "a model name cannot be written into a generated file (not an identifier)"),
+    "G703": (
+        E,
+        "a model name cannot be written into a generated file (not an identifier, or a name the generated code already has)",
+    ),
     # Z: the toolchain itself
     "Z901": (E, "internal error in a check (a bug in acordcs: please report it)"),
 }

@@ -145,6 +145,15 @@ def test_validate_hook_passes_the_sample():
     assert "README.md" not in done.stdout  # not a model: not passed
 
 
+def test_validate_hook_reads_a_model_named_like_an_option(project: Path):
+    # pre-commit passes a root-level file as it is named: '-h.xmi' must not be read as -h
+    shutil.copyfile(WEBLAB, project / "-h.xmi")
+    done = run_hook("acordcs-validate", project, ["-h.xmi", "models/app.xmi"])
+    assert done.returncode == 0, done.stdout + done.stderr
+    assert "-h.xmi: 0 errors" in done.stdout and "models/app.xmi: 0 errors" in done.stdout
+    assert HOOKS["acordcs-validate"]["args"][-1] == "--"  # what makes it so: your args end so
+
+
 def test_validate_hook_fails_a_misspelt_rule_variable(project: Path):
     model = project / "models" / "app.xmi"
     broken = _broken(model.read_text(encoding="utf-8"))

@@ -1,6 +1,7 @@
 """A build that fails (a model with errors, a target raising, a stylesheet that does not compile
-or stops) leaves the output directory as it was: every target runs into a temporary directory
-before a byte is written. Errors say what, where and what to do, without a traceback."""
+or stops, two files where one is a directory of the other) leaves the output directory as it was:
+every target runs in memory before a byte is written, and a new output directory appears whole or
+not at all. Errors say what, where and what to do, without a traceback."""
 
 from __future__ import annotations
 
@@ -8,7 +9,8 @@ from pathlib import Path
 
 import pytest
 
-from acordcs.codegen import target, xslt_target
+from acordcs.codegen import BuildError, GeneratedFile, target, writer, xslt_target
+from acordcs.codegen.manifest import Manifest
 from tests.support.codegen import build, registered, snapshot, weblab_variant
 from tests.support.toolchain import WEBLAB, no_crash, run_main
 
@@ -123,3 +125,40 @@ def test_an_unreadable_model_exits_2(tmp_path: Path):
     assert "X101" in result.out
     assert "the model could not be read; nothing was built" in result.err
     assert not (tmp_path / "out").exists()
+
+
+def test_a_file_where_another_needs_a_directory_is_g702(tmp_path: Path):
+    @target("clash", description="a file where another needs a directory")
+    def clash(context) -> None:
+        context.emit("x", "a file")
+        context.emit("x/y", "under it")
+
+    with registered(clash):
+        result = build(WEBLAB, tmp_path / "out", "--target", "clash,config")
+    no_crash(result)
+    assert result.code == 1
+    assert (
+        "G702 target clash would write 'x/y' inside 'x', a file target clash writes" in result.out
+    )
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_a_new_output_directory_appears_whole_or_not_at_all(tmp_path: Path):
+    out = tmp_path / "parent" / "out"
+    files = [GeneratedFile("a/mine.txt", b"mine", "t"), GeneratedFile("b.txt", b"b", "t")]
+    planned = writer.plan(out, files, None, Manifest("m.xmi"), {"t"})
+    assert planned.fresh
+    writer.apply(out, planned)
+    assert [p.name for p in (tmp_path / "parent").iterdir()] == ["out"]  # nothing beside it
+    assert snapshot(out).keys() == {".acordcs-manifest.json", "a/mine.txt", "b.txt"}
+
+    # planned as new, and made by someone else before the build writes: nothing written
+    other = tmp_path / "other"
+    planned = writer.plan(other, files, None, Manifest("m.xmi"), {"t"})
+    other.mkdir()
+    (other / "theirs.txt").write_text("theirs", encoding="utf-8")
+    with pytest.raises(BuildError, match="it exists") as caught:
+        writer.apply(other, planned)
+    assert caught.value.exit_code == 2 and "nothing was written" in caught.value.hint
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["other", "parent"]
+    assert [p.name for p in other.iterdir()] == ["theirs.txt"]

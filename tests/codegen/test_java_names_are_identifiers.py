@@ -42,7 +42,8 @@ def test_the_package_is_the_application_name_made_an_identifier(
 ):
     files = generate(r(weblab, name=name), tmp_path)
     assert f"java/{package}/AccessBase.java" in files
-    assert files[f"java/{package}/Access.java"].splitlines()[3] == f"package {package};"
+    lines = files[f"java/{package}/Access.java"].splitlines()
+    assert next(line for line in lines if not line.startswith("//")) == f"package {package};"
 
 
 def prop(name: str, kind: str = "int", default=0, type_: str = "") -> Property:

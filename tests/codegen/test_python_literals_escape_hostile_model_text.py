@@ -135,7 +135,7 @@ def test_hostile_text_parses_and_reads_back(tmp_path: Path, weblab):
         ("component", "None", "a Python keyword"),
         ("component", "a-b", "not an identifier"),
         ("operation", "get", "a name of the component API"),
-        ("operation", "_hidden", "a name of the component API"),
+        ("operation", "_hidden", "it starts with _"),
         ("operation", "model_types", "a name the generated base class uses"),
         ("operation", "unimplemented", "a name the generated base class uses"),
         ("container", "model_types", "a module of the generated package"),
@@ -145,6 +145,10 @@ def test_hostile_text_parses_and_reads_back(tmp_path: Path, weblab):
         ("container", "Base", "a module of the generated package"),
         ("monitor", "def", "a Python keyword"),
         ("monitor", "x y", "not an identifier"),
+        ("component", "__init__", "base/__init__.py and components/__init__.py"),
+        ("monitor", "__init__", "base/__init__.py and monitors/__init__.py"),
+        ("operation", "PortSpec", "a name the generated base class uses"),
+        ("container", "model_types", "a module of the generated package"),
     ],
 )
 def test_names_that_cannot_be_python_are_refused(tmp_path: Path, weblab, where, name, why):

@@ -118,8 +118,8 @@ def test_an_unknown_target_is_a_usage_error(tmp_path: Path):
     no_crash(result)
     assert result.code == 2
     assert (
-        "error: unknown target 'cobol' (targets: config, java, python, rules, shell, or all)"
-        in result.err
+        "error: unknown target 'cobol' (targets: config, java, python, rules, shell, or all, or "
+        "the path of an XSLT 3.0 stylesheet (a file ending in .xsl or .xslt))" in result.err
     )
     assert not (tmp_path / "out").exists()
 

@@ -44,6 +44,13 @@ def _example_files(folder: Path) -> None:
         profile.read_text(encoding="utf-8"), encoding="utf-8"
     )
     (folder / "thermostat.notation").write_text(NOTATION, encoding="utf-8")
+    from tests.xmi import test_skipped_elements_are_named as skipped  # R201, R211's examples
+
+    (folder / "events.xmi").write_text(skipped.BOUML_EVENTS, encoding="utf-8")
+    (folder / "actions.xmi").write_text(skipped.ARGO_ACTIONS, encoding="utf-8")
+    (folder / "lanes.xmi").write_text(skipped.VP_OWN_TYPES, encoding="utf-8")
+    (folder / "diagram.xmi").write_bytes(skipped.EA_DIAGRAM_ELEMENTS.encode("cp1252"))
+    (folder / "lamp.xmi").write_text(skipped.MISSPELT_CLASS, encoding="utf-8")
 
 
 @pytest.fixture(scope="module")

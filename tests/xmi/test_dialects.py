@@ -103,15 +103,109 @@ GENMYMODEL_ROOT = """<?xml version="1.0" encoding="UTF-8"?>
 </uml:Model>
 """
 
-XMI10_LONG_NAMES = """<?xml version="1.0"?>
+# The same small UML 1.3 model in XMI 1.0 (long names, values as child elements, as the Novosoft UML
+# library of early ArgoUML writes it) and in XMI 1.1 (Rose's unqualified form).
+XMI10_LONG_NAMES = """<?xml version="1.0" encoding="UTF-8"?>
 <XMI xmi.version="1.0">
- <XMI.header><XMI.documentation><XMI.exporter>SomeTool</XMI.exporter></XMI.documentation></XMI.header>
+ <XMI.header><XMI.documentation><XMI.exporter>Novosoft UML Library</XMI.exporter>
+  <XMI.exporterVersion>0.4.19</XMI.exporterVersion></XMI.documentation></XMI.header>
  <XMI.content>
   <Model_Management.Model xmi.id="m"><Foundation.Core.ModelElement.name>m</Foundation.Core.ModelElement.name>
    <Foundation.Core.Namespace.ownedElement>
-    <Foundation.Core.Class xmi.id="c"><Foundation.Core.ModelElement.name>Camera</Foundation.Core.ModelElement.name></Foundation.Core.Class>
+    <Foundation.Core.Class xmi.id="c">
+     <Foundation.Core.ModelElement.name>Camera</Foundation.Core.ModelElement.name>
+     <Foundation.Core.ModelElement.visibility xmi.value="public"/>
+     <Foundation.Core.ModelElement.stereotype><Foundation.Extension_Mechanisms.Stereotype xmi.idref="s"/></Foundation.Core.ModelElement.stereotype>
+     <Foundation.Core.ModelElement.taggedValue>
+      <Foundation.Extension_Mechanisms.TaggedValue xmi.id="tv">
+       <Foundation.Extension_Mechanisms.TaggedValue.tag>frequency</Foundation.Extension_Mechanisms.TaggedValue.tag>
+       <Foundation.Extension_Mechanisms.TaggedValue.value>5</Foundation.Extension_Mechanisms.TaggedValue.value>
+      </Foundation.Extension_Mechanisms.TaggedValue>
+     </Foundation.Core.ModelElement.taggedValue>
+     <Foundation.Core.GeneralizableElement.generalization><Foundation.Core.Generalization xmi.idref="g"/></Foundation.Core.GeneralizableElement.generalization>
+     <Foundation.Core.Classifier.feature>
+      <Foundation.Core.Attribute xmi.id="a">
+       <Foundation.Core.ModelElement.name>fps</Foundation.Core.ModelElement.name>
+       <Foundation.Core.StructuralFeature.type><Foundation.Core.Classifier xmi.idref="d"/></Foundation.Core.StructuralFeature.type>
+       <Foundation.Core.Attribute.initialValue><Foundation.Data_Types.Expression>
+        <Foundation.Data_Types.Expression.body>12</Foundation.Data_Types.Expression.body>
+       </Foundation.Data_Types.Expression></Foundation.Core.Attribute.initialValue>
+      </Foundation.Core.Attribute>
+      <Foundation.Core.Operation xmi.id="o">
+       <Foundation.Core.ModelElement.name>grab</Foundation.Core.ModelElement.name>
+       <Foundation.Core.BehavioralFeature.parameter>
+        <Foundation.Core.Parameter xmi.id="p">
+         <Foundation.Core.ModelElement.name>n</Foundation.Core.ModelElement.name>
+         <Foundation.Core.Parameter.kind xmi.value="in"/>
+         <Foundation.Core.Parameter.type><Foundation.Core.Classifier xmi.idref="d"/></Foundation.Core.Parameter.type>
+        </Foundation.Core.Parameter>
+       </Foundation.Core.BehavioralFeature.parameter>
+      </Foundation.Core.Operation>
+     </Foundation.Core.Classifier.feature>
+    </Foundation.Core.Class>
+    <Foundation.Core.Class xmi.id="b"><Foundation.Core.ModelElement.name>Device</Foundation.Core.ModelElement.name></Foundation.Core.Class>
+    <Foundation.Core.DataType xmi.id="d"><Foundation.Core.ModelElement.name>int</Foundation.Core.ModelElement.name></Foundation.Core.DataType>
+    <Foundation.Core.Generalization xmi.id="g">
+     <Foundation.Core.Generalization.child><Foundation.Core.GeneralizableElement xmi.idref="c"/></Foundation.Core.Generalization.child>
+     <Foundation.Core.Generalization.parent><Foundation.Core.GeneralizableElement xmi.idref="b"/></Foundation.Core.Generalization.parent>
+    </Foundation.Core.Generalization>
+    <Foundation.Core.Association xmi.id="as">
+     <Foundation.Core.Association.connection>
+      <Foundation.Core.AssociationEnd xmi.id="e1">
+       <Foundation.Core.AssociationEnd.aggregation xmi.value="composite"/>
+       <Foundation.Core.AssociationEnd.type><Foundation.Core.Classifier xmi.idref="b"/></Foundation.Core.AssociationEnd.type>
+      </Foundation.Core.AssociationEnd>
+      <Foundation.Core.AssociationEnd xmi.id="e2">
+       <Foundation.Core.AssociationEnd.isNavigable xmi.value="false"/>
+       <Foundation.Core.AssociationEnd.type><Foundation.Core.Classifier xmi.idref="c"/></Foundation.Core.AssociationEnd.type>
+      </Foundation.Core.AssociationEnd>
+     </Foundation.Core.Association.connection>
+    </Foundation.Core.Association>
+    <Foundation.Extension_Mechanisms.Stereotype xmi.id="s">
+     <Foundation.Core.ModelElement.name>camera</Foundation.Core.ModelElement.name>
+     <Foundation.Extension_Mechanisms.Stereotype.extendedElement><Foundation.Core.ModelElement xmi.idref="c"/></Foundation.Extension_Mechanisms.Stereotype.extendedElement>
+    </Foundation.Extension_Mechanisms.Stereotype>
    </Foundation.Core.Namespace.ownedElement>
   </Model_Management.Model>
+ </XMI.content>
+</XMI>
+"""
+XMI11_SAME = """<?xml version="1.0"?>
+<XMI xmi.version="1.1" xmlns:UML="href://org.omg/UML/1.3">
+ <XMI.header><XMI.documentation><XMI.exporter>Novosoft UML Library</XMI.exporter>
+  <XMI.exporterVersion>0.4.19</XMI.exporterVersion></XMI.documentation></XMI.header>
+ <XMI.content>
+  <Model xmi.id="m" name="m"><Namespace.ownedElement>
+   <Class xmi.id="c" name="Camera" visibility="public" stereotype="s">
+    <ModelElement.taggedValue><TaggedValue xmi.id="tv" tag="frequency" value="5"/></ModelElement.taggedValue>
+    <Classifier.feature>
+     <Attribute xmi.id="a" name="fps" type="d"><Attribute.initialValue><Expression body="12"/></Attribute.initialValue></Attribute>
+     <Operation xmi.id="o" name="grab"><BehavioralFeature.parameter><Parameter xmi.id="p" name="n" kind="in" type="d"/></BehavioralFeature.parameter></Operation>
+    </Classifier.feature>
+   </Class>
+   <Class xmi.id="b" name="Device"/>
+   <DataType xmi.id="d" name="int"/>
+   <Generalization xmi.id="g" child="c" parent="b"/>
+   <Association xmi.id="as"><Association.connection>
+    <AssociationEnd xmi.id="e1" aggregation="composite" type="b"/>
+    <AssociationEnd xmi.id="e2" isNavigable="false" type="c"/>
+   </Association.connection></Association>
+   <Stereotype xmi.id="s" name="camera"/>
+  </Namespace.ownedElement></Model>
+ </XMI.content>
+</XMI>
+"""
+# Classes inside an element the reader does not know: read as none.
+CLASSES_IN_AN_UNKNOWN_CONTAINER = """<?xml version="1.0"?>
+<XMI xmi.version="1.2" xmlns:UML="org.omg.xmi.namespace.UML">
+ <XMI.header><XMI.documentation><XMI.exporter>SomeTool</XMI.exporter></XMI.documentation></XMI.header>
+ <XMI.content>
+  <UML:Model xmi.id="m" name="m"><UML:Namespace.ownedElement>
+   <UML:Bundle xmi.id="b"><UML:Bundle.content>
+    <UML:Class xmi.id="c" name=""/>
+    <UML:Class xmi.id="c2" name="Lamp"/>
+   </UML:Bundle.content></UML:Bundle>
+  </UML:Namespace.ownedElement></UML:Model>
  </XMI.content>
 </XMI>
 """
@@ -172,14 +266,79 @@ def test_model_as_root_with_exporter_in_eannotations(tmp_path: Path) -> None:
     assert uml.exporter == "genmymodel 1.0" and [c.name for c in uml.classifiers] == ["Camera"]
 
 
-def test_class_like_elements_read_as_none_is_an_error_naming_the_exporter(tmp_path: Path) -> None:
+def _view(uml) -> dict:
+    """What a reading holds, by name: classifiers with their features, relations, stereotypes."""
+    names = {e.id: e.name for e in uml.elements.values()}
+    return {
+        "model": uml.name,
+        "classifiers": sorted(
+            (
+                c.kind,
+                c.name,
+                tuple((a.name, a.type_name, a.default) for a in c.attributes),
+                tuple(
+                    (o.name, tuple((p.name, p.direction, p.type_name) for p in o.parameters))
+                    for o in c.operations
+                ),
+                tuple(names[g] for g in c.generals),
+                tuple(sorted(c.tagged_values.items())),
+            )
+            for c in uml.classifiers
+        ),
+        "associations": [
+            [
+                (names[e], uml.elements[e].aggregation, uml.elements[e].navigable)
+                for e in a.member_ends
+            ]
+            for a in uml.associations
+        ],
+        "stereotypes": sorted((names[a.base], a.key) for a in uml.applications.values()),
+    }
+
+
+def test_xmi10_long_names_read_as_the_same_model_in_xmi11(tmp_path: Path) -> None:
+    xmi10 = read_uml(_write(tmp_path, XMI10_LONG_NAMES))
+    xmi11 = read_uml(_write(tmp_path, XMI11_SAME, "same11.xmi"))
+    assert xmi10.dialect == "xmi1.0" and xmi10.tool == "argouml"
+    assert _view(xmi10) == _view(xmi11)
+    camera = next(c for c in xmi10.classifiers if c.name == "Camera")
+    assert [(a.name, a.type_name, a.default) for a in camera.attributes] == [("fps", "int", "12")]
+    assert camera.line == 8  # lines are the file's: the long names are renamed in place
+    assert [d.code for d in xmi10.diagnostics] == []
+
+
+def test_xmi10_validates_and_inspects_like_any_file(tmp_path: Path) -> None:
     path = _write(tmp_path, XMI10_LONG_NAMES)
     result = run_main(["validate", path])
+    assert result.code == 0 and _codes(result.out) == set(), result.out
+    data = json.loads(run_main(["inspect", "--format", "json", path]).out)
+    assert (data["dialect"], data["classifiers"], data["attributes"], data["operations"]) == (
+        "xmi1.0",
+        {"Class": 2, "DataType": 1},
+        1,
+        1,
+    )
+    assert data["stereotype_applications"] == {"camera": 1} and data["exporter"].startswith("Novo")
+
+
+def test_class_like_elements_read_as_none_is_an_error_naming_the_exporter(tmp_path: Path) -> None:
+    path = _write(tmp_path, CLASSES_IN_AN_UNKNOWN_CONTAINER)
+    result = run_main(["validate", path])
     no_crash(result)
-    assert result.code == 1 and _codes(result.out) == {"R208"}, result.out
+    assert result.code == 1 and _codes(result.out) == {"R201", "R208"}, result.out
     line = next(ln for ln in result.out.splitlines() if ": R208 " in ln)
-    assert "'SomeTool'" in line and "Foundation.Core.Class" in line and "export" in line
+    assert "'SomeTool'" in line and "export" in line
+    # the first class has an empty name: named by its id, never as ''
+    assert "(the first: Class c (no name), element Class)" in line and "''" not in line
     assert line.startswith(f"{path}:7:")  # the first class
+
+
+def test_inspect_refuses_what_validate_refuses(tmp_path: Path) -> None:
+    path = _write(tmp_path, CLASSES_IN_AN_UNKNOWN_CONTAINER)
+    result = run_main(["inspect", path])
+    no_crash(result)
+    assert result.code == 1 and result.out == "", result.both
+    assert ": R208 " in result.err and "Class c (no name)" in result.err
 
 
 def test_unknown_exporter_read_cleanly_is_an_info(tmp_path: Path) -> None:

@@ -13,6 +13,7 @@ from hypothesis import strategies as st
 
 from acordcs.xmi.readers import read_uml
 from tests.support.toolchain import codes_in, no_crash, run_main
+from tests.xmi.test_dialects import XMI10_LONG_NAMES
 
 MODELS = Path(__file__).parent / "tool_models"
 SECRET = "S3CR3T-acordcs-dialect-canary-41c9"
@@ -44,6 +45,7 @@ def _umbrello(classes: int = 3, duplicate_ids: bool = False) -> str:
 
 BASES = {
     "umbrello-xmi12": _umbrello(),
+    "novosoft-xmi10": XMI10_LONG_NAMES,
     "magicdraw-xmi25": (MODELS / "acordcs_magicdraw.xmi").read_text(encoding="utf-8"),
     "ea-xmi21": (MODELS / "acordcs_enterprise_architect.xmi").read_text(encoding="cp1252"),
     "modelio-uml2": (MODELS / "acordcs_modelio.xmi").read_text(encoding="utf-8"),
@@ -133,8 +135,8 @@ def test_windows_1252_bytes_declared_utf8_are_refused_where_they_are(
     base: str, tmp_path: Path
 ) -> None:
     text = BASES[base]
-    model = re.search(r"<(\w+:)?Model\s", text).start()  # the first name in the model
-    found = re.compile(r"""name\s*=\s*['"]""").search(text, model)
+    model = re.search(r"<([\w.]+[:.])?Model\s", text).start()  # the first name in the model
+    found = re.compile(r"""name\s*=\s*['"]|ModelElement\.name>""").search(text, model)
     text = text[: found.end()] + "Régulateur" + text[found.end() :]
     declared = text.replace("windows-1252", "UTF-8").replace("ISO-8859-1", "UTF-8")
     path = tmp_path / "model.xmi"
@@ -169,6 +171,31 @@ def test_thousands_of_real_duplicate_ids_are_one_located_error(tmp_path: Path) -
     assert result.code == 1
     lines = [ln for ln in result.out.splitlines() if ": R203 " in ln]
     assert len(lines) == 1 and "3000 times" in lines[0] and lines[0].startswith(f"{path}:6:")
+
+
+@pytest.mark.parametrize(
+    "tag",
+    [
+        "Foundation.Core.Class.-x",
+        "Foundation.",
+        "Foundation.Core.ModelElement.1name",
+        "Foundation.Core..",
+    ],
+)
+def test_xmi10_names_that_shorten_to_no_xml_name_are_skipped_and_said(
+    tag: str, tmp_path: Path
+) -> None:
+    text = XMI10_LONG_NAMES.replace(
+        '<Foundation.Core.ModelElement.visibility xmi.value="public"/>', f"<{tag}>x</{tag}>"
+    )
+    assert tag in text
+    path = tmp_path / "model.xmi"
+    path.write_text(text, encoding="utf-8")
+    result = run_main(["validate", str(path)])
+    no_crash(result)
+    assert result.code in (0, 1), result.out
+    uml = read_uml(str(path))
+    assert [c.name for c in uml.classifiers] == ["Camera", "Device", "int"]
 
 
 _PAYLOADS = [

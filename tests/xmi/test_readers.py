@@ -69,6 +69,8 @@ CLASSIFIERS = {
     "FunctionBehavior",
 }
 DEPENDENCIES = {"Dependency", "Realization", "Usage", "Abstraction", "Substitution"}
+# Where UML 2.5 has a classifier owned: a package's members, a classifier's nested classifiers,
+# use cases and behaviours, a node's nodes, an artifact's artifacts.
 MEMBER_TAGS = {
     "packagedElement",
     "ownedMember",
@@ -76,6 +78,10 @@ MEMBER_TAGS = {
     "ownedStereotype",
     "nestedClassifier",
     "ownedType",
+    "ownedUseCase",
+    "ownedBehavior",
+    "nestedNode",
+    "nestedArtifact",
 }
 PARSER = etree.XMLParser(resolve_entities=False, no_network=True, load_dtd=False)
 
@@ -117,7 +123,8 @@ def _oracle_xmi2(root: etree._Element) -> dict:
     member_ends.update(root.xpath("//memberEnd/@x:idref", namespaces={"x": xmi}))
     attributes = operations = generalizations = 0
     for cls in classifiers:
-        for attr in cls.iterchildren("ownedAttribute"):
+        # Enterprise Architect writes a class's ports apart, as ownedPort: owned properties too
+        for attr in cls.iterchildren("ownedAttribute", "ownedPort"):
             if attr.get("association") is None and attr.get(xid) not in member_ends:
                 attributes += 1
         operations += len(cls.findall("ownedOperation"))

@@ -90,27 +90,38 @@ def _camel(words: list[str]) -> str:
     return "".join(w.capitalize() for w in words)
 
 
-def synthetic_model(classes: int = 2000, seed: int = 1, policy_sets: int = 100) -> Pkg:
-    """The synthetic model as a package tree (deterministic for ``seed``)."""
+def synthetic_model(
+    classes: int = 2000,
+    seed: int = 1,
+    policy_sets: int = 100,
+    components: int | None = None,
+    containers: int | None = None,
+) -> Pkg:
+    """The synthetic model as a package tree (deterministic for ``seed``). ``components`` and
+    ``containers``, when given, replace the counts taken from the quarter budget (more components
+    make a build write more files: four per component); the plain classes fill the rest of
+    ``classes``."""
     rng = random.Random(seed)
     root = Pkg("Synthetic")
     ctxpkg = root.package("ContextAware")
     n_ctx = classes // 4
     n_sets = min(policy_sets, max(1, n_ctx // 5))
-    n_containers = max(1, min(10, n_ctx // 50))
+    n_containers = containers or max(1, min(10, n_ctx // 50))
     # quarter budget: containers + sets + policies + monitors + components + ports + connections
     rest = max(0, n_ctx - n_containers - 3 * n_sets)
     n_components = max(n_sets, rest // 2) if rest else n_sets
     n_pairs = max(0, (n_ctx - n_containers - 3 * n_sets - n_components) // 3)
+    if components is not None:
+        n_components = max(n_sets, components)
 
     dep_pkg = ctxpkg.package("Deployment")
-    containers = [
+    nodes = [
         ctx(dep_pkg.cls(f"Node{i}"), "CtxContainer", host=f"node{i}.example.org")
         for i in range(n_containers)
     ]
 
     comp_pkg = ctxpkg.package("Components")
-    components = []
+    services = []
     for i in range(n_components):
         c = ctx(comp_pkg.cls(f"Service{i}"), "CtxComponent", language="python")
         ctx_var(c, "level", "double", 0, 10, LEVEL_TERMS, default="5")
@@ -119,14 +130,14 @@ def synthetic_model(classes: int = 2000, seed: int = 1, policy_sets: int = 100) 
         c.op("reset")
         c.op("configure", [("key", "string"), ("value", "string")], "bool")
         c.comment = f"Synthetic component {i}."
-        components.append(c)
-        comp_pkg.associate(containers[i % n_containers], c, f"service{i}", aggregation="composite")
+        services.append(c)
+        comp_pkg.associate(nodes[i % n_containers], c, f"service{i}", aggregation="composite")
 
     ports: list[Cls] = []
     for j in range(n_pairs):
         kind = ("synchronous", "asynchronous", "stream")[j % 3]
-        prov_c = components[(2 * j) % n_components]
-        req_c = components[(2 * j + 1) % n_components]
+        prov_c = services[(2 * j) % n_components]
+        req_c = services[(2 * j + 1) % n_components]
         p = ctx(comp_pkg.cls(f"Port{j}P"), "CtxPort", kind=kind, role="provided")
         r = ctx(comp_pkg.cls(f"Port{j}R"), "CtxPort", kind=kind, role="required")
         p.attr("calls", "long")
@@ -142,7 +153,7 @@ def synthetic_model(classes: int = 2000, seed: int = 1, policy_sets: int = 100) 
     adapt_pkg = ctxpkg.package("Adaptation")
     for i in range(n_sets):
         crisp = i % 10 == 9
-        comp = components[i % n_components]
+        comp = services[i % n_components]
         mon = ctx(
             adapt_pkg.cls(f"Monitor{i}"),
             "CtxMonitor",
@@ -188,9 +199,9 @@ def synthetic_model(classes: int = 2000, seed: int = 1, policy_sets: int = 100) 
         adapt_pkg.associate(pset, pol, "policy", aggregation="composite")
         adapt_pkg.associate(mon, pset, "feeds")
         adapt_pkg.depend(pset, comp)
-        adapt_pkg.associate(containers[i % n_containers], mon, f"monitor{i}")
-        adapt_pkg.associate(containers[i % n_containers], pset, f"policySet{i}")
-        adapt_pkg.depend(mon, components[(i + 1) % n_components])
+        adapt_pkg.associate(nodes[i % n_containers], mon, f"monitor{i}")
+        adapt_pkg.associate(nodes[i % n_containers], pset, f"policySet{i}")
+        adapt_pkg.depend(mon, services[(i + 1) % n_components])
 
     made = sum(len(p.classes) for p in _walk(root))
     plain_total = max(0, classes - made)
@@ -245,9 +256,11 @@ def _walk(pkg: Pkg):
         yield from _walk(p)
 
 
-def generate(classes: int = 2000, seed: int = 1) -> str:
-    """The synthetic model as BOUML XMI text."""
-    root = synthetic_model(classes, seed)
+def generate(
+    classes: int = 2000, seed: int = 1, components: int | None = None, containers: int | None = None
+) -> str:
+    """The synthetic model as BOUML XMI text (see :func:`synthetic_model` for the counts)."""
+    root = synthetic_model(classes, seed, components=components, containers=containers)
     return BoumlWriter("Synthetic", gxmi_path="/home/modeller/synthetic.xmi").write(root)
 
 

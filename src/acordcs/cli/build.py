@@ -26,7 +26,9 @@ from acordcs.diagnostics import printable
     multiple=True,
     metavar="NAME",
     help="Target to build (repeat, or separate with commas); default all. "
-    "Built in: config, java, python, rules, shell; acordcs-gen build --list shows every installed one.",
+    "Built in: config, java, python, rules, shell; acordcs-gen build --list shows every installed one. "
+    "A path ending in .xsl or .xslt is your own XSLT 3.0 stylesheet, run over the descriptor as "
+    "a built-in target is (the target takes the file's name).",
 )
 @click.option(
     "--check", is_flag=True, help="Write nothing; exit 1 if the output is not up to date."
@@ -98,6 +100,7 @@ def build(
             target_names or None,
             write=write,
             force=force,
+            check=check,
             progress=progress.step if progress else None,
         )
     except BuildError as err:
@@ -130,6 +133,22 @@ def build(
         verbs = _WOULD if dry_run else _DONE
         for change in plan.changes:
             click.echo(f"{verbs[change.action]} {os.path.join(out, printable(change.path))}")
+    for path, saved in plan.edited.items():
+        regions = bool(plan.manifest.files[path].outside)
+        what = (
+            "lines outside its BEGIN USER/END USER regions were edited" if regions else "was edited"
+        )
+        click.echo(
+            f"acordcs-gen: {os.path.join(out, printable(path))}: {what} since the build that "
+            f"wrote it: your version {'is' if write else 'would be'} saved as "
+            f"{os.path.join(out, printable(saved))}, and the file regenerated "
+            + (
+                "(only the lines between a region's markers are yours in this file)"
+                if regions
+                else "(a generated file is the model's: change the model, or your own code)"
+            ),
+            err=True,
+        )
     for kept in plan.kept:
         click.echo(
             f"acordcs-gen: {os.path.join(out, printable(kept))} is no longer generated but was edited since: "

@@ -46,16 +46,16 @@ class GeneratedFile:
 class TargetContext:
     """What one target gets. ``source`` is the model file as given on the command line,
     ``source_name`` its base name (what headers name: the same bytes wherever the build runs from);
-    ``workdir`` is the target's own empty temporary directory (a stylesheet's result documents are
-    written there; a Python target may use it for the files of a tool it runs, then emit them);
     ``messages`` are notes for the user (a stylesheet's ``xsl:message`` output), printed by the
-    build."""
+    build. A target writes nothing itself: what it emits stays in memory until the build writes
+    it. ``workdir``: a directory a caller may give a Python target for the files of a tool it
+    runs (the build gives none: such a target makes its own with :mod:`tempfile`)."""
 
     target: str
     application: Application
     descriptor_xml: bytes
     source: str
-    workdir: Path
+    workdir: Path | None = None
     generator: str = GENERATOR
     files: list[GeneratedFile] = field(default_factory=list)
     messages: list[str] = field(default_factory=list)

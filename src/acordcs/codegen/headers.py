@@ -13,6 +13,19 @@ from acordcs.diagnostics import printable
 
 GENERATOR = f"acordcs-gen {__version__}"
 
+USER_MARK = "Written once: yours to edit"
+"""What the header of a file written once for the user (a target's ``once`` file: the user's class)
+says, whatever its comment syntax: a build recognises the user's files by it, and never deletes
+one, whatever its manifest says. The stylesheets write it in their own headers."""
+USER_MARK_BYTES = 1024
+"""How much of a file's beginning is searched for :data:`USER_MARK` (its header)."""
+
+
+def is_users(data: bytes) -> bool:
+    """Whether the file whose bytes are ``data`` says, in its header, that it is the user's."""
+    return USER_MARK.encode() in data[:USER_MARK_BYTES]
+
+
 # (line prefix, start, end, terminators to break) per syntax
 _SYNTAX: dict[str, tuple[str, str, str, tuple[str, ...]]] = {
     "xml": ("     ", "<!-- ", " -->", ("--",)),

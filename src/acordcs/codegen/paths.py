@@ -3,7 +3,8 @@
 A model name often becomes part of a file name (``rules/SpeedLimiting.fcl``). Whatever the model
 holds, a generated path must stay inside the output directory and mean the same file on every
 system the output may be copied to. :func:`path_problem` says why a path is refused;
-:func:`segment_problem` does the same for one name about to become a file name.
+:func:`segment_problem` does the same for one name about to become a file name (it lives with the
+rules on model names, :mod:`acordcs.model.generated_names`, which ``validate`` runs too).
 """
 
 from __future__ import annotations
@@ -11,53 +12,41 @@ from __future__ import annotations
 import re
 from collections.abc import Iterable
 
+from acordcs.model.generated_names import DEVICE_NAMES, NAME_BYTES, RULE, segment_problem
+
+__all__ = [
+    "MANIFEST",
+    "NAME_BYTES",
+    "RULE",
+    "case_collisions",
+    "path_problem",
+    "segment_problem",
+]
+
 MANIFEST = ".acordcs-manifest.json"
 """The build's record of what it wrote (see :mod:`acordcs.codegen.manifest`); no target may write it."""
 
-# Characters no portable file name holds: separators, NUL and other controls, and what Windows
-# refuses (a generated tree is copied, committed, checked out elsewhere).
-_BAD_CHARS = re.compile(r'[\x00-\x1f\x7f/\\<>:"|?*]')
-# Device names Windows reserves whatever the extension (CON.txt is CON).
-_DEVICES = frozenset(
-    ["CON", "PRN", "AUX", "NUL"]
-    + [f"COM{n}" for n in range(1, 10)]
-    + [f"LPT{n}" for n in range(1, 10)]
-)
-RULE = (
-    "a file name: not empty, not '.' or '..', no '/', '\\', control characters or <>:\"|?*, "
-    "not ending in a dot or space, not a Windows device name such as CON or NUL, at most 200 bytes"
-)
 
-
-NAME_BYTES = 200
-"""The longest model name the build lets become part of a file name: a target adds to it (an
-extension, ``.descriptor.xml``), and file systems allow 255 bytes per component."""
-
-
-def segment_problem(name: str, limit: int = 255) -> str | None:
-    """Why ``name`` cannot be one component of a generated path, at most ``limit`` bytes long
-    (None when it can)."""
-    if not name:
-        return "it is empty"
-    if name in (".", ".."):
-        return f"{name!r} names a directory, not a file"
-    bad = _BAD_CHARS.search(name)
-    if bad:
-        char = bad.group()
-        shown = repr(char) if char.isprintable() else f"U+{ord(char):04X}"
-        return f"it contains {shown}"
-    if name[-1] in ". ":
-        return "it ends in a dot or a space"
-    if len(name.encode("utf-8", "surrogatepass")) > limit:
-        room = "" if limit == 255 else ", to leave room for what a target adds to it"
-        return f"it is longer than {limit} bytes (file systems allow 255{room})"
-    if name.split(".", 1)[0].rstrip(" ").upper() in _DEVICES:
-        return f"{name.split('.', 1)[0]!r} is a device name on Windows"
-    return None
+# Paths made of plain names (what targets write): no character a rule below is about. Such a path
+# is accepted without looking at each name again (a manifest lists thousands); what it does not
+# match goes through every rule.
+_PLAIN = re.compile(r"[A-Za-z0-9_][A-Za-z0-9_.+-]{0,199}(?:/[A-Za-z0-9_][A-Za-z0-9_.+-]{0,199})*\Z")
+_DEVICE = re.compile(
+    f"(?:^|/)(?:{'|'.join(sorted(DEVICE_NAMES))})(?:[./]|\\Z)", re.IGNORECASE
+)  # a name that is a device name, with or without an extension
 
 
 def path_problem(path: str) -> str | None:
     """Why ``path`` (relative, '/'-separated) cannot be a generated file (None when it can)."""
+    if (
+        isinstance(path, str)
+        and _PLAIN.match(path)
+        and not path.endswith(".")
+        and "./" not in path
+        and path != MANIFEST
+        and not _DEVICE.search(path)
+    ):
+        return None
     if not isinstance(path, str) or not path:
         return "the path is empty"
     if path.startswith("/") or re.match(r"[A-Za-z]:", path):

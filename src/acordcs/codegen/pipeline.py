@@ -5,19 +5,20 @@
    read and nothing is written (``force`` skips this).
 2. **Read and validate** (:func:`acordcs.model.reading.read_model`): an error stops the build,
    nothing written.
-3. **Describe** (:func:`acordcs.model.describe.describe`, :func:`~acordcs.descriptor.to_xml`), and check
-   every name that may become part of a path (G701).
-4. **Transform**: each target runs into a temporary directory and hands back its files; a target
-   that fails, or files that would leave the output directory or collide (G701, G702), stop the
-   build with the output directory untouched.
-5. **Write** only what changed, delete stale generated files, write the manifest
-   (:mod:`acordcs.codegen.writer`).
+   Validating includes the rules on the names that generated files and code take (G701, G703:
+   :mod:`acordcs.model.generated_names`).
+3. **Describe** (:func:`acordcs.model.describe.describe`, :func:`~acordcs.descriptor.to_xml`).
+4. **Transform**: each target runs in memory and hands back its files (a stylesheet's result
+   documents too: :mod:`acordcs.codegen.xslt`); a target that fails, or files that would leave
+   the output directory or collide (G701, G702), stop the build with the output directory
+   untouched.
+5. **Write** only what changed, each file once and into place, delete stale generated files,
+   write the manifest (:mod:`acordcs.codegen.writer`).
 """
 
 from __future__ import annotations
 
 import os
-import tempfile
 from collections.abc import Callable, Iterable
 from dataclasses import dataclass, field
 from functools import cache
@@ -26,15 +27,8 @@ from pathlib import Path
 from acordcs.codegen.context import GeneratedFile, TargetContext
 from acordcs.codegen.errors import BuildError
 from acordcs.codegen.manifest import Manifest, ManifestError, read_manifest, sha256
-from acordcs.codegen.paths import (
-    MANIFEST,
-    NAME_BYTES,
-    RULE,
-    case_collisions,
-    path_problem,
-    segment_problem,
-)
-from acordcs.codegen.registry import Target, targets
+from acordcs.codegen.paths import MANIFEST, case_collisions, path_problem
+from acordcs.codegen.registry import NAME_PATTERN, Target, targets
 from acordcs.codegen.writer import Plan, apply, plan
 from acordcs.diagnostics import Diagnostic, Severity, diagnostic
 
@@ -84,20 +78,63 @@ def toolchain_digest() -> str:
     return digest.hexdigest()
 
 
+STYLESHEET_SUFFIXES = (".xsl", ".xslt")
+
+
 def select(names: Iterable[str] | None) -> list[Target]:
-    """The targets named (``all`` or nothing: every registered target), in name order."""
+    """The targets named (``all`` or nothing: every registered target), in name order. A name
+    ending in ``.xsl`` or ``.xslt`` is the path of a stylesheet of the user's: a target named
+    after the file (``mine.xsl``), run as a built-in XSLT target is (:func:`stylesheet_target`)."""
     known = targets()
     wanted = [n.strip() for name in (names or ("all",)) for n in name.split(",") if n.strip()]
-    if not wanted or "all" in wanted:
-        return list(known.values())
-    unknown = [n for n in wanted if n not in known]
+    files = [n for n in wanted if n.lower().endswith(STYLESHEET_SUFFIXES)]
+    named = [n for n in wanted if n not in files]
+    chosen = {t.name: t for t in (known.values() if not named and not files else ())}
+    if "all" in named:
+        chosen.update(known)
+    unknown = [n for n in named if n != "all" and n not in known]
     if unknown:
         raise BuildError(
             f"unknown target{'s' if len(unknown) > 1 else ''} {', '.join(map(repr, unknown))}",
-            hint=f"targets: {', '.join(known) or 'none'}, or all",
+            hint=f"targets: {', '.join(known) or 'none'}, or all, or the path of an XSLT 3.0 "
+            "stylesheet (a file ending in .xsl or .xslt)",
             exit_code=2,
         )
-    return [known[n] for n in sorted(set(wanted))]
+    chosen.update((n, known[n]) for n in named if n != "all")
+    for path in files:
+        made = stylesheet_target(path)
+        other = chosen.get(made.name)
+        if other is not None and other.stylesheet != made.stylesheet:
+            raise BuildError(
+                f"two targets named {made.name!r}: {path} and {other.stylesheet or other.origin}",
+                hint="a stylesheet's target is named after its file: rename one of the files",
+                exit_code=2,
+            )
+        chosen[made.name] = made
+    return [chosen[n] for n in sorted(chosen)]
+
+
+def stylesheet_target(path: str | os.PathLike[str]) -> Target:
+    """The target of the user's XSLT 3.0 stylesheet at ``path`` (``-t path/to/mine.xsl``): named
+    after the file, not registered; its fingerprint is the stylesheet's bytes (an edited
+    stylesheet rebuilds). :class:`BuildError` (exit 2) when the file cannot be read."""
+    file = Path(path)
+    if not file.is_file():
+        raise BuildError(
+            f"stylesheet {os.fspath(path)!r} not found (-t names a target, or the path of an XSLT "
+            "3.0 stylesheet)",
+            hint="give the path of an existing .xsl or .xslt file, or a target of "
+            "acordcs-gen build --list",
+            exit_code=2,
+        )
+    if not NAME_PATTERN.match(file.name):
+        raise BuildError(
+            f"stylesheet {os.fspath(path)!r}: its file name cannot name a target (letters, digits, "
+            "'_', '.' and '-', not starting with '.' or '-')",
+            hint="rename the file",
+            exit_code=2,
+        )
+    return Target(file.name, f"the stylesheet {file}", stylesheet=file.resolve(), origin=str(file))
 
 
 def build(
@@ -107,17 +144,23 @@ def build(
     *,
     write: bool = True,
     force: bool = False,
+    check: bool = False,
     progress: Progress | None = None,
 ) -> BuildResult:
     """Build ``target_names`` (default: all) of ``model`` into ``output``. With ``write`` False
-    nothing is written: the result's plan says what would change (``--check``, ``--dry-run``,
-    ``--diff``). Raises :class:`BuildError` (nothing written) when the build cannot be done."""
+    nothing is written: the result's plan says what would change (``--dry-run``, ``--diff``).
+    ``check`` (``--check``) writes nothing either and trusts the manifest only to say which files
+    are generated: the targets always run (as with ``force``) and their bytes are compared with
+    the files on disk; a manifest that cannot be read is an error. Raises :class:`BuildError`
+    (nothing written) when the build cannot be done."""
     source = os.fspath(model)
     out = Path(output)
     chosen = select(target_names)
     result = BuildResult(out, [t.name for t in chosen])
+    if check:
+        write, force = False, True
     try:
-        return _build(source, out, chosen, result, write, force, progress)
+        return _build(source, out, chosen, result, write, force, check, progress)
     except BuildError as err:
         err.notes = result.notes + result.messages
         raise
@@ -130,6 +173,7 @@ def _build(
     result: BuildResult,
     write: bool,
     force: bool,
+    check: bool,
     progress: Progress | None,
 ) -> BuildResult:
     step = progress or (lambda _label: None)
@@ -142,6 +186,12 @@ def _build(
     try:
         old = read_manifest(out)
     except ManifestError as err:
+        if check:
+            raise BuildError(
+                f"{out / MANIFEST} cannot be used: {err}",
+                hint="which files of the directory are generated is unknown: build without "
+                "--check to write the manifest again (no file is then deleted or overwritten)",
+            ) from None
         result.notes.append(
             f"{out / MANIFEST} is ignored ({err}): no file of the directory is known to be "
             "generated, so none is deleted or overwritten"
@@ -156,7 +206,7 @@ def _build(
         model_sha = ""  # read_model reports it
     fingerprints = {t.name: t.fingerprint(toolchain_digest()) for t in chosen}
     registered = set(targets())
-    everything = set(fingerprints) == registered
+    everything = registered <= set(fingerprints)
     name = os.path.basename(source) or source  # what headers name
     if (
         not force
@@ -201,23 +251,13 @@ def _build(
     def locate(element_id: str) -> int:
         return getattr(located.get(element_id), "line", 0) or 0
 
-    _check_names(app, source, locate)
-
     files: list[GeneratedFile] = []
-    with tempfile.TemporaryDirectory(prefix="acordcs-build-") as scratch:
-
-        def run(made: Target) -> TargetContext:
-            workdir = Path(scratch, made.name)
-            workdir.mkdir()
-            context = TargetContext(made.name, app, data, source, workdir, locate=locate)
-            _run(made, context)
-            return context
-
-        for made in chosen:
-            step(f"target {made.name}")
-            context = run(made)
-            files += context.files
-            result.messages += [f"target {made.name}: {m}" for m in context.messages]
+    for made in chosen:  # in memory: nothing reaches the output before every target succeeded
+        step(f"target {made.name}")
+        context = TargetContext(made.name, app, data, source, locate=locate)
+        _run(made, context)
+        files += context.files
+        result.messages += [f"target {made.name}: {m}" for m in context.messages]
     _check_files(files, source, locate, located)
 
     step("comparing with the output directory")
@@ -245,15 +285,17 @@ def _intact(out: Path, old: Manifest, fingerprints: dict[str, str], model_sha: s
         record = old.targets.get(name)
         if record != {"fingerprint": fingerprint, "model_sha256": model_sha}:
             return False
+    root = os.fspath(out)
     for rel, entry in old.files.items():
         if entry.target not in fingerprints:
             continue
+        path = os.path.join(root, rel)  # strings: thousands of files, no Path objects
         if entry.user:  # the user's: edited, as expected; a deleted one is written again
-            if not (out / rel).is_file():
+            if not os.path.isfile(path):
                 return False
             continue
         try:
-            with open(out / rel, "rb") as handle:
+            with open(path, "rb") as handle:
                 if sha256(handle.read()) != entry.sha256:
                     return False
         except OSError:
@@ -273,55 +315,6 @@ def _run(made: Target, context: TargetContext) -> None:
             hint=f"nothing was written; this is a fault of target {made.name} ({made.origin}): "
             "report it, or build the other targets with --target",
         ) from None
-
-
-def _elements(app) -> list[tuple[str, str, str, str]]:
-    """(kind, name, id, qualified name) of every described element, the application first."""
-    out = [("model", app.name, "", app.name)]
-    for kind, items in (
-        ("container", app.containers),
-        ("component", app.components),
-        ("connection", app.connections),
-        ("monitor", app.monitors),
-        ("policy set", app.policy_sets),
-    ):
-        out += [(kind, e.name, e.id, e.qualified_name) for e in items]
-        if kind == "component":
-            out += [("port", p.name, p.id, p.qualified_name) for c in items for p in c.ports]
-        if kind == "policy set":
-            out += [("policy", p.name, p.id, p.qualified_name) for s in items for p in s.policies]
-    return out
-
-
-def _what(kind: str, name: str, qualified: str) -> str:
-    return f"the {kind}" if qualified == name else f"{kind} {qualified!r}"
-
-
-def _check_names(app, source: str, locate: Callable[[str], int]) -> None:
-    """Every name a target may put into a path is a file name (G701), checked before any target
-    runs: a stylesheet's result documents are written by Saxon, out of our hands."""
-    found = []
-    for kind, name, element_id, qualified in _elements(app):
-        problem = segment_problem(name, NAME_BYTES)
-        if problem:
-            found.append(
-                diagnostic(
-                    "G701",
-                    f"the name {name!r} of {_what(kind, name, qualified)} cannot become part of a "
-                    f"file name: {problem}; rename it ({RULE})",
-                    file=source,
-                    line=locate(element_id) if element_id else 0,
-                    element=qualified,
-                    xmi_id=element_id or None,
-                )
-            )
-    if found:
-        raise BuildError(
-            f"{len(found)} model name{'s' if len(found) > 1 else ''} cannot become part of a "
-            "file name; nothing was built",
-            file=source,
-            diagnostics=found,
-        )
 
 
 def _check_files(
@@ -363,6 +356,21 @@ def _check_files(
             )
         else:
             by_path[f.path] = f
+    for f in by_path.values():  # a file where another file needs a directory
+        parts = f.path.split("/")
+        for n in range(1, len(parts)):
+            other = by_path.get("/".join(parts[:n]))
+            if other is not None:
+                found.append(
+                    diagnostic(
+                        "G702",
+                        f"target {f.target} would write {f.path!r} inside {other.path!r}, a file "
+                        f"target {other.target} writes (from {other.element or '?'}); rename one "
+                        "element",
+                        **where(f),
+                    )
+                )
+                break
     for first, second in case_collisions(by_path):
         f = by_path[second]
         found.append(

@@ -136,6 +136,21 @@ def merge(syntax: str, new: str, old: str) -> tuple[str, dict[str, str]]:
     return "".join(out), lost
 
 
+def outside(syntax: str, text: str) -> str:
+    """``text`` without what its regions hold (their marker lines kept): the lines a build owns.
+    Two versions of a file with the same lines outside their regions have the same ``outside``,
+    whatever the user wrote inside them. :class:`RegionError` when the regions are not well
+    formed."""
+    lines = text.splitlines(keepends=True)
+    out: list[str] = []
+    at = 0
+    for region in parse(syntax, text):
+        out += lines[at : region.start + 1]
+        at = region.stop
+    out += lines[at:]
+    return "".join(out)
+
+
 def lost_text(syntax: str, path: str, lost: dict[str, str]) -> str:
     """What goes to ``<path>.lost`` for the ``lost`` regions: each with its markers, after a
     comment saying where it came from."""
@@ -160,5 +175,6 @@ __all__ = [
     "key",
     "lost_text",
     "merge",
+    "outside",
     "parse",
 ]

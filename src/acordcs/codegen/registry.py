@@ -23,7 +23,8 @@ from dataclasses import dataclass, replace
 from pathlib import Path
 
 ENTRY_POINT_GROUP = "acordcs.targets"
-_NAME = re.compile(r"[A-Za-z0-9_][A-Za-z0-9_.-]*\Z")
+NAME_PATTERN = re.compile(r"[A-Za-z0-9_][A-Za-z0-9_.-]*\Z")
+"""What a target's name is: letters, digits, ``_``, ``.`` and ``-``, not starting with ``.`` or ``-``."""
 
 TargetFunction = Callable[..., None]
 
@@ -143,7 +144,7 @@ def _same(a: Target, b: Target) -> bool:
 def register(made: Target) -> Target:
     """Add a target (the decorators call this); a name already taken by another target is a
     ValueError."""
-    if not isinstance(made.name, str) or not _NAME.match(made.name) or made.name == "all":
+    if not isinstance(made.name, str) or not NAME_PATTERN.match(made.name) or made.name == "all":
         raise ValueError(
             f"{made.name!r} cannot name a target: use letters, digits, '_', '.' and '-' (not 'all')"
         )

@@ -35,11 +35,9 @@ from acordcs.descriptor.model import (
     Rule,
     Term,
     Variable,
-    parse_real,
-    typed_default,
-    value_kind,
 )
 from acordcs.descriptor.xml import NAMESPACE, from_xml, schema, to_xml
+from acordcs.typed_values import parse_real, typed_default, value_kind
 
 __all__ = [
     "NAMESPACE",

@@ -27,11 +27,11 @@ from acordcs.descriptor.model import (
     Term,
     Value,
     Variable,
-    parse_real,
 )
 from acordcs.descriptor.schema import NS as _NS
 from acordcs.descriptor.schema import column as _column
 from acordcs.descriptor.schema import local_name as _local_name
+from acordcs.typed_values import parse_real
 
 _INT = re.compile(r"[+-]?[0-9]+")
 

@@ -46,10 +46,6 @@ from acordcs.descriptor.model import (
     Term,
     Variable,
     bound_names,
-    parse_integer,
-    parse_real,
-    typed_default,
-    value_kind,
 )
 from acordcs.model.architecture import (
     COMPONENT,
@@ -70,6 +66,7 @@ from acordcs.model.queries import (
 )
 from acordcs.rules import RuleSyntaxError, parse_rule
 from acordcs.rules.binding import bind, default_label
+from acordcs.typed_values import parse_integer, parse_real, typed_default, value_kind
 from acordcs.xmi.uml import Classifier, Element
 from acordcs.xmi.uml import Operation as UmlOperation
 from acordcs.xmi.uml import Property as UmlProperty

@@ -12,13 +12,13 @@ from collections.abc import Callable
 from dataclasses import dataclass
 
 from acordcs import vocabularies
-from acordcs.descriptor.model import parse_integer, parse_real
 from acordcs.diagnostics import suggestion
 from acordcs.model.architecture import Architecture, Role
 from acordcs.rules import Name, RuleKind, RuleSyntaxError, TermDef, parse_terms, split_rules
 from acordcs.rules.binding import RULE_SYNTAX, Scope, ScopeElement, Target, rule_syntax
 from acordcs.rules.binding import Ambiguous as BoundAmbiguous
 from acordcs.rules.binding import Unresolved as BoundUnresolved
+from acordcs.typed_values import parse_integer, parse_real
 from acordcs.xmi.uml import Operation, Property
 
 

@@ -286,8 +286,7 @@
     <xsl:sequence select="
       '// ' || j:doc((if ($generated) then 'Generated' else 'Created') || ' by ' || $generator || ' (target ' || $target || ') from ' || $what),
       if ($generated) then '// in model file ' || j:doc($source-file) || '. Do not edit: rebuild with acordcs-gen build.'
-      else ('// in model file ' || j:doc($source-file) || '. This file is yours: acordcs-gen build created it once',
-            '// and never overwrites nor deletes it.')"/>
+      else '// in model file ' || j:doc($source-file) || '. Written once: yours to edit, never overwritten by a build.'"/>
   </xsl:function>
 
   <xsl:function name="j:what" as="xs:string">

@@ -8,23 +8,30 @@ construct early and define something the model never named.
 
 from __future__ import annotations
 
-import re
 from collections.abc import Iterable
 
 from acordcs.codegen.errors import BuildError
-
-IDENTIFIER = re.compile(r"[A-Za-z_][A-Za-z0-9_]*\Z")
+from acordcs.model.generated_names import IDENTIFIER, NOT_AN_IDENTIFIER
 
 
 class NameRefused(Exception):
-    """A name that cannot be written: ``what`` it names, the ``name``, the element's ``id``."""
+    """A name that cannot be written: ``what`` it names, the ``name``, the element's ``id``, and
+    the ``reason`` (by default: it is not an identifier)."""
 
-    def __init__(self, what: str, name: object, element_id: str, qualified_name: str) -> None:
+    def __init__(
+        self,
+        what: str,
+        name: object,
+        element_id: str,
+        qualified_name: str,
+        reason: str = NOT_AN_IDENTIFIER,
+    ) -> None:
         super().__init__(what)
         self.what = what
         self.name = name
         self.element_id = element_id
         self.qualified_name = qualified_name
+        self.reason = reason
 
 
 def require_identifiers(names: Iterable[tuple[str, object, str, str]]) -> None:
@@ -39,8 +46,7 @@ def refused(context, err: NameRefused, kind: str) -> BuildError:
     """The build error (with its G703 diagnostic) for a name refused in a ``kind`` file."""
     diagnostic = context.problem(
         "G703",
-        f"{err.what} {err.name!r} cannot be written into a {kind} file: it is not an identifier "
-        "(letters, digits and _, not starting with a digit); rename it",
+        f"{err.what} {err.name!r} cannot be written into a {kind} file: {err.reason}; rename it",
         element=err.qualified_name,
         element_id=err.element_id,
     )

@@ -41,36 +41,13 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 from acordcs.codegen.registry import Target, target
-from acordcs.codegen.targets.names import NameRefused, refused, require_identifiers
+from acordcs.codegen.targets.names import NameRefused, refused
+from acordcs.model.generated_names import CLASS_SCOPE, OWN_MODULES, Named, python_name_problem
 
 if TYPE_CHECKING:
     from acordcs.descriptor import Application, Component
 
 STYLESHEET = resources.files(__package__) / "python.xsl"
-
-# Modules and packages of the generated package a container module must not shadow.
-OWN_MODULES = frozenset(
-    {
-        "__init__",
-        "__main__",
-        "registry",
-        "base",
-        "components",
-        "monitors",
-        "descriptor",
-        "model_types",
-    }
-)
-
-# The names a generated base module binds and uses in its class's scope (imports, annotations): an
-# operation of that name would hide them (refused, G703), a property of that name gets no attribute.
-CLASS_SCOPE = frozenset(
-    {
-        "CtxComponent", "ModelProperty", "PortSpec", "OperationNotImplementedError",
-        "unimplemented", "model_types", "annotations", "int", "float", "bool", "str", "object",
-        "tuple",
-    }
-)  # fmt: skip
 
 # A UML type read as a number or a truth value (acordcs.descriptor.value_kind's kinds) -> Python.
 KIND_TYPES = {"int": "int", "double": "float", "bool": "bool"}
@@ -85,43 +62,24 @@ def package_name(application: str) -> str:
 
 def _names(app):
     for c in app.containers:
-        yield "container", c.name, c.id, c.qualified_name
+        yield Named("container", c.name, c.id, c.qualified_name)
     for mon in app.monitors:
-        yield "monitor", mon.name, mon.id, mon.qualified_name
+        yield Named("monitor", mon.name, mon.id, mon.qualified_name)
     for comp in app.components:
-        yield "component", comp.name, comp.id, comp.qualified_name
+        yield Named("component", comp.name, comp.id, comp.qualified_name)
         for op in comp.operations:
-            yield "operation", op.name, op.id, op.qualified_name
+            yield Named("operation", op.name, op.id, op.qualified_name)
             for p in op.parameters:
-                yield "parameter", p.name, p.id or op.id, op.qualified_name
+                yield Named("parameter", p.name, p.id or op.id, op.qualified_name)
 
 
 def check_names(app) -> None:
-    """Raise :class:`NameRefused` for the first name that cannot become Python code."""
-    names = list(_names(app))
-    require_identifiers(names)
-    from acordcs.runtime.component import COMPONENT_API as reserved
-
-    for what, name, element_id, qualified in names:
-        if keyword.iskeyword(name):
-            raise NameRefused(f"{what} (a Python keyword)", name, element_id, qualified)
-        if what == "operation" and (name in reserved or name.startswith("_")):
-            raise NameRefused(
-                f"{what} (a name of the component API CtxComponent, or private)",
-                name,
-                element_id,
-                qualified,
-            )
-        if what == "operation" and name in CLASS_SCOPE:
-            raise NameRefused(
-                f"{what} (a name the generated base class uses)", name, element_id, qualified
-            )
-        if what == "parameter" and name == "self":
-            raise NameRefused(what, name, element_id, qualified)
-        if what == "container" and name.lower() in OWN_MODULES:
-            raise NameRefused(
-                f"{what} (a module of the generated package)", name, element_id, qualified
-            )
+    """Raise :class:`NameRefused` for the first name that cannot become Python code (the rules of
+    :mod:`acordcs.model.generated_names`, which ``validate`` runs on the model too)."""
+    for named in _names(app):
+        problem = python_name_problem(named)
+        if problem is not None:
+            raise NameRefused(named.kind, named.name, named.id, named.qualified, problem.reason)
 
 
 def python_type(uml: str) -> str:

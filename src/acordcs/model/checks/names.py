@@ -3,18 +3,31 @@
 from __future__ import annotations
 
 import keyword
-import re
 from collections import defaultdict
 from collections.abc import Iterator
 
-from acordcs.diagnostics import Diagnostic
-from acordcs.model.architecture import COMPONENT, PORT, VARIABLE, Role
+from acordcs.diagnostics import Diagnostic, diagnostic
+from acordcs.model.architecture import (
+    COMPONENT,
+    CONNECTION,
+    CONTAINER,
+    MONITOR,
+    POLICY,
+    POLICY_SET,
+    PORT,
+    VARIABLE,
+    Role,
+)
 from acordcs.model.checks import Context, check
+from acordcs.model.generated_names import (
+    IDENTIFIER,
+    Named,
+    file_name_problem,
+    python_name_problem,
+)
 from acordcs.runtime.component import COMPONENT_API
 from acordcs.xmi.uml import Classifier, Element
 
-# ASCII only: the same name must be a Python and a Java identifier and a shell word without quoting.
-IDENTIFIER = re.compile(r"[A-Za-z_][A-Za-z0-9_]*\Z")
 # Java's reserved keywords and literals (JLS 3.9). Contextual keywords (module, open, to, ...) are
 # legal member names; the restricted identifiers cannot name a type (JAVA_RESTRICTED_TYPE_NAMES).
 JAVA_RESERVED = frozenset(
@@ -174,3 +187,52 @@ def _case_clashes(
                     "case-insensitive file system; rename one",
                     spellings[name],
                 )
+
+
+_FILE_KIND = {
+    CONTAINER: "container",
+    COMPONENT: "component",
+    CONNECTION: "connection",
+    MONITOR: "monitor",
+    POLICY_SET: "policy set",
+    PORT: "port",
+    POLICY: "policy",
+}
+
+
+def _generated(ctx: Context) -> Iterator[tuple[Named, Role | None]]:
+    """The names the generated files and code take, with the role they belong to (None: the
+    model's own name)."""
+    model = ctx.uml.name or "application"  # what the descriptor names the application
+    yield Named("model", model, "", model), None
+    for role in ctx.arch.roles.values():
+        kind = _FILE_KIND.get(role.kind)
+        if kind is None:
+            continue
+        element = role.element
+        yield Named(kind, role.name, role.id, element.qualified_name()), role
+        if role.kind == COMPONENT and isinstance(element, Classifier):
+            for op in element.operations:
+                yield Named("operation", op.name, op.id, op.qualified_name()), role
+                for param in op.inputs:
+                    yield Named("parameter", param.name, param.id, op.qualified_name()), role
+
+
+@check
+def generated_names(ctx: Context) -> Iterator[Diagnostic]:
+    """What ``build`` refuses in names (G701, G703; :mod:`acordcs.model.generated_names`), found
+    by ``validate`` too. Names that are no identifier, keywords and the component API's names are
+    N601, N602 and N604 here: not reported twice."""
+    for named, role in _generated(ctx):
+        # a role's name that is no identifier is N601's: its file name is then no news
+        as_file = file_name_problem(named) if role is None or IDENTIFIER.match(named.name) else None
+        for problem in (as_file, python_name_problem(named, identifiers=False)):
+            if problem is None:
+                continue
+            if role is None:
+                yield diagnostic(
+                    problem.code, problem.message, file=ctx.uml.file, element=named.qualified
+                )
+            else:
+                where = ctx.uml.elements.get(named.id) or role.element
+                yield ctx.diag(problem.code, problem.message, where)

@@ -11,7 +11,7 @@ def read_uml(path: str) -> UmlModel:
     """Read any supported export (XMI 2.x of BOUML, Enterprise Architect, MagicDraw / Cameo, Visual
     Paradigm; Eclipse UML2 of Papyrus and Modelio; XMI 1.x of UML 1.3/1.4 tools). Never raises for bad
     input; see ``docs/uml-tools.md``."""
-    from acordcs.xmi.readers import exporters, xmi2, xmi12
+    from acordcs.xmi.readers import exporters, xmi2, xmi10, xmi12
 
     xml = read_xml(path)
     if xml.root is None:
@@ -19,10 +19,12 @@ def read_uml(path: str) -> UmlModel:
     root = xml.root
     exporter = exporters.detect(root)
     if xmi12.accepts(root):
+        if xmi10.long_names(root):
+            xmi10.normalise(root)  # XMI 1.0's Foundation.Core.Class: into XMI 1.1's form
         model = xmi12.read(xml, exporter)
         rules = "XMI 1.x (UML 1.3/1.4)"
     elif xmi2.accepts(root):
-        model = xmi2.read(xml)
+        model = xmi2.read(xml, exporter.tool)
         rules = "Eclipse UML2" if model.dialect == "eclipse-uml2" else "XMI 2.x (UML 2)"
         if model.dialect == "bouml-xmi2" and exporter.tool not in (None, "bouml", "acordcs"):
             model.dialect = "omg-xmi2"  # the same rules; not BOUML's file

@@ -54,6 +54,7 @@ KNOWN_TOOLS: tuple[tuple[re.Pattern[str], str, str], ...] = tuple(
         (r"genmymodel", "genmymodel", "GenMyModel"),
         (r"umbrello", "umbrello", "Umbrello"),
         (r"argo", "argouml", "ArgoUML"),
+        (r"novosoft", "argouml", "ArgoUML (Novosoft UML library, XMI 1.0)"),
         (r"unisys|rational rose", "rose", "Rational Rose"),
     )
 )
@@ -165,6 +166,19 @@ def _class_like(root: etree._Element) -> tuple[int, etree._Element | None, str]:
     return count, first, first_kind
 
 
+def _named(el: etree._Element, kind: str) -> str:
+    """``Class 'Camera'``, or ``Class xmi.8 (no name)``: an empty name quoted says nothing."""
+    name = el.get("name")
+    if name is None:  # a name as a child element (XMI 1.0's ModelElement.name)
+        name = next(
+            (c.text for c in el if isinstance(c.tag, str) and c.tag.endswith(".name")), None
+        )
+    if name and name.strip():
+        return f"{kind} {name.strip()!r}"
+    ident = next((v for k, v in el.items() if k.endswith("id") and "idref" not in k), None)
+    return f"{kind} {ident} (no name)" if ident else f"{kind} (no name)"
+
+
 _WHAT_TO_DO = (
     "export the model as XMI 2.1 (UML 2) from the tool, or as Eclipse UML2 (.uml); see docs/uml-tools.md "
     "for the forms each tool can write"
@@ -185,8 +199,8 @@ def review(model: UmlModel, root: etree._Element, exporter: Exporter, dialect_ru
             model.diagnostics.append(
                 diagnostic(
                     "R208",
-                    f"the file holds {count} class-like element(s) (the first: {kind} "
-                    f"{first.get('name', '')!r}, element {_local(first.tag)}) but none was read as a "
+                    f"the file holds {count} class-like element(s) (the first: {_named(first, kind)}, "
+                    f"element {_local(first.tag)}) but none was read as a "
                     f"classifier: {named} writes a "
                     f"form the {dialect_rules} rules do not read; {_WHAT_TO_DO}",
                     file=model.file,

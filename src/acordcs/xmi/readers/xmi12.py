@@ -24,13 +24,11 @@ end an id derived from its association's.
 
 from __future__ import annotations
 
-import difflib
-
 from lxml import etree
 
-from acordcs.diagnostics import diagnostic
 from acordcs.xmi.readers import ea
 from acordcs.xmi.readers.common import check_ids, dangling, primitive_from_href
+from acordcs.xmi.readers.skipped import Skipped
 from acordcs.xmi.source import XmlInput
 from acordcs.xmi.uml import (
     CLASSIFIER_KINDS,
@@ -48,18 +46,6 @@ from acordcs.xmi.uml import (
 )
 
 NS = "org.omg.xmi.namespace.UML"  # BOUML's and ArgoUML's; other tools use other URIs (see above)
-# UML 1.4 metaclasses that may stand in a namespace: anything else is reported (R201).
-UML14_METACLASSES = frozenset(
-    """Model Package Subsystem Class Interface DataType Primitive Enumeration
-    ProgrammingLanguageDataType Actor UseCase Component Node Signal Exception Association
-    AssociationClass Generalization Dependency Abstraction Usage Permission Binding Comment
-    Stereotype TagDefinition Collaboration Instance Object Link Stimulus StateMachine
-    ActivityGraph Constraint ClassifierRole AssociationRole Artifact Include Extend
-    CallEvent SignalEvent TimeEvent ChangeEvent Flow TaggedValue TagDefinition EnumerationLiteral
-    Diagram Partition Pseudostate State SimpleState CompositeState FinalState Transition
-    ActionState ObjectFlowState Message Interaction Collaboration Attribute Operation Method
-    Exception Reception Parameter""".split()
-)
 
 
 # Read as classifiers; AssociationClass is read with the associations, and in UML 1.x a
@@ -114,7 +100,10 @@ class _Reader:
         self.tag_refs: list[tuple[str, str, Element]] = []  # (TagDefinition id, value, element)
         self.loose_tags: list[etree._Element] = []  # Rose: TaggedValue modelElement=".."
         self.ea = exporter is not None and exporter.tool == "enterprise-architect"
+        self.tool = exporter.tool if exporter is not None and exporter.tool != "acordcs" else None
         self.profiled: set[tuple[str, str]] = set()  # (element, stereotype) EA gave a profile
+        self.ea_twins: list[tuple[str, str, int]] = []  # (package id, $ea_xref_property, line)
+        self.skipped = Skipped(self.model, "UML:")
 
     def read(self) -> UmlModel:
         root = self.xml.root
@@ -133,6 +122,8 @@ class _Reader:
                 self.model.name = el.get("name", "")
             self._element(el, None)
         self._resolve()
+        if self.skipped:
+            self.skipped.report(self.tool)
         return self.model
 
     def _new(
@@ -205,23 +196,10 @@ class _Reader:
             self.tag_names[el.get("xmi.id", "")] = el.get("name") or el.get("tagType", "")
         elif local == "TaggedValue" and el.get("modelElement"):
             self.loose_tags.append(el)
-        elif (
-            not local.startswith("XMI.")
-            and local not in UML14_METACLASSES
-            and "." not in local  # XMI 1.0's Foundation.Core.Class: R208 speaks for it
-        ):
-            name = local
-            close = difflib.get_close_matches(name, UML14_METACLASSES, n=1)
-            hint = f" (did you mean UML:{close[0]}?)" if close else ""
-            model.diagnostics.append(
-                diagnostic(
-                    "R201",
-                    f"unknown element UML:{name}{hint}; it is skipped",
-                    file=model.file,
-                    line=el.sourceline,
-                    xmi_id=el.get("xmi.id"),
-                )
-            )
+        elif local == "ClassifierRole" and self.ea and self._ea_package_twin(el):
+            pass  # read for its package's stereotypes
+        elif local != "Diagram":  # a diagram is a view of the model, not model content
+            self.skipped.add(local, el.sourceline, el.get("xmi.id"))
 
     def _ref(self, el: etree._Element, *names: str) -> str | None:
         """The id a UML 1.x reference names: ``<UML:X.name><UML:Y xmi.idref=..>`` (UML 1.4) or an
@@ -257,9 +235,13 @@ class _Reader:
         if ident:
             self.stereotype_names[ident] = name
             self.ids.append((ident, el.sourceline or 0))
-        for target in (
-            el.get("extendedElement") or ""
-        ).split():  # UML 1.3: the stereotype lists them
+        # UML 1.3: the stereotype lists them, as an attribute or (XMI 1.0) as references
+        targets = (el.get("extendedElement") or "").split()
+        for holder in el.iterchildren(f"{self.U}Stereotype.extendedElement"):
+            targets += [
+                c.get("xmi.idref") for c in holder if isinstance(c.tag, str) and c.get("xmi.idref")
+            ]
+        for target in targets:
             self.stereotype_refs.append((ident or name, target, el.sourceline or 0))
 
     def _features(self, el: etree._Element, cls: Classifier) -> None:
@@ -282,6 +264,10 @@ class _Reader:
                             self._type(p, param, f"{U}Parameter.type")
                             op.parameters.append(param)
                     cls.operations.append(op)
+                elif (
+                    isinstance(f.tag, str) and f.tag.startswith(U) and not f.tag.startswith("XMI.")
+                ):
+                    self.skipped.add(f.tag[len(U) :], f.sourceline, f.get("xmi.id"))
 
     def _type(self, el: etree._Element, obj, wrapper: str) -> None:
         if el.get("type"):
@@ -313,7 +299,11 @@ class _Reader:
             prop.association = assoc.id
             prop.aggregation = end.get("aggregation", "none")
             prop.navigable = end.get("isNavigable") != "false"
-            prop.type_ref = end.get("type") or _idref(end.find(f"{U}AssociationEnd.participant"))
+            prop.type_ref = (
+                end.get("type")
+                or _idref(end.find(f"{U}AssociationEnd.participant"))  # UML 1.4
+                or _idref(end.find(f"{U}AssociationEnd.type"))  # UML 1.3 in XMI 1.0
+            )
             if prop.type_ref:
                 self.typed.append(prop)
             assoc.member_ends.append(prop.id)
@@ -368,7 +358,41 @@ class _Reader:
         elif not ea.own_tag(tag):
             obj.tagged_values[tag] = value
 
+    def _ea_package_twin(self, el: etree._Element) -> bool:
+        """Enterprise Architect writes each package a second time, as a ``UML:ClassifierRole`` of
+        the parent package's ``Collaborations`` (the package as an element of a diagram), with
+        tagged values ``ea_stype="Package"``, ``package2`` (the package's own id, ``EAID_<guid>``
+        where the ``UML:Package`` is ``EAPK_<guid>``) and, there rather than on the package, the
+        ``$ea_xref_property`` whose ``FQName`` names the profile of the package's stereotypes.
+        Whether ``el`` is such a twin; if so, its stereotypes are the package's."""
+        values = {
+            tv.get("tag"): tv.get("value", "")
+            for holder in el.iterchildren(f"{self.U}ModelElement.taggedValue")
+            for tv in holder.iterchildren(f"{self.U}TaggedValue")
+        }
+        if values.get("ea_stype") != "Package":
+            return False
+        xref = values.get(ea.XREF_TAG)
+        if xref:
+            for ident in (values.get("package2"), el.get("xmi.id")):
+                if ident:
+                    self.ea_twins.append((ident, xref, el.sourceline or 0))
+        return True
+
+    def _ea_twin_stereotypes(self) -> None:
+        elements = self.model.elements
+        for ident, xref, line in self.ea_twins:
+            package = elements.get(ident) or elements.get(ident.replace("EAID_", "EAPK_", 1))
+            if package is None or package.kind not in ("Package", "Model"):
+                continue
+            for profile, name in ea.stereotypes(xref):
+                if profile:
+                    self._apply(name, package, line, profile)
+                    self.model.applications.pop((package.id, name), None)
+                    self.profiled.add((package.id, name))
+
     def _resolve_stereotypes(self) -> None:
+        self._ea_twin_stereotypes()
         elements = self.model.elements
         for ident, target, line in self.stereotype_refs:
             obj = target if isinstance(target, Element) else elements.get(target)

@@ -19,13 +19,8 @@ from lxml import etree
 
 from acordcs.diagnostics import diagnostic
 from acordcs.xmi.readers import unread
-from acordcs.xmi.readers.common import (
-    UML_METACLASSES,
-    check_ids,
-    dangling,
-    primitive_from_href,
-    unknown_type_message,
-)
+from acordcs.xmi.readers.common import check_ids, dangling, primitive_from_href
+from acordcs.xmi.readers.skipped import Skipped, metamodel_of
 from acordcs.xmi.readers.stereotypes import StereotypeApplications, local_name
 from acordcs.xmi.source import XmlInput
 from acordcs.xmi.uml import (
@@ -51,15 +46,27 @@ _UML_NS = re.compile(
     r"|^http://www\.eclipse\.org/uml2/\d+(\.\d+)*/UML$"
 )
 _XMI_NS = re.compile(r"^https?://(schema\.omg\.org|www\.omg\.org)/(spec/)?XMI")
-_MEMBER_TAGS = frozenset(
-    [
-        "packagedElement",
-        "ownedMember",
-        "ownedElement",
-        "ownedStereotype",
-        "nestedClassifier",
-        "ownedType",
-    ]
+# Containment of packageable elements: a package's members, and what a classifier owns in UML 2.5
+# (nested classifiers, use cases, behaviours; a node's nodes, an artifact's artifacts), each with
+# the metaclass an element without xmi:type has there (Eclipse UML2 writes the type only when it
+# differs from the feature's; an abstract one, never read, says the type is missing).
+_MEMBER_KINDS = {
+    "packagedElement": "Package",
+    "ownedMember": "Package",
+    "ownedElement": "Package",
+    "ownedStereotype": "Stereotype",
+    "nestedClassifier": "Classifier",
+    "ownedType": "Type",
+    "ownedUseCase": "UseCase",
+    "ownedBehavior": "Behavior",
+    "nestedNode": "Node",
+    "nestedArtifact": "Artifact",
+}
+_MEMBER_TAGS = frozenset(_MEMBER_KINDS)
+# Children that are no model content of their own: references and machinery, read where needed
+# (a profile application's profile is named by its applications' namespace) or not at all.
+_NOT_CONTENT = frozenset(
+    ["profileApplication", "packageImport", "elementImport", "packageMerge", "eAnnotations"]
 )
 _PACKAGE_KINDS = frozenset(("Package", "Model", "Profile"))
 # What the children of a property or an operation are, by local tag name.
@@ -84,14 +91,16 @@ def accepts(root: etree._Element) -> bool:
     return uml is not None
 
 
-def read(xml: XmlInput) -> UmlModel:
-    """The UML view of ``xml``."""
-    return _Reader(xml).read()
+def read(xml: XmlInput, tool: str | None = None) -> UmlModel:
+    """The UML view of ``xml``; ``tool``, the known tool that wrote it (see
+    :mod:`acordcs.xmi.readers.exporters`), decides how a type no UML version defines is reported."""
+    return _Reader(xml, tool).read()
 
 
 class _Reader:
-    def __init__(self, xml: XmlInput) -> None:
+    def __init__(self, xml: XmlInput, tool: str | None = None) -> None:
         self.xml = xml
+        self.tool = tool
         root = xml.root
         uml, xmi = _namespaces(root)
         self.uml_ns = uml
@@ -103,8 +112,10 @@ class _Reader:
         dialect = "eclipse-uml2" if "eclipse.org" in uml else "bouml-xmi2"
         self.model = UmlModel(file=xml.path, dialect=dialect)
         self.stereotypes = StereotypeApplications(self.model, self.XID)
+        self.skipped = Skipped(self.model, "uml:")
         self._handlers = {
             "ownedAttribute": self._on_attribute,
+            "ownedPort": self._on_attribute,  # Enterprise Architect: ports apart from attributes
             "ownedEnd": self._on_end,
             "memberEnd": self._on_member_end,
             "ownedOperation": self._on_operation,
@@ -113,7 +124,7 @@ class _Reader:
             "ownedComment": self._comment,
             self.EXTENSION: self.stereotypes.extension,
             "profileApplication": self._profile_application,
-            **dict.fromkeys(_MEMBER_TAGS, self._packageable),
+            **{tag: self._member(kind) for tag, kind in _MEMBER_KINDS.items()},
         }
         self._property_children = {
             "type": _TYPE,
@@ -167,6 +178,8 @@ class _Reader:
             model.name = top.get("name", "")
         ids = self.xml.ids(self.xmi_ns)
         self._resolve(ids, set(ids))
+        if self.skipped:
+            self.skipped.report(self.tool if self.tool != "acordcs" else None)
         return model
 
     # ------------------------------------------------------------------ structure
@@ -199,8 +212,16 @@ class _Reader:
         self.elements.setdefault(ident, obj)
         return obj
 
-    def _packageable(self, el: etree._Element, owner: Element | None) -> None:
-        kind = self._kind(el, "Package")
+    def _member(self, default: str):
+        """The handler of a containment tag whose untyped elements are ``default``s."""
+        if default == "Package":
+            return self._packageable
+        return lambda el, owner: self._packageable(el, owner, default)
+
+    def _packageable(
+        self, el: etree._Element, owner: Element | None, default: str = "Package"
+    ) -> None:
+        kind = self._kind(el, default)
         model = self.model
         if kind in _PACKAGE_KINDS:
             pkg = self._base(el, kind, owner, Package)
@@ -227,18 +248,13 @@ class _Reader:
             for ident in dep.clients + dep.suppliers:
                 self.refs.append((ident, f"{kind} {dep.name!r}".strip(), dep.line, dep))
             self._extensions_only(el, dep)
-        elif kind in UML_METACLASSES:
-            self._base(el, kind, owner)  # kept for its id: behaviours, instances, extensions, ...
+        elif metamodel_of(kind) is not None:
+            self._base(el, kind, owner)  # kept for its id: instances, events, extensions, ...
+            # A profile's extensions are read from its stereotypes' applications (base_Class)
+            if kind != "Extension" or owner is None or owner.kind != "Profile":
+                self.skipped.add(kind, el.sourceline, el.get(self.XID))
         else:
-            model.diagnostics.append(
-                diagnostic(
-                    "R201",
-                    unknown_type_message(kind),
-                    file=model.file,
-                    line=el.sourceline,
-                    xmi_id=el.get(self.XID),
-                )
-            )
+            self.skipped.add(kind, el.sourceline, el.get(self.XID))
 
     def _profile_application(self, el: etree._Element, owner: Element) -> None:
         """Not model content; the profile it references is noted (the checks look for its file)."""
@@ -251,7 +267,7 @@ class _Reader:
         handlers = self._handlers
         for child in el:
             handler = handlers.get(child.tag) or _by_local_name(handlers, child.tag)
-            if handler is not None:  # others (imports, profile applications, ...) are not read
+            if handler is not None:
                 handler(child, owner)
             elif (
                 isinstance(child.tag, str)  # not an XML comment or processing instruction
@@ -259,9 +275,23 @@ class _Reader:
                 and not child.tag.startswith(self._own_prefixes)
             ):
                 self._inner_application(child)
+            elif isinstance(child.tag, str):
+                self._unread_child(child)
         member_ends = el.get("memberEnd")
         if member_ends and isinstance(owner, Association | Classifier):
             owner.member_ends.extend(member_ends.split())
+
+    def _unread_child(self, el: etree._Element) -> None:
+        """A child the walk does not read: noted (R211) when it is a model element (it has a type
+        or an id), not when it is a reference or machinery (imports, profile applications)."""
+        xtype = el.get(self.XTYPE)
+        if xtype is None and el.get(self.XID) is None:
+            return
+        local = local_name(el.tag)
+        if local in _NOT_CONTENT:
+            return
+        kind = xtype.rpartition(":")[2] if xtype else f"<{local}>"
+        self.skipped.add(kind, el.sourceline, el.get(self.XID))
 
     def _inner_application(self, el: etree._Element) -> None:
         """An element of a profile's namespace inside the model: Enterprise Architect writes its

@@ -1,0 +1,135 @@
+"""What a reader does not read, said once per type: a UML metaclass it does not need (info R211), or a
+type that is not UML at all (error R201).
+
+A reader reads packages, classifiers with their attributes, operations and literals, associations,
+generalizations, dependencies, comments and stereotype applications. Real exports hold more:
+BOUML 1.13 writes the events of its sequence diagrams (``uml:ExecutionEvent``, a UML 2.0 to 2.3
+metaclass), ArgoUML the actions of its collaborations (``UML:CreateAction``), Enterprise Architect and
+Poseidon their diagrams in the UML namespace (``UML:DiagramElement``, OMG Diagram Interchange).
+Those are legitimate UML that the toolchain has no use for: each metaclass is named once, with a
+count and the first place, never as an error. Whether a name is a UML metaclass is decided by the
+list in ``uml_metaclasses.txt`` (UML 1.3, 1.4, 2.0 to 2.5 and Diagram Interchange 1.0, with its
+sources). A name no UML version defines is a typo or another tool's extension: R201, with the
+closest metaclass, unless a known tool wrote the file (then it is that tool's own element type,
+also R211, with the closest metaclass for the reader to judge).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from functools import cache
+from importlib import resources
+
+from acordcs.diagnostics import diagnostic
+from acordcs.xmi.uml import UmlModel
+
+METACLASS_FILE = "uml_metaclasses.txt"
+
+
+@cache
+def uml_metaclasses() -> dict[str, str]:
+    """Every UML metaclass name -> the first metamodel that defines it (``UML 2.5``, ``UML 1.4``,
+    ...), from the package's ``uml_metaclasses.txt``."""
+    text = resources.files(__package__).joinpath(METACLASS_FILE).read_text(encoding="utf-8")
+    names: dict[str, str] = {}
+    section = ""
+    for raw in text.splitlines():
+        line = raw.strip()
+        if not line or line.startswith("#"):
+            continue
+        if line.startswith("["):
+            section = line.strip("[]")
+            continue
+        names.setdefault(line, section)
+    return names
+
+
+def metamodel_of(name: str) -> str | None:
+    """The metamodel that defines metaclass ``name``, or None when no UML version does."""
+    return uml_metaclasses().get(name)
+
+
+def closest_metaclass(name: str) -> str | None:
+    """The metaclass ``name`` looks like a misspelling of (``Clas``: ``Class``), or None. The bar
+    is high: at difflib's default, Visual Paradigm's ``activitySwimlane2`` would be taken for a
+    misspelt ``SubactivityState``."""
+    import difflib  # only for a name that is not UML: it costs start-up time
+
+    close = difflib.get_close_matches(name, list(uml_metaclasses()), n=1, cutoff=0.8)
+    return close[0] if close else None
+
+
+@dataclass
+class _Seen:
+    count: int = 0
+    line: int = 0
+    ident: str | None = None
+    places: list[tuple[int, str | None]] = field(default_factory=list)  # for R201, one each
+
+
+class Skipped:
+    """The elements one reading skipped, by type; :meth:`report` adds the diagnostics.
+
+    ``prefix`` is how the file's dialect writes a metaclass (``uml:`` in XMI 2, ``UML:`` in XMI 1).
+    A type written without ``xmi:type`` is recorded by its tag, ``<region>``."""
+
+    def __init__(self, model: UmlModel, prefix: str) -> None:
+        self.model = model
+        self.prefix = prefix
+        # R201's words as each dialect has always said them
+        xmi1 = prefix == "UML:"
+        self._unknown = "unknown element" if xmi1 else "unknown xmi:type"
+        self._skipped = "it is skipped" if xmi1 else "the element is skipped"
+        self._seen: dict[str, _Seen] = {}
+
+    def __bool__(self) -> bool:
+        return bool(self._seen)
+
+    def add(self, kind: str, line: int | None, ident: str | None) -> None:
+        seen = self._seen.get(kind)
+        if seen is None:
+            seen = self._seen[kind] = _Seen(line=line or 0, ident=ident)
+        seen.count += 1
+        if kind[0] != "<" and metamodel_of(kind) is None:
+            seen.places.append((line or 0, ident))
+
+    def report(self, tool: str | None) -> None:
+        """One R211 per UML metaclass, and per type of a known ``tool``'s own (a name no UML
+        version defines and no metaclass resembles); one R201 per element of a type that looks
+        like a misspelt metaclass, or that no known tool wrote."""
+        model = self.model
+        for kind, seen in self._seen.items():
+            written = kind if kind[0] == "<" else f"{self.prefix}{kind}"
+            metamodel = None if kind[0] == "<" else metamodel_of(kind)
+            close = closest_metaclass(kind) if kind[0] != "<" and metamodel is None else None
+            if kind[0] != "<" and metamodel is None and (tool is None or close is not None):
+                hint = f" (did you mean {self.prefix}{close}?)" if close else ""
+                for line, ident in seen.places:
+                    model.diagnostics.append(
+                        diagnostic(
+                            "R201",
+                            f"{self._unknown} {written}{hint}; {self._skipped}",
+                            file=model.file,
+                            line=line,
+                            xmi_id=ident,
+                        )
+                    )
+                continue
+            if kind[0] == "<":
+                why = "written without xmi:type"
+            elif metamodel is not None:
+                why = f"a {metamodel} metaclass this reader does not read"
+            else:
+                why = "no UML version defines it (the exporting tool's own type)"
+            first = ", the first at this line" if seen.count > 1 else ""
+            plural = "s" if seen.count > 1 else ""
+            model.diagnostics.append(
+                diagnostic(
+                    "R211",
+                    f"{seen.count} {written} element{plural} skipped{first}: {why}; what "
+                    f"{'they hold' if plural else 'it holds'} is not checked",
+                    file=model.file,
+                    line=seen.line,
+                    xmi_id=seen.ident,
+                )
+            )
