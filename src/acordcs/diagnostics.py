@@ -178,6 +178,7 @@ CODES: dict[str, tuple[Severity, str]] = {
         E,
         "a model name cannot be written into a generated file (not an identifier, or a name the generated code already has)",
     ),
+    "G704": (W, "your code implements an operation or port the model renamed or removed"),
     # Z: the toolchain itself
     "Z901": (E, "internal error in a check (a bug in acordcs: please report it)"),
 }

@@ -83,3 +83,14 @@ def test_a_monitor_reads_its_containers_clock():
     c.clock.run_until(1.5)
     assert lonely.clock is c.clock and lonely.clock.now() == 1.5
     c.close()
+
+
+def test_a_fault_logs_a_traceback_only_for_a_bug_in_hosted_code(caplog):
+    c = Container("greenhouse", clock=VirtualClock())
+    with caplog.at_level("ERROR", logger="acordcs"):
+        c.faults.record("component", "vent.open", ZeroDivisionError("bad arithmetic"), 1.0)
+        c.faults.record("component", "vent.close", ConfigurationError("says what to do"), 2.0)
+    bug, ours = caplog.records[-2:]
+    assert bug.exc_info is not None  # where the user's code broke
+    assert ours.exc_info is None and "says what to do" in ours.getMessage()
+    c.close()

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import os
 import sys
+from collections.abc import Collection
 
 import click
 
@@ -32,6 +33,12 @@ from acordcs.diagnostics import printable
 )
 @click.option(
     "--check", is_flag=True, help="Write nothing; exit 1 if the output is not up to date."
+)
+@click.option(
+    "--strict",
+    is_flag=True,
+    help="Exit 1 also when your classes have drifted from the model (G704: a method of an "
+    "operation or port the model renamed or removed), whatever else happens.",
 )
 @click.option(
     "--dry-run", is_flag=True, help="Write nothing; list what would be written or deleted."
@@ -63,6 +70,7 @@ def build(
     output: str,
     target_names: tuple[str, ...],
     check: bool,
+    strict: bool,
     dry_run: bool,
     diff: bool,
     force: bool,
@@ -80,13 +88,18 @@ def build(
     written once for the user to edit (python's components/*.py and monitors/*.py, java's user subclasses) are never overwritten or deleted,
     nor are the lines between BEGIN USER and END USER markers (shell's bin/env.sh).
 
-    Exit 0 when built (or up to date), 1 when the model has errors, a target fails, or --check finds
-    the output out of date, 2 on usage errors and unreadable or unwritable files.
+    Before writing, your classes (python's components/*.py) are compared with the model: a method
+    of an operation or port the model renamed (the new name given) or removed is a warning (G704).
+
+    Exit 0 when built (or up to date), 1 when the model has errors, a target fails, --check finds
+    the output out of date, or --strict finds your classes drifted from the model, 2 on usage
+    errors and unreadable or unwritable files.
 
     \b
     Examples:
       acordcs-gen build samples/weblab/weblab.xmi -o build/weblab
       acordcs-gen build model.xmi -o gen --target rules --check
+      acordcs-gen build model.xmi -o gen --check --strict
     """
     from acordcs.codegen import BuildError
     from acordcs.codegen import build as run_build
@@ -101,6 +114,7 @@ def build(
             write=write,
             force=force,
             check=check,
+            drift=strict,
             progress=progress.step if progress else None,
         )
     except BuildError as err:
@@ -120,11 +134,12 @@ def build(
         click.echo(warning.format_text())
     # paths as given: a newline in one must not start a forged line of output
     out = printable(click.format_filename(output))
+    drifted = 1 if strict and result.drift else 0
     if result.up_to_date:
         click.echo(
             f"{out}: up to date ({', '.join(result.targets)}; model unchanged, nothing written)"
         )
-        raise click.exceptions.Exit(0)
+        raise click.exceptions.Exit(drifted)
     plan = result.plan
     assert plan is not None
     if diff:
@@ -133,7 +148,7 @@ def build(
         verbs = _WOULD if dry_run else _DONE
         for change in plan.changes:
             click.echo(f"{verbs[change.action]} {os.path.join(out, printable(change.path))}")
-    report_notes(plan, out, write)
+    report_notes(plan, out, write, {d.path for d in result.drift})
     writes, deletes = len(plan.writes), len(plan.deletes)
     if write:
         if plan.changes:
@@ -141,7 +156,7 @@ def build(
         else:
             summary = f"nothing changed ({len(plan.unchanged)} files up to date)"
         click.echo(f"{out}: {summary} (targets: {', '.join(result.targets)})")
-        raise click.exceptions.Exit(0)
+        raise click.exceptions.Exit(drifted)
     if plan.changes:
         click.echo(
             f"{out}: not up to date: {writes} file{'s' if writes != 1 else ''} to write, "
@@ -150,7 +165,7 @@ def build(
         )
     else:
         click.echo(f"{out}: up to date ({len(plan.unchanged)} files)")
-    raise click.exceptions.Exit(1 if check and plan.changes else 0)
+    raise click.exceptions.Exit(1 if check and plan.changes else drifted)
 
 
 _WOULD = {"create": "would write", "update": "would write", "delete": "would delete"}
@@ -193,9 +208,10 @@ class _Bar:
         self.bar.__exit__(None, None, None)
 
 
-def report_notes(plan, out: str, write: bool) -> None:
+def report_notes(plan, out: str, write: bool, explained: Collection[str] = ()) -> None:
     """What a build did (``write``) or would do to the user's files in ``out``: edited generated
-    files saved aside, stale edited ones left, orphaned user code, regions moved to ``.lost``."""
+    files saved aside, stale edited ones left, orphaned user code (except the files of
+    ``explained``, which a drift warning names), regions moved to ``.lost``."""
     for path, saved in plan.edited.items():
         regions = bool(plan.manifest.files[path].outside)
         what = (
@@ -218,7 +234,10 @@ def report_notes(plan, out: str, write: bool) -> None:
             "left in place (delete it yourself if it is not needed)",
             err=True,
         )
+    # ``explained``: a renamed component's code, which G704 says what to do with
     for orphan in plan.orphaned:
+        if orphan in explained:
+            continue
         click.echo(
             f"acordcs-gen: {os.path.join(out, printable(orphan))} is your code for "
             f"{printable(plan.manifest.files[orphan].element or 'an element')}, no longer in the model: "

@@ -52,7 +52,9 @@ def export(model: str, output: str, fmt: str) -> None:
     linguistic variables, operations with their parameters, each with the UML element's id and
     line. A file whose bytes would not change is left as it is.
 
-    The model is checked first, as validate checks it: an error stops the export, nothing written.
+    The model is checked first, as validate checks it: an error stops the export, nothing written,
+    except the errors about generating code (G codes: a name a generated file or class cannot
+    take), which concern the build, not an instance of the metamodel.
 
     Exit 0 when written (or up to date), 1 when the model has errors, 2 when MODEL cannot be read
     or the files cannot be written.
@@ -65,7 +67,7 @@ def export(model: str, output: str, fmt: str) -> None:
     if reading.unreadable:
         click.echo(as_text([reading]), nl=False)
         raise click.exceptions.Exit(2)
-    errors = [d for d in reading.diagnostics if d.severity >= Severity.ERROR]
+    errors = [d for d in reading.diagnostics if d.severity >= Severity.ERROR and d.code[:1] != "G"]
     if reading.diagnostics:
         click.echo(as_text([reading]), nl=False)
     if errors:

@@ -87,7 +87,7 @@ def update(model: str, output: str, dry_run: bool, reset: bool, timeout: float) 
         if result.plan is not None:
             from acordcs.cli.build import report_notes
 
-            report_notes(result.plan, out, write=False)
+            report_notes(result.plan, out, False, {d.path for d in result.drift})
         click.echo("dry run: nothing changed")
         raise click.exceptions.Exit(0)
     _write(result, app)
@@ -139,7 +139,7 @@ def _write(result: BuildResult, app: Path) -> None:
     plan = result.plan
     out = printable(click.format_filename(str(app)))
     if plan is not None:
-        report_notes(plan, out, write=True)
+        report_notes(plan, out, True, {d.path for d in result.drift})
     if plan is not None and result.written:
         click.echo(
             f"{out}: built: {len(plan.writes)} written, {len(plan.deletes)} deleted, "

@@ -23,6 +23,7 @@ from collections.abc import Callable, Iterable
 from dataclasses import dataclass, field
 from functools import cache
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from acordcs.codegen.context import GeneratedFile, TargetContext
 from acordcs.codegen.errors import BuildError
@@ -31,6 +32,9 @@ from acordcs.codegen.paths import MANIFEST, case_collisions, path_problem
 from acordcs.codegen.registry import NAME_PATTERN, Target, targets
 from acordcs.codegen.writer import Plan, apply, plan
 from acordcs.diagnostics import Diagnostic, Severity, diagnostic
+
+if TYPE_CHECKING:
+    from acordcs.descriptor import Application
 
 Progress = Callable[[str], None]
 
@@ -48,6 +52,7 @@ class BuildResult:
     warnings: list[Diagnostic] = field(default_factory=list)
     messages: list[str] = field(default_factory=list)
     notes: list[str] = field(default_factory=list)
+    drift: list = field(default_factory=list)  # acordcs.codegen.drift.Drift: the user's code
 
     @property
     def changed(self) -> bool:
@@ -145,14 +150,17 @@ def build(
     write: bool = True,
     force: bool = False,
     check: bool = False,
+    drift: bool = False,
     progress: Progress | None = None,
 ) -> BuildResult:
     """Build ``target_names`` (default: all) of ``model`` into ``output``. With ``write`` False
     nothing is written: the result's plan says what would change (``--dry-run``, ``--diff``).
     ``check`` (``--check``) writes nothing either and trusts the manifest only to say which files
     are generated: the targets always run (as with ``force``) and their bytes are compared with
-    the files on disk; a manifest that cannot be read is an error. Raises :class:`BuildError`
-    (nothing written) when the build cannot be done."""
+    the files on disk; a manifest that cannot be read is an error. ``drift`` (``--strict``):
+    compare the user's classes with the model even when nothing else is to be done (a build
+    that reads the model always does). Raises :class:`BuildError` (nothing written) when the
+    build cannot be done."""
     source = os.fspath(model)
     out = Path(output)
     chosen = select(target_names)
@@ -160,7 +168,10 @@ def build(
     if check:
         write, force = False, True
     try:
-        return _build(source, out, chosen, result, write, force, check, progress)
+        found = _build(source, out, chosen, result, write, force, check, progress)
+        if drift and found.up_to_date and any(t.name == "python" for t in chosen):
+            _find_drift(out, None, found)
+        return found
     except BuildError as err:
         err.notes = result.notes + result.messages
         raise
@@ -247,6 +258,8 @@ def _build(
             err.message, file=err.file or source, line=err.line, hint=err.hint
         ) from None
     located = reading.uml.elements
+    if any(t.name == "python" for t in chosen):
+        _find_drift(out, app, result)
 
     def locate(element_id: str) -> int:
         return getattr(located.get(element_id), "line", 0) or 0
@@ -282,6 +295,28 @@ def write_out(result: BuildResult) -> None:
     if result.plan is not None and (result.plan.changes or result.plan.manifest_changed):
         apply(result.output, result.plan)
         result.written = True
+
+
+def _find_drift(out: Path, app: Application | None, result: BuildResult) -> None:
+    """The user's classes against the model (:mod:`acordcs.codegen.drift`), before anything is
+    written: the package's descriptor on disk is still the previous build's. ``app`` None: the
+    output is up to date, the descriptor on disk is the model's."""
+    from acordcs.codegen.drift import as_diagnostics, find_drift, previous_application
+    from acordcs.codegen.manifest import read_manifest
+    from acordcs.codegen.targets.python import package_name
+
+    if app is None:
+        manifest = read_manifest(out)
+        names = {rel.split("/", 1)[0] for rel in (manifest.files if manifest else ()) if "/" in rel}
+        package = next((n for n in sorted(names) if n.endswith("_app")), None)
+        current = previous_application(out, package) if package else None
+        if current is None:
+            return
+        result.drift = find_drift(out, package, None, current)
+    else:
+        package = package_name(app.name)
+        result.drift = find_drift(out, package, previous_application(out, package), app)
+    result.warnings += as_diagnostics(result.drift, out)
 
 
 def _intact(out: Path, old: Manifest, fingerprints: dict[str, str], model_sha: str) -> bool:

@@ -11,6 +11,8 @@ import logging
 from collections import Counter, deque
 from dataclasses import dataclass, field
 
+from acordcs.errors import AcordError
+
 # The kinds of events a container emits.
 COMPONENT_CREATED = "component.created"
 COMPONENT_DESTROYED = "component.destroyed"
@@ -117,8 +119,10 @@ class FaultLog:
             self.log.debug(msg + " (repeat %d)", *args, self.counts[kind])
         else:
             self._seen.add(key)
-            exc_info = exc if isinstance(exc, BaseException) else None
-            self.log.error(msg, *args, exc_info=exc_info)
+            # The traceback of a bug in hosted code (its first time), not of one of acordcs's own
+            # errors: those say what and where, and what to do, in their message.
+            bug = isinstance(exc, BaseException) and not isinstance(exc, AcordError)
+            self.log.error(msg, *args, exc_info=exc if bug else None)
         return fault
 
     def of_kind(self, kind: str) -> list[Fault]:

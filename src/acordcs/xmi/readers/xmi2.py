@@ -269,7 +269,11 @@ class _Reader:
             handler = handlers.get(child.tag) or _by_local_name(handlers, child.tag)
             if handler is not None:
                 handler(child, owner)
-            elif child.tag[0:1] == "{" and not child.tag.startswith(self._own_prefixes):
+            elif (
+                isinstance(child.tag, str)  # not an XML comment or processing instruction
+                and child.tag[0:1] == "{"
+                and not child.tag.startswith(self._own_prefixes)
+            ):
                 self._inner_application(child)
             elif isinstance(child.tag, str):
                 self._unread_child(child)
