@@ -421,7 +421,8 @@ def test_a_host_holding_region_markers_builds_and_keeps_the_users_lines(tmp_path
     )
     again = build(model, out, "-t", "shell", "--force")
     assert again.code == 0, again.both
-    assert "# BEGIN USER application\nMINE=1\n# END USER application\n" in env.read_text()
+    kept = env.read_text()
+    assert "# BEGIN USER application\nMINE=1\n# The interpreter the scripts run" in kept
     host = subprocess.run(
         ["sh", "-c", '. "$bin/env.sh" && printf %s "$ACORDCS_UserSide_HOST"'],
         env={**os.environ, "bin": str(out / "bin"), "ACORDCS_RUN_DIR": str(tmp_path / "run")},

@@ -1,8 +1,9 @@
 """Generation gap in the ``python`` target: the user's component and monitor classes (``components/*.py``, ``monitors/*.py``)
 are written once and never overwritten; the manifest records them as the user's. When their
 component leaves the model (renamed here), the file stays with every line the user wrote, is
-reported as orphaned by the build, and is no longer imported by the registry; the generated
-files are rewritten as usual."""
+reported by the build (renamed, its id the same: G704 says which new file to move the code into;
+then as orphaned), and is no longer imported by the registry; the generated files are rewritten
+as usual."""
 
 from __future__ import annotations
 
@@ -60,12 +61,13 @@ def test_user_files_survive_edits_rebuilds_and_renames(tmp_path: Path):
     assert f"wrote {out}/weblab_app/base/Eye.py" in result.out
     assert f"wrote {out}/weblab_app/components/Eye.py" in result.out
     assert f"deleted {out}/weblab_app/base/Vision.py" in result.out
-    assert f"{out}/weblab_app/components/Vision.py" not in result.out  # neither written nor deleted
+    for verb in ("wrote", "deleted"):  # neither written nor deleted
+        assert f"{verb} {out}/weblab_app/components/Vision.py" not in result.out
+    # the same id, renamed: G704 says where the code is and what to move
     assert (
-        f"acordcs-gen: {out}/weblab_app/components/Vision.py is your code for "
-        "WebLab::ContextAwareNavigation::Components::Vision, no longer in the model: kept, "
-        "no longer used by the generated code"
-    ) in result.err
+        f"{out}/weblab_app/components/Vision.py:1:1: warning: G704 weblab_app/components/"
+        "Vision.py is your code for component Vision, which the model now names Eye"
+    ) in result.out
     after = {p: d for p, (d, _) in snapshot(components).items()}
     assert {p: after[p] for p in edited} == edited  # every line the user wrote, kept
     for line in USER_CODE.splitlines():
@@ -81,13 +83,17 @@ def test_user_files_survive_edits_rebuilds_and_renames(tmp_path: Path):
     manifest = json.loads((out / ".acordcs-manifest.json").read_text(encoding="utf-8"))
     assert manifest["files"]["weblab_app/components/Vision.py"]["user"] is True
     result = build(renamed, out, "--force")
-    assert "components/Vision.py is your code for" in result.err
+    assert (
+        f"acordcs-gen: {out}/weblab_app/components/Vision.py is your code for "
+        "WebLab::ContextAwareNavigation::Components::Vision, no longer in the model: kept, "
+        "no longer used by the generated code"
+    ) in result.err
     result = build(WEBLAB, out)
     assert result.code == 0, result.both
     assert "components/Vision.py is your code for" not in result.err
     assert {p: d for p, (d, _) in snapshot(components).items()}["Vision.py"] == edited["Vision.py"]
-    assert (components / "Eye.py").is_file()  # now the orphan
-    assert "components/Eye.py is your code for" in result.err
+    assert (components / "Eye.py").is_file()  # now the orphan, of a component renamed back
+    assert "G704 weblab_app/components/Eye.py is your code for component Eye" in result.out
 
 
 def test_a_deleted_user_file_is_written_again(tmp_path: Path):

@@ -52,7 +52,8 @@ def test_a_user_file_whose_user_flag_was_removed_is_not_deleted(tmp_path: Path):
     result = build(weblab_variant(tmp_path, RENAMED), out)
     assert result.code == 0, result.both
     assert (out / USER_FILE).read_bytes() == mine
-    assert f"{out}/{USER_FILE} is your code for" in result.err
+    # a renamed component: G704 says where its code is and what to move (the code stays)
+    assert f"{out}/{USER_FILE}:1:1: warning: G704 {USER_FILE} is your code for" in result.out
     assert _manifest(out)["files"][USER_FILE]["user"] is True  # recorded as the user's again
 
 

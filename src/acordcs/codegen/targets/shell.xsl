@@ -173,17 +173,20 @@
     <xsl:variable name="containers" select="$app/d:containers/d:container"/>
     <xsl:value-of select="sh:header('application ''' || $app/@name || '''', (
         'Sourced by the scripts of this directory. Your lines go between BEGIN USER and END USER: kept by every build.',
-        'Interpreter: ' || $python || ', the one that ran the build (PYTHON overrides it).'))"/>
+        'The scripts run the interpreter named in the application region below: the one that ran the first build (PYTHON overrides it).'))"/>
     <xsl:text><![CDATA[# A variable already set in the environment wins over the defaults below
 # (ACORDCS_PORT_BASE=48000 bin/start-all); set one in a region to change its default.
 # shellcheck disable=SC2034,SC2154  # used by the scripts sourcing it, which set $bin
 
 # BEGIN USER application
-# END USER application
-
+# The interpreter the scripts run unless PYTHON is set: the one that ran the first build, kept
+# here as your line (a build by another interpreter, or on another machine, leaves it as it is).
 [ -n "${PYTHON-}" ] || PYTHON=]]></xsl:text>
     <xsl:value-of select="sh:quote($python)"/>
     <xsl:text><![CDATA[
+# END USER application
+
+[ -n "${PYTHON-}" ] || PYTHON=python3
 # The directory holding the package ]]></xsl:text>
     <xsl:value-of select="$package"/>
     <xsl:text><![CDATA[/ (this file's parent directory).
