@@ -119,8 +119,9 @@ def test_a_real_clock_runs_the_operation_in_a_worker_while_it_serves(tmp_path: P
     assert done.returncode == 0, done.stdout + done.stderr
     lines = done.stdout.splitlines()
     assert lines[0].startswith("UserSide: serving at PYRO:acordcs.container.UserSide@127.0.0.1:")
-    assert lines[1].startswith("UserSide: --run Navigator.run() returned 'done' at t=2.")
-    assert lines[2].startswith("UserSide: stopped at t=3.")
+    assert lines[1].startswith("UserSide: runs descriptor sha256 ")  # what acordcs-gen update reads
+    assert lines[2].startswith("UserSide: --run Navigator.run() returned 'done' at t=2.")
+    assert lines[3].startswith("UserSide: stopped at t=3.")
 
 
 def test_the_start_script_passes_the_environment_variable_as_run_options(tmp_path: Path) -> None:

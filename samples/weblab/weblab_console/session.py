@@ -7,7 +7,8 @@ process on a :class:`~acordcs.runtime.clock.VirtualClock`. A pacing timer on tha
 it runs), serves the requests of viewers (everything that touches the application runs on the
 experiment's thread) and publishes, at most :data:`PUBLISH_HZ` times per wall second: the robot's
 state, the monitored context, each policy set's last firing, the series of the speed limit and
-the frame rate, and events (recoveries, user requests, stripe losses, faults, the finish); the
+the frame rate, and events (recoveries, user requests, stripe losses, faults, the finish, and the
+changes of the model applied while it runs: ``model.updated``); the
 Navigator's last on-board frame with the detected stripe drawn, and a panoramic picture for each
 frame the panoramic camera sends (so at the rate the bandwidth policy sets).
 
@@ -170,6 +171,12 @@ class ConsoleSession:
         return run.rig.clock.now() if run is not None and run.rig is not None else 0.0
 
     @property
+    def application(self) -> Any:
+        """The running experiment's application (a ``RunningApplication``), or None."""
+        run = self._current()
+        return run.rig.app if run is not None and run.rig is not None and not run.ended else None
+
+    @property
     def running(self) -> bool:
         run = self._current()
         return run is not None and not run.ended
@@ -251,6 +258,8 @@ class _Run:
                 for name in experiment.POLICY_SETS:
                     r.weblab.policy_set(name).trace_rules = True
                 r.weblab.subscribe(ev.POLICY_FIRED, self._fired, name="console")
+                for box in (r.user, r.weblab):  # a change of the model applied while it runs
+                    box.subscribe(ev.MODEL_UPDATED, self._updated, name="console")
                 r.clock.call_every(PACE, self._pace, start=0.0)
                 r.clock.call_every(SERIES_PERIOD, self._sample, start=0.0)
                 self.anchor()
@@ -345,6 +354,9 @@ class _Run:
 
     def _fired(self, event: ev.Event) -> None:
         self.firings.add(event.element)  # shown at the next publish, as its last firing then
+
+    def _updated(self, event: ev.Event) -> None:
+        self._event(ev.MODEL_UPDATED, str(event.value))
 
     def _sample(self) -> None:
         weblab = self.rig.weblab

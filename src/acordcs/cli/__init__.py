@@ -15,7 +15,7 @@ from typing import NoReturn
 import click
 
 from acordcs import __version__
-from acordcs.cli import build, export, inspect, profile, validate
+from acordcs.cli import build, export, inspect, profile, update, validate
 
 
 @click.group(context_settings={"help_option_names": ["-h", "--help"]})
@@ -31,6 +31,7 @@ cli.add_command(inspect.inspect)
 cli.add_command(build.build)
 cli.add_command(profile.profile)
 cli.add_command(export.export)
+cli.add_command(update.update)
 
 
 def main(argv: list[str] | None = None) -> int:

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import os
 import sys
+from collections.abc import Collection
 
 import click
 
@@ -119,14 +120,14 @@ def build(
     except BuildError as err:
         if progress:
             progress.close()
-        _warn_plugins()
+        warn_plugins()
         for note in err.notes:
             click.echo(f"acordcs-gen: {note}", err=True)
-        _report_failure(err)
+        report_failure(err)
         raise click.exceptions.Exit(err.exit_code) from None
     if progress:
         progress.close()
-    _warn_plugins()
+    warn_plugins()
     for note in result.notes + result.messages:
         click.echo(f"acordcs-gen: {note}", err=True)
     for warning in result.warnings:
@@ -147,47 +148,7 @@ def build(
         verbs = _WOULD if dry_run else _DONE
         for change in plan.changes:
             click.echo(f"{verbs[change.action]} {os.path.join(out, printable(change.path))}")
-    for path, saved in plan.edited.items():
-        regions = bool(plan.manifest.files[path].outside)
-        what = (
-            "lines outside its BEGIN USER/END USER regions were edited" if regions else "was edited"
-        )
-        click.echo(
-            f"acordcs-gen: {os.path.join(out, printable(path))}: {what} since the build that "
-            f"wrote it: your version {'is' if write else 'would be'} saved as "
-            f"{os.path.join(out, printable(saved))}, and the file regenerated "
-            + (
-                "(only the lines between a region's markers are yours in this file)"
-                if regions
-                else "(a generated file is the model's: change the model, or your own code)"
-            ),
-            err=True,
-        )
-    for kept in plan.kept:
-        click.echo(
-            f"acordcs-gen: {os.path.join(out, printable(kept))} is no longer generated but was edited since: "
-            "left in place (delete it yourself if it is not needed)",
-            err=True,
-        )
-    explained = {d.path for d in result.drift}  # a renamed component's code: G704 says what to do
-    for orphan in plan.orphaned:
-        if orphan in explained:
-            continue
-        click.echo(
-            f"acordcs-gen: {os.path.join(out, printable(orphan))} is your code for "
-            f"{printable(plan.manifest.files[orphan].element or 'an element')}, no longer in the model: "
-            "kept, no longer used by the generated code (delete it yourself if it is not needed)",
-            err=True,
-        )
-    for path, keys in plan.lost.items():
-        click.echo(
-            f"acordcs-gen: {os.path.join(out, printable(path))}: your lines in region"
-            f"{'s' if len(keys) > 1 else ''} {printable(', '.join(keys))}, whose model element"
-            f"{'s are' if len(keys) > 1 else ' is'} no longer in the model, "
-            f"{'moved' if write else 'would be moved'} to "
-            f"{os.path.join(out, printable(path))}.lost",
-            err=True,
-        )
+    report_notes(plan, out, write, {d.path for d in result.drift})
     writes, deletes = len(plan.writes), len(plan.deletes)
     if write:
         if plan.changes:
@@ -216,7 +177,7 @@ def _list(ctx: click.Context) -> None:
 
     for name, made in registry.targets().items():
         click.echo(f"{name:12s} {made.kind:6s} {made.description} ({made.origin})")
-    _warn_plugins()
+    warn_plugins()
     ctx.exit(0)
 
 
@@ -247,7 +208,55 @@ class _Bar:
         self.bar.__exit__(None, None, None)
 
 
-def _warn_plugins() -> None:
+def report_notes(plan, out: str, write: bool, explained: Collection[str] = ()) -> None:
+    """What a build did (``write``) or would do to the user's files in ``out``: edited generated
+    files saved aside, stale edited ones left, orphaned user code (except the files of
+    ``explained``, which a drift warning names), regions moved to ``.lost``."""
+    for path, saved in plan.edited.items():
+        regions = bool(plan.manifest.files[path].outside)
+        what = (
+            "lines outside its BEGIN USER/END USER regions were edited" if regions else "was edited"
+        )
+        click.echo(
+            f"acordcs-gen: {os.path.join(out, printable(path))}: {what} since the build that "
+            f"wrote it: your version {'is' if write else 'would be'} saved as "
+            f"{os.path.join(out, printable(saved))}, and the file regenerated "
+            + (
+                "(only the lines between a region's markers are yours in this file)"
+                if regions
+                else "(a generated file is the model's: change the model, or your own code)"
+            ),
+            err=True,
+        )
+    for kept in plan.kept:
+        click.echo(
+            f"acordcs-gen: {os.path.join(out, printable(kept))} is no longer generated but was edited since: "
+            "left in place (delete it yourself if it is not needed)",
+            err=True,
+        )
+    # ``explained``: a renamed component's code, which G704 says what to do with
+    for orphan in plan.orphaned:
+        if orphan in explained:
+            continue
+        click.echo(
+            f"acordcs-gen: {os.path.join(out, printable(orphan))} is your code for "
+            f"{printable(plan.manifest.files[orphan].element or 'an element')}, no longer in the model: "
+            "kept, no longer used by the generated code (delete it yourself if it is not needed)",
+            err=True,
+        )
+    for path, keys in plan.lost.items():
+        click.echo(
+            f"acordcs-gen: {os.path.join(out, printable(path))}: your lines in region"
+            f"{'s' if len(keys) > 1 else ''} {printable(', '.join(keys))}, whose model element"
+            f"{'s are' if len(keys) > 1 else ' is'} no longer in the model, "
+            f"{'moved' if write else 'would be moved'} to "
+            f"{os.path.join(out, printable(path))}.lost",
+            err=True,
+        )
+
+
+def warn_plugins() -> None:
+    """The problems met loading other packages' targets, once."""
     from acordcs.codegen.registry import PROBLEMS
 
     for problem in PROBLEMS:
@@ -255,7 +264,9 @@ def _warn_plugins() -> None:
     PROBLEMS.clear()
 
 
-def _report_failure(err) -> None:
+def report_failure(err, command: str = "build") -> None:
+    """A build that failed: its diagnostics, their count, and what failed (``command`` names
+    the command that ran the build)."""
     for d in err.diagnostics:
         click.echo(d.format_text())
     if err.diagnostics:
@@ -276,7 +287,7 @@ def _report_failure(err) -> None:
     if err.hint:
         text += f" ({err.hint})"
     lines = text.splitlines() or [text]
-    click.echo(f"acordcs-gen build: {printable(lines[0])}", err=True)
+    click.echo(f"acordcs-gen {command}: {printable(lines[0])}", err=True)
     for line in lines[1:]:
         click.echo(f"  {printable(line)}", err=True)
 

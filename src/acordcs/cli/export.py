@@ -67,9 +67,7 @@ def export(model: str, output: str, fmt: str) -> None:
     if reading.unreadable:
         click.echo(as_text([reading]), nl=False)
         raise click.exceptions.Exit(2)
-    errors = [
-        d for d in reading.diagnostics if d.severity >= Severity.ERROR and d.code[:1] != "G"
-    ]
+    errors = [d for d in reading.diagnostics if d.severity >= Severity.ERROR and d.code[:1] != "G"]
     if reading.diagnostics:
         click.echo(as_text([reading]), nl=False)
     if errors:

@@ -285,10 +285,16 @@ def _build(
     result.plan = plan(out, files, old, new, selected)
     if write:
         step("writing")
-        if result.plan.changes or result.plan.manifest_changed:
-            apply(out, result.plan)
-            result.written = True
+        write_out(result)
     return result
+
+
+def write_out(result: BuildResult) -> None:
+    """Write what a build made without writing (``write=False``) into its output directory, as
+    ``build`` does last: what a caller that looks before writing (``acordcs-gen update``) calls."""
+    if result.plan is not None and (result.plan.changes or result.plan.manifest_changed):
+        apply(result.output, result.plan)
+        result.written = True
 
 
 def _find_drift(out: Path, app: Application | None, result: BuildResult) -> None:

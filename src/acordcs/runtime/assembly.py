@@ -49,6 +49,8 @@ from acordcs.runtime.ports import Port
 
 if TYPE_CHECKING:
     from acordcs.descriptor.model import Application, Connection
+    from acordcs.descriptor.model import Component as ComponentDescription
+    from acordcs.descriptor.model import Monitor as MonitorDescription
     from acordcs.descriptor.model import PolicySet as PolicySetDescription
     from acordcs.runtime.context.core import ProviderCore
 
@@ -187,7 +189,7 @@ def assemble(
         context = ContextProvider(inline=isinstance(clock, VirtualClock))
     provider = context
     try:
-        running = _Assembler(
+        running = Assembler(
             descriptor,
             factories=dict(factories or {}),
             monitors=dict(monitors or {}),
@@ -207,7 +209,11 @@ def assemble(
     return running
 
 
-class _Assembler:
+class Assembler:
+    """Builds the elements of ``app`` into containers: :func:`assemble` builds them all into new
+    containers; a live update (:mod:`acordcs.runtime.update`) builds the elements a change adds
+    into the running ones (``containers``, by name)."""
+
     def __init__(
         self,
         app: Application,
@@ -220,6 +226,7 @@ class _Assembler:
         remote_timeout: float,
         context: ProviderCore,
         token: str | None = None,
+        containers: dict[str, Container] | None = None,
     ) -> None:
         self.app = app
         self.token = token
@@ -243,13 +250,19 @@ class _Assembler:
         for c in app.containers:
             for ref in c.hosts:
                 self.placed[ref.name] = c.name
-            if wanted is None or c.name in wanted:
+            if containers is not None:
+                if c.name in containers and (wanted is None or c.name in wanted):
+                    self.containers[c.name] = containers[c.name]
+            elif wanted is None or c.name in wanted:
                 props = {p.name: p.default for p in c.properties}
                 self.containers[c.name] = Container(
                     c.name, clock=clock, properties=props, context=context
                 )
         if not app.containers:
-            self.containers[app.name] = Container(app.name, clock=clock, context=context)
+            if containers is not None:
+                self.containers.update(containers)
+            else:
+                self.containers[app.name] = Container(app.name, clock=clock, context=context)
         self.default = app.containers[0].name if app.containers else app.name
         self.relay: RemoteConnector | None = None  # sends readings to other processes
 
@@ -264,43 +277,14 @@ class _Assembler:
     def run(self) -> RunningApplication:
         for comp in self.app.components:
             target = self.home(comp.name)
-            if target is None:
-                continue
-            given = self.factories.get(comp.name) or generic_component(comp)
-            factory = (
-                given if isinstance(given, ComponentFactory) else ComponentFactory(comp.name, given)
-            )
-            target.install_factory(factory)
-            instance = target.create(factory.type_name, comp.name).instance
-            for port in comp.ports:
-                # The model's port properties are the port's (rule variables), besides those the
-                # class sets (rate, capacity, overflow: its own values win). A port the class lacks
-                # fails where it is connected, with the port's name.
-                found = instance.port_map.get(port.name)
-                for p in port.properties if found is not None else ():
-                    found.properties.setdefault(p.name, p.default)
-            check = OutParameters(comp.name, comp.operations)
-            if check.lengths:
-                target.add_interceptor(check, component=comp.name)
+            if target is not None:
+                factory = self.factory(comp)
+                target.install_factory(factory)
+                self.component(comp, target, factory.type_name)
         for mon in self.app.monitors:
             target = self.home(mon.name)
-            if target is None:
-                continue
-            maker = self.monitors.get(mon.name, MONITOR_KINDS[mon.acquisition])
-            how: dict[str, str] = {}  # what its kind needs besides what every monitor has
-            if mon.acquisition == "subscribe":
-                how["xpath"] = mon.xpath or ""
-            elif mon.acquisition == "poll":
-                how["operation"] = mon.operation or ""
-            target.add_monitor(
-                maker(
-                    mon.name,
-                    frequency=mon.frequency,
-                    sources=[s.name for s in mon.sources],
-                    attributes={p.name: p.default for p in mon.properties},
-                    **how,
-                )
-            )
+            if target is not None:
+                target.add_monitor(self.monitor(mon))
         for conn in self.app.connections:
             self.connect(conn)
         feeds = self.feeds()
@@ -313,14 +297,63 @@ class _Assembler:
             self.app, self.clock, self.containers, feeds=feeds, release=release, token=self.token
         )
 
+    def factory(self, comp: ComponentDescription) -> ComponentFactory:
+        """The factory of component ``comp``: its class given, else one made from the model."""
+        given = self.factories.get(comp.name) or generic_component(comp)
+        if isinstance(given, ComponentFactory):
+            return given
+        return ComponentFactory(comp.name, given)
+
+    def component(
+        self, comp: ComponentDescription, target: Container, type_name: str
+    ) -> CtxComponent:
+        """Create component ``comp`` in ``target`` from its factory there (of ``type_name``)."""
+        instance = target.create(type_name, comp.name).instance
+        self.port_properties(comp, instance)
+        check = OutParameters(comp.name, comp.operations)
+        if check.lengths:
+            target.add_interceptor(check, component=comp.name)
+        return instance
+
+    @staticmethod
+    def port_properties(comp: ComponentDescription, instance: CtxComponent) -> None:
+        """The model's port properties are the port's (rule variables), besides those the class
+        sets (rate, capacity, overflow: its own values win). A port the class lacks fails where
+        it is connected, with the port's name."""
+        for port in comp.ports:
+            found = instance.port_map.get(port.name)
+            for p in port.properties if found is not None else ():
+                found.properties.setdefault(p.name, p.default)
+
+    def monitor(self, mon: MonitorDescription) -> Monitor:
+        """The monitor ``mon``, made by its maker (its class given, else its acquisition kind's)."""
+        maker = self.monitors.get(mon.name, MONITOR_KINDS[mon.acquisition])
+        how: dict[str, str] = {}  # what its kind needs besides what every monitor has
+        if mon.acquisition == "subscribe":
+            how["xpath"] = mon.xpath or ""
+        elif mon.acquisition == "poll":
+            how["operation"] = mon.operation or ""
+        return maker(
+            mon.name,
+            frequency=mon.frequency,
+            sources=[s.name for s in mon.sources],
+            attributes={p.name: p.default for p in mon.properties},
+            **how,
+        )
+
+    def host_of(self, conn: Connection) -> str | None:
+        """The container built here that declares ``conn`` (the first of its ends built here)."""
+        ends = (self.where(e.component) for e in (conn.required, conn.provided))
+        return next((where for where in ends if where in self.containers), None)
+
     def connect(self, conn: Connection) -> None:
         ends = [
             (self.where(e.component), e.component, e.port) for e in (conn.required, conn.provided)
         ]
-        local = [e for e in ends if e[0] in self.containers]
-        if not local:
+        where = self.host_of(conn)
+        if where is None:
             return
-        host = self.containers[local[0][0]]
+        host = self.containers[where]
         caller = ends[0]
         if caller[0] not in self.containers and caller[0] not in self.remote:
             provided = host.port_of(conn.provided.component, conn.provided.port)
@@ -369,21 +402,24 @@ class _Assembler:
     def feeds(self) -> tuple[Feed, ...]:
         """Deliver the readings of monitors to the policy sets they feed in other containers
         (see :class:`Feed`); the feeds that involve a container built here."""
+        return tuple(f for mon in self.app.monitors for f in self.feeds_of(mon))
+
+    def feeds_of(self, mon: MonitorDescription) -> list[Feed]:
+        """Deliver the readings of ``mon`` to the policy sets it feeds (see :meth:`feeds`)."""
         out: list[Feed] = []
-        done: set[tuple[str, str]] = set()  # (monitor, target container) already wired
-        for mon in self.app.monitors:
-            source = self.where(mon.name)
-            for fed in mon.feeds:
-                target = self.where(fed.name)
-                delivery = self.delivery(source, target)
-                if delivery is None:
-                    continue
-                out.append(Feed(mon.name, source, fed.name, target, delivery))
-                if delivery == "local" or (mon.name, target) in done:
-                    continue
-                done.add((mon.name, target))
-                self.wire(mon.name, {p.name: p.default for p in mon.properties}, out[-1])
-        return tuple(out)
+        done: set[str] = set()  # target containers already wired
+        source = self.where(mon.name)
+        for fed in mon.feeds:
+            target = self.where(fed.name)
+            delivery = self.delivery(source, target)
+            if delivery is None:
+                continue
+            out.append(Feed(mon.name, source, fed.name, target, delivery))
+            if delivery == "local" or target in done:
+                continue
+            done.add(target)
+            self.wire(mon.name, {p.name: p.default for p in mon.properties}, out[-1])
+        return out
 
     def delivery(self, source: str, target: str) -> str | None:
         here = self.containers
@@ -397,11 +433,21 @@ class _Assembler:
 
     def wire(self, monitor: str, attributes: dict[str, object], feed: Feed) -> None:
         """A replica of ``monitor`` in the policy set's container, and the relay of readings to it."""
-        source, target = feed.source, feed.target
-        replica: Monitor | None = None
-        if feed.delivery in ("in-process", "replica"):
-            replica = Monitor(monitor, attributes=attributes)
-            self.containers[target].add_monitor(replica)
+        self.relay_to(feed, self.replica(monitor, attributes, feed))
+
+    def replica(self, monitor: str, attributes: dict[str, object], feed: Feed) -> Monitor | None:
+        """The replica of ``monitor`` that ``feed`` needs in its policy set's container (None
+        when that container is not built here)."""
+        if feed.delivery not in ("in-process", "replica"):
+            return None
+        replica = Monitor(monitor, attributes=attributes)
+        self.containers[feed.target].add_monitor(replica)
+        return replica
+
+    def relay_to(self, feed: Feed, replica: Monitor | None) -> None:
+        """Send the readings of ``feed``'s monitor to the replica in its policy set's container:
+        ``replica`` when built here, else over Pyro5 (see :class:`Feed`)."""
+        source, target, monitor = feed.source, feed.target, feed.monitor
         if feed.delivery == "replica":
             log.info(
                 "policy set %r of container %r reads monitor %r of container %r (another process) "

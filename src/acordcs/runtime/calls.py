@@ -200,5 +200,13 @@ class OperationCalls:
             InterceptorEntry(interceptor, component, type_name, operation, port)
         )
 
+    def interceptors(self, component: str | None = None) -> list[Interceptor]:
+        """The interceptors installed (those filtered on ``component``, when given)."""
+        return [
+            e.interceptor
+            for e in self._interceptors
+            if component is None or e.component == component
+        ]
+
     def remove_interceptor(self, interceptor: Interceptor) -> None:
         self._interceptors = [e for e in self._interceptors if e.interceptor is not interceptor]

@@ -23,6 +23,9 @@ MONITOR_UPDATED = "monitor.updated"
 CONNECTION_CHANGED = "connection.changed"
 FACTORY_CHANGED = "factory.changed"
 POLICY_FIRED = "policy.fired"  # element: the policy set; its last_firing says what it did
+# A change of the model applied to the running container (acordcs-gen update): element, the
+# element changed; value, the plan line; data: the descriptor's digest before and after.
+MODEL_UPDATED = "model.updated"
 
 EVENT_KINDS = frozenset(
     {
@@ -35,6 +38,7 @@ EVENT_KINDS = frozenset(
         CONNECTION_CHANGED,
         FACTORY_CHANGED,
         POLICY_FIRED,
+        MODEL_UPDATED,
     }
 )
 

@@ -88,10 +88,14 @@ class Launcher:
     def descriptor(self) -> Application:
         """The package's descriptor, read and validated; raises DescriptorError (file, line,
         column) or OSError."""
+        return self._read()[1]
+
+    def _read(self) -> tuple[bytes, Application]:
         from acordcs.descriptor import from_xml
 
         path = self.descriptor_path()
-        return from_xml(path.read_bytes(), file=str(path))
+        data = path.read_bytes()
+        return data, from_xml(data, file=str(path))
 
     def registry(self) -> ModuleType:
         """``<package>.registry``: importing it imports the component and monitor classes."""
@@ -149,6 +153,9 @@ class Launcher:
             "warnings at start list them)")  # fmt: skip
         add("--faults-ok", action="store_true",
             help="exit 0, not 3, when faults were recorded (experiments that expect some)")  # fmt: skip
+        add("--updates-without-token", action="store_true",
+            help="served on a loopback host without ACORDCS_TOKEN: take updates (acordcs-gen "
+            "update) all the same; any local process could then change it")  # fmt: skip
         add("--exit-file", type=_exit_file, metavar="PATH",
             help="at exit, write 'EXIT_CODE FAULTS' (one line, mode 0600) to PATH, replacing it "
             "at once; an existing one is removed at start")  # fmt: skip
@@ -195,7 +202,7 @@ class Launcher:
         from acordcs.descriptor import DescriptorError
 
         try:
-            application = self.descriptor()
+            data, application = self._read()
         except DescriptorError as err:
             self._say(f"{err}")
             self._say(
@@ -231,7 +238,7 @@ class Launcher:
                 )
             return EXIT_NOT_STARTED, 0
         with app:
-            return self._started(app, args, found.host or "localhost")
+            return self._started(app, args, found.host or "localhost", data)
 
     def _import_problem(self) -> str | None:
         """None when the package's classes import; else what failed, where (the last line of
@@ -255,7 +262,7 @@ class Launcher:
         return None
 
     def _started(
-        self, app: RunningApplication, args: argparse.Namespace, host: str
+        self, app: RunningApplication, args: argparse.Namespace, host: str, data: bytes
     ) -> tuple[int, int]:
         container = app.container(self.container)
         unknown = _unknown_run(container, args.run)
@@ -283,6 +290,12 @@ class Launcher:
         try:  # from the line saying it serves on, an interrupt stops it as a run's end does
             if server is not None:
                 print(f"{self.container}: serving at {server.uri}", flush=True)
+                from acordcs.runtime.management import manage
+                from acordcs.runtime.reloading import PackageClasses
+
+                classes = PackageClasses(self.package)
+                manage(app, self.container, server, data, classes, dict(args.remote),
+                       without_token=args.updates_without_token, timeout=args.timeout)  # fmt: skip
             if isinstance(clock, VirtualClock):
                 for component, operation in args.run:  # in turn: simulated time is one thread's
                     if not runs.stop.is_set():

@@ -24,61 +24,32 @@ made by hand is resolved when it is attached, over its scope: the attributes of 
 
 from __future__ import annotations
 
-from collections import Counter
 from collections.abc import Callable, Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING, Any, Protocol
+from typing import TYPE_CHECKING, Any
 
 from acordcs.rules import split_rules
-from acordcs.rules.binding import ScopeElement
 from acordcs.runtime import events as ev
 from acordcs.runtime.errors import BindingError, ComponentNotFoundError, ConfigurationError
 from acordcs.runtime.plan import PolicyPlan, Terms, plan_by_hand
-from acordcs.runtime.registry import EngineSetup, Variable, lookup_engine
+from acordcs.runtime.policy_binding import (
+    Bound,
+    PolicyHost,
+    Target,
+    bind,
+    check_elements,
+    scope,
+    split,
+)
+from acordcs.runtime.registry import Variable, lookup_engine
 from acordcs.runtime.rule_engine import RuleEngine, RuleError
 from acordcs.vocabularies import TRIGGERS
 
 if TYPE_CHECKING:
-    from acordcs.runtime.clock import Clock, Timer
-    from acordcs.runtime.dispatch import Handler
-    from acordcs.runtime.events import Event, FaultLog
+    from acordcs.runtime.clock import Timer
+    from acordcs.runtime.events import Event
 
-Target = tuple[str, str]
-
-
-class PolicyHost(Protocol):
-    """What a policy set needs from its container: its elements, events, clock and calls."""
-
-    name: str
-    clock: Clock
-    faults: FaultLog
-    stats: Counter[str]
-    # The element events emitted now are attributed to (a policy set applying its actions).
-    origin: str | None
-
-    def elements(self) -> dict[str, dict[str, object]]: ...
-
-    def monitors(self) -> list[str]: ...
-
-    def operations_of(self, component: str) -> frozenset[str]: ...
-
-    def subscribe(
-        self,
-        kind: str,
-        handler: Handler,
-        *,
-        name: str,
-        element: str | None = None,
-        attribute: str | None = None,
-    ) -> None: ...
-
-    def unsubscribe(self, name: str) -> None: ...
-
-    def get_property(self, element: str, attribute: str) -> object: ...
-
-    def set_property(self, element: str, attribute: str, value: object) -> None: ...
-
-    def invoke(self, name: str, operation: str, args: tuple[Any, ...] = ()) -> Any: ...
+__all__ = ["Firing", "PolicyHost", "PolicySet"]
 
 
 @dataclass
@@ -100,6 +71,9 @@ class Firing:
         if self._rules is None:
             self._rules = self.explain() if self.explain is not None else {}
         return self._rules
+
+
+_Key = tuple[str, str, str | None]  # an event a set subscribes to: kind, element, attribute
 
 
 class PolicySet:
@@ -127,15 +101,7 @@ class PolicySet:
         bindings: Mapping[str, str] | None = None,
         plan: PolicyPlan | None = None,
     ) -> None:
-        if trigger not in TRIGGERS:
-            raise ConfigurationError(
-                f"policy set {name!r}: trigger must be {' or '.join(map(repr, TRIGGERS))}, "
-                f"not {trigger!r}"
-            )
-        if trigger == "periodic" and not (frequency and frequency > 0):
-            raise ConfigurationError(
-                f"policy set {name!r}: a periodic set needs a frequency > 0 Hz"
-            )
+        _check_trigger(name, trigger, frequency)
         self.name = name
         self.plan = plan
         if plan is not None:
@@ -171,6 +137,12 @@ class PolicySet:
         # policy, so off unless someone shows it, as the WebLab console does).
         self.trace_rules = False
         self._timer: Timer | None = None
+        # What a firing runs (replaced whole by replan) and what fires it: the events subscribed
+        # under _label (a replan that changes them subscribes under a new one, _pending, first).
+        self._bound: Bound | None = None
+        self._subscribed: frozenset[_Key] = frozenset()
+        self._label = self._pending = f"policy:{name}"
+        self._generation = 0
 
     @classmethod
     def from_plan(
@@ -193,130 +165,147 @@ class PolicySet:
     # ------------------------------------------------------------------------------ binding
     def attach(self, container: PolicyHost) -> None:
         """Bind to ``container``: resolve the rules (unless planned), build the engine, subscribe."""
-        constructor, syntax, loads_plan = lookup_engine(self.engine_kind)
-        where = f"container {container.name!r}"
-        plan = self.plan
+        bound = self._bind(container, self.plan)
+        self._install(bound)
+        self.container = container
+        self._subscribe(container, self._keys(container))
+
+    def replan(
+        self,
+        plan: PolicyPlan,
+        *,
+        trigger: str,
+        frequency: float | None,
+        adapts: Iterable[str] = (),
+        fed_by: Iterable[str] = (),
+    ) -> Callable[[], None]:
+        """Take ``plan`` (new rules, terms, variables, engine), ``trigger`` and ``frequency`` while
+        attached: the new engine is built first, then replaces the old one between two firings (a
+        firing under way ends with the old one; the next runs the new one). A crisp engine keeps
+        the values of the variables both plans have. Subscriptions change only when what fires
+        the set changes, and an event fires it once either way. Returns what undoes it (the old
+        engine back, as it was). Raises as :meth:`attach` does (nothing changed then)."""
+        container = self.container
+        if container is None:
+            raise BindingError(f"policy set {self.name!r} is not attached to a container")
+        _check_trigger(self.name, trigger, frequency)
+        saved = (self.plan, self.trigger, self.frequency, self.adapts, self.fed_by)
+        saved_bound = self._bound
+        assert saved_bound is not None
+        bound = self._bind(container, plan)
+        if plan.syntax == "crisp" and saved_bound.plan.syntax == "crisp":
+            for name in set(plan.variables) & set(saved_bound.plan.variables):
+                value = saved_bound.engine.get(name)
+                if value is not None:
+                    bound.engine.set(name, value)
+        self.plan, self.trigger, self.frequency = plan, trigger, frequency
+        self.adapts, self.fed_by = tuple(adapts), tuple(fed_by)
+        self._swap(container, saved_bound, bound, saved[1:3])
+
+        def undo() -> None:
+            current = self._bound
+            self.plan, self.trigger, self.frequency, self.adapts, self.fed_by = saved
+            if self.container is not None and current is not None:
+                self._swap(self.container, current, saved_bound, (trigger, frequency))
+
+        return undo
+
+    def _swap(
+        self,
+        container: PolicyHost,
+        old: Bound,
+        new: Bound,
+        was: tuple[str, float | None],
+    ) -> None:
+        """Put ``new`` in place of ``old``, resubscribing only if what fires the set changed."""
+        keys = self._keys(container, new)
+        if keys == self._subscribed and (self.trigger, self.frequency) == was:
+            self._install(new)
+            return
+        previous_label, previous_timer = self._label, self._timer
+        self._timer = None
+        self._subscribe(container, keys, fresh=True)  # guarded: they fire once the label is theirs
+        self._install(new)
+        self._label = self._pending
+        if previous_timer is not None:
+            previous_timer.cancel()
+        container.unsubscribe(previous_label)
+
+    def _install(self, bound: Bound) -> None:
+        # One assignment is what a firing reads: it runs wholly on the old binding or the new.
+        self._bound = bound
+        self.plan = bound.plan
+        self.engine_kind, self.semantics = bound.plan.engine, bound.plan.semantics
+        self.policies = {p: bound.plan.rules_of(p) for p in bound.plan.policies}
+        self.engine = bound.engine
+        self.inputs, self.outputs = bound.inputs, bound.outputs
+        self.reads, self.operations = bound.reads, bound.operations
+
+    def _bind(self, container: PolicyHost, plan: PolicyPlan | None) -> Bound:
+        """The engine and variable bindings of ``plan`` (resolved here when None) in ``container``."""
         if plan is None:
+            _constructor, syntax, _loads = lookup_engine(self.engine_kind)
             plan = plan_by_hand(
                 self.name,
                 self.policies,
                 engine=self.engine_kind,
                 syntax=syntax,
                 semantics=self.semantics,
-                scope=self._scope(container),
-                where=where,
+                scope=scope(self.name, container, (*self.adapts, *self.fed_by)),
+                where=f"container {container.name!r}",
                 variables={k: Terms(v.lo, v.hi, v.terms) for k, v in self.variables.items()},
                 bindings=self.bindings,
             )
         else:
-            self._check_elements(container, plan)
-        # Built-in engines name variables and operations Element.member; another engine sees the
-        # names as its rules write them (a variable written two ways is set under both).
-        if loads_plan:
-            spelled = {v: (v,) for v in (*plan.inputs, *plan.outputs)}
-            calls = {c: c for c in plan.operations}
-        else:
-            spelled = {}
-            for written, canonical in plan.names.items():
-                spelled.setdefault(canonical, ())
-                spelled[canonical] += (written,)
-            calls = dict(plan.calls)
-        self.inputs = {n: _split(v) for v in plan.inputs for n in spelled[v]}
-        self.outputs = {spelled[v][0]: _split(v) for v in plan.outputs}
-        self.reads = {n: _split(v) for v in plan.triggers for n in spelled[v]}
-        self.operations = {n: _split(c) for n, c in calls.items()}
-        setup = EngineSetup(
-            policy_set=self.name,
-            kind=self.engine_kind,
-            semantics=self.semantics,
-            variables={
-                n: Variable(var.terms.lo, var.terms.hi, var.terms.terms)
-                for name, var in plan.variables.items()
-                if var.terms is not None
-                for n in spelled.get(name, (name,))
-            },
-            inputs=tuple(self.inputs),
-            outputs=tuple(self.outputs),
-            operations=tuple(self.operations),
-            call=self._call,
-            plan=plan,
-        )
-        engine = constructor(setup)
-        if not loads_plan:
-            for rule in plan.rules:
-                engine.defrule(rule.text, rule.policy)
-        self.engine = engine
-        self.container = container
-        self._subscribe(container)
+            check_elements(self.name, container, plan)
+        return bind(self.name, container, plan, self._call)
 
-    def _check_elements(self, container: PolicyHost, plan: PolicyPlan) -> None:
-        """Every element a planned set reads or writes is the container's (or a replica there)."""
-        elements = container.elements()
-        for variable in (*plan.inputs, *plan.outputs):
-            element, attribute = _split(variable)
-            if element not in elements or attribute not in elements[element]:
-                raise BindingError(
-                    f"policy set {self.name!r} reads or writes {variable}, which is not an "
-                    "attribute of an element of the container",
-                    where=f"container {container.name!r}",
-                    hint="create the component / add the monitor before adding the policy set",
-                )
-
-    def _scope(self, container: PolicyHost) -> list[ScopeElement]:
-        elements = container.elements()
-        names = list(self.adapts) + list(self.fed_by)
-        chosen: dict[str, dict[str, object]] = {}
-        if not names:
-            chosen = elements
-        for name in names:
-            if name not in elements:
-                raise BindingError(
-                    f"policy set {self.name!r} refers to {name!r}, which is not an element of the container",
-                    where=f"container {container.name!r}",
-                    hint="create the component / add the monitor before adding the policy set",
-                )
-            chosen[name] = elements[name]
-            prefix = name + "."
-            chosen.update({k: v for k, v in elements.items() if k.startswith(prefix)})
-        return [
-            ScopeElement(
-                element,
-                props,
-                dict.fromkeys(container.operations_of(element)),
-                short=element.rpartition(".")[2] if "." in element else None,
-            )
-            for element, props in chosen.items()
-        ]
-
-    def _subscribe(self, container: PolicyHost) -> None:
-        label = f"policy:{self.name}"
+    def _keys(self, container: PolicyHost, bound: Bound | None = None) -> frozenset[_Key]:
+        """The events that fire the set (none for a periodic one)."""
         if self.trigger == "periodic":
-            self._timer = container.clock.call_every(
-                1.0 / float(self.frequency or 1.0), self._periodic
-            )
-            return
+            return frozenset()
+        reads = (bound or self._bound).reads  # type: ignore[union-attr]
         monitors = set(container.monitors())
-        keys: set[tuple[str, str, str | None]] = set()
-        for element, attribute in self.reads.values():
+        keys: set[_Key] = set()
+        for element, attribute in reads.values():
             if element in monitors:
                 keys.add((ev.MONITOR_UPDATED, element, None))
             else:
                 keys.add((ev.PROPERTY_CHANGED, element, attribute))
         for monitor in self.fed_by:
             keys.add((ev.MONITOR_UPDATED, monitor, None))
-        for kind, element, attribute in sorted(keys, key=str):
-            container.subscribe(
-                kind, self._on_event, name=label, element=element, attribute=attribute
+        return frozenset(keys)
+
+    def _subscribe(self, container: PolicyHost, keys: frozenset[_Key], fresh: bool = False) -> None:
+        """Subscribe to ``keys`` (or start the periodic timer) under a label of its own; with
+        ``fresh``, a new label that fires only once it is :attr:`_label` (see :meth:`_swap`)."""
+        self._generation += 1 if fresh else 0
+        label = f"policy:{self.name}" + (f"#{self._generation}" if self._generation else "")
+        self._pending = label
+        if not fresh:
+            self._label = label
+        self._subscribed = keys
+
+        def handler(event: Event) -> None:
+            if self._label == label:
+                self._on_event(event)
+
+        if self.trigger == "periodic":
+            self._timer = container.clock.call_every(
+                1.0 / float(self.frequency or 1.0), self._periodic
             )
+            return
+        for kind, element, attribute in sorted(keys, key=str):
+            container.subscribe(kind, handler, name=label, element=element, attribute=attribute)
         for kind in (ev.COMPONENT_CREATED, ev.COMPONENT_DESTROYED, ev.COMPONENT_REPLACED):
-            container.subscribe(kind, self._on_event, name=label)
+            container.subscribe(kind, handler, name=label)
 
     def detach(self) -> None:
         if self._timer is not None:
             self._timer.cancel()
             self._timer = None
         if self.container is not None:
-            self.container.unsubscribe(f"policy:{self.name}")
+            self.container.unsubscribe(self._label)
         self.container = None
 
     # ------------------------------------------------------------------------------- firing
@@ -330,11 +319,12 @@ class PolicySet:
 
     def fire(self, event: Event | None = None) -> bool:
         """Run the four calls once; True if the rules ran (False: skipped or faulted)."""
-        container, engine = self.container, self.engine
-        if container is None or engine is None:
+        container, bound = self.container, self._bound
+        if container is None or bound is None:
             return False
+        engine, outputs = bound.engine, bound.outputs
         try:
-            values = [(var, container.get_property(e, a)) for var, (e, a) in self.inputs.items()]
+            values = [(var, container.get_property(e, a)) for var, (e, a) in bound.inputs.items()]
         except (ComponentNotFoundError, BindingError):
             # An input's element is gone (destroyed): nothing sensible to evaluate.
             container.stats["policy_skipped"] += 1
@@ -345,8 +335,8 @@ class PolicySet:
         # the count rule raised): its write is the later one and must stand, so the write-back
         # below skips an output whose property changed during the firing.
         before = (
-            [container.get_property(e, a) for e, a in self.outputs.values()]
-            if self.operations
+            [container.get_property(e, a) for e, a in outputs.values()]
+            if bound.operations
             else None
         )
         previous, container.origin = container.origin, self.name
@@ -354,15 +344,15 @@ class PolicySet:
             for var, value in values:
                 engine.set(var, value)
             fired: dict[tuple[str, str], float] | None = None
-            for policy in self.policies:
+            for policy in bound.plan.policies:
                 engine.fire(policy)
-                if self.trace_rules and self.engine_kind != "fuzzy":
+                if self.trace_rules and bound.plan.engine != "fuzzy":
                     fired = fired if fired is not None else {}
                     fired.update(_explained(engine, policy))
             self.fires += 1
             container.stats["policy_fires"] += 1
             written: dict[str, object] = {}
-            for i, (var, (element, attribute)) in enumerate(self.outputs.items()):
+            for i, (var, (element, attribute)) in enumerate(outputs.items()):
                 value = engine.get(var)
                 if value is not None:
                     current = container.get_property(element, attribute)
@@ -406,12 +396,22 @@ class PolicySet:
             out.update(_explained(engine, policy, inputs))
         return out
 
-    def _call(self, target: str, args: tuple[Any, ...]) -> Any:
+    def _call(self, operations: dict[str, Target], target: str, args: tuple[Any, ...]) -> Any:
         container = self.container
         if container is None:
             raise BindingError(f"policy set {self.name!r} is not attached to a container")
-        component, operation = self.operations.get(target) or _split(target)
+        component, operation = operations.get(target) or split(target)
         return container.invoke(component, operation, tuple(args))
+
+
+def _check_trigger(name: str, trigger: str, frequency: float | None) -> None:
+    if trigger not in TRIGGERS:
+        raise ConfigurationError(
+            f"policy set {name!r}: trigger must be {' or '.join(map(repr, TRIGGERS))}, "
+            f"not {trigger!r}"
+        )
+    if trigger == "periodic" and not (frequency and frequency > 0):
+        raise ConfigurationError(f"policy set {name!r}: a periodic set needs a frequency > 0 Hz")
 
 
 def _explained(engine: RuleEngine, policy: str, *args: object) -> dict[tuple[str, str], float]:
@@ -420,13 +420,6 @@ def _explained(engine: RuleEngine, policy: str, *args: object) -> dict[tuple[str
     if explain is None:
         return {}
     return {(policy, label): degree for label, degree in explain(policy, *args).items()}
-
-
-def _split(name: str) -> Target:
-    """``Element.member`` as (element, member): the member is the part after the last dot (an
-    element may be ``Component.Port``)."""
-    element, _, member = name.rpartition(".")
-    return element, member
 
 
 def _coerce(value: object, current: object) -> object:

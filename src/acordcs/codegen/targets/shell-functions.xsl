@@ -269,14 +269,18 @@ acordcs_stop() {
     echo "$1: stopped (pid $pid)"
 }
 
-# acordcs_status NAME: whether container NAME runs; when not, how it ended, from NAME.exit (the
+# acordcs_status NAME: whether container NAME runs, with the digest of the descriptor it runs
+# (the last "NAME: [now ]runs descriptor sha256 DIGEST" line of its log: at start, and after each
+# acordcs-gen update); when not, how it ended, from NAME.exit (the
 # line EXIT_CODE FAULTS the container writes at exit, or killed, written by -stop). Exit (LSB):
 # 0 running; 3 not running (never started, or exit 0 and no fault); 1 not running after a failure
 # (another exit code, faults, killed, or gone without an exit file while its pid file remains);
 # 4 unknown (an exit file that does not read as one).
 acordcs_status() {
     if acordcs_pid "$1" keep; then
-        echo "$1: running (pid $pid)"
+        acordcs_digest=$(sed -n "s/^$1: \(now \)\{0,1\}runs descriptor sha256 \([0-9a-f]\{64\}\)\$/\2/p" \
+            "$ACORDCS_RUN_DIR/$1.log" 2>/dev/null | tail -n 1)
+        echo "$1: running (pid $pid${acordcs_digest:+, descriptor sha256 $acordcs_digest})"
         return 0
     fi
     acordcs_file=$ACORDCS_RUN_DIR/$1.exit

@@ -382,6 +382,7 @@ class ContainerServer:
     ) -> None:
         self.container = container
         token = resolve_token(token)
+        self.token_required = token is not None
         if token is None:
             if not is_loopback(host):
                 raise ConfigurationError(

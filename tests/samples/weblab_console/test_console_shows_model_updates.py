@@ -1,0 +1,51 @@
+"""The console shows the changes of the model applied to its running experiment (``model.updated``
+events of its containers, as ``acordcs-gen update`` applies them through a container's management
+interface): each plan line is an event of the page's timeline."""
+
+from __future__ import annotations
+
+import importlib
+import time
+
+from weblab_console.hub import ConsoleHub
+from weblab_console.session import ConsoleSession
+
+from acordcs.descriptor import to_xml
+from acordcs.model.describe import describe
+from acordcs.model.reading import read_model
+from acordcs.runtime.management import Management
+from acordcs.runtime.update import GivenClasses
+from tests.samples.weblab.conftest import APP_DIR
+from tests.support import weblab_models as models
+
+SLOW = "smallNarrow: if cycleRate is small and angle is narrow then Locomotion.maxSpeed is slow"
+
+
+def test_an_update_is_an_event_of_the_timeline(weblab_app, tmp_path):
+    hub = ConsoleHub()
+    session = ConsoleSession(hub, "token", speed=5.0)
+    _, box = hub.join(lambda: None)
+    try:
+        session.start("residential", 0)
+        app = session.application
+        registry = importlib.import_module("weblab_app.registry")
+        data = (APP_DIR / "weblab_app" / "descriptor.xml").read_bytes()
+        managed = Management(app, "WebLabSide", data,
+                             classes=GivenClasses(registry.FACTORIES, registry.MONITORS))  # fmt: skip
+        path = models.write_weblab(
+            tmp_path / "weblab.xmi", models.rule(SLOW, SLOW.replace("slow", "fast"))
+        )
+        new = to_xml(describe(read_model(str(path)).architecture))
+        reply = managed.apply(new.decode(), managed.digest)
+        assert reply["status"] == "applied", reply
+        line = "~ policy set SpeedLimiting: rule smallNarrow: ... is slow -> ... is fast"
+        deadline = time.monotonic() + 10
+        seen: list[dict] = []
+        while not any(e.get("kind") == "model.updated" for e in seen):
+            assert time.monotonic() < deadline, seen[-5:]
+            seen += hub.take(box)[1]
+            time.sleep(0.05)
+        (event,) = [e for e in seen if e.get("kind") == "model.updated"]
+        assert event["text"] == line and event["t"] > 0
+    finally:
+        session.close()
