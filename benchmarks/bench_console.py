@@ -53,6 +53,19 @@ class TimedHub(ConsoleHub):
         super().publish(channel, payload)
 
 
+def frames(raw: bytes) -> list[tuple[int, bytes]]:
+    """The (camera, JPEG) frames of a binary message: one, or several after a 0 byte, each with
+    its length (weblab_console.server)."""
+    if raw[0] != 0:
+        return [(raw[0], raw[1:])]
+    out, at = [], 1
+    while at + 5 <= len(raw):
+        length = int.from_bytes(raw[at + 1 : at + 5], "big")
+        out.append((raw[at], raw[at + 5 : at + 5 + length]))
+        at += 5 + length
+    return out
+
+
 def watch(url: str, seconds: float, hub: TimedHub) -> dict[str, object]:
     """One page for ``seconds``: latencies of camera frames, panoramic frames and fps seen."""
     latencies: list[float] = []
@@ -71,11 +84,13 @@ def watch(url: str, seconds: float, hub: TimedHub) -> dict[str, object]:
                     break
                 now = time.perf_counter()
                 if isinstance(raw, bytes):
-                    sent = hub.published_at.get(hashlib.blake2b(raw[1:], digest_size=12).digest())
-                    if sent is not None:
-                        latencies.append(now - sent)
-                    if raw[0] == 2:
-                        panoramic.append(now)
+                    for camera, jpeg in frames(raw):
+                        digest = hashlib.blake2b(jpeg, digest_size=12).digest()
+                        sent = hub.published_at.get(digest)
+                        if sent is not None:
+                            latencies.append(now - sent)
+                        if camera == 2:
+                            panoramic.append(now)
                 else:
                     decoded = json.loads(raw)
                     for message in decoded if isinstance(decoded, list) else [decoded]:

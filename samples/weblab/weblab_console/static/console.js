@@ -1,5 +1,6 @@
 // The WebLab console's page: one WebSocket, camera frames as binary messages (first byte: 1 on-board,
-// 2 panoramic), everything else as JSON {type, data}. Commands go back as JSON (see commands.py).
+// 2 panoramic; 0: several frames, each a camera byte, a 4-byte big-endian length and the JPEG),
+// everything else as JSON {type, data}. Commands go back as JSON (see commands.py).
 // The session's token comes in the link's fragment (#token=..., never sent to a server): the page
 // keeps it in this tab's sessionStorage (this origin only), takes it out of the address bar and
 // history, and presents it when it opens the WebSocket (subprotocol weblab.token.<token>).
@@ -53,7 +54,7 @@ function connect() {
     if (event.code !== 1013 && event.code !== 1008) setTimeout(connect, 2000);
   };
   socket.onmessage = (event) => {
-    if (event.data instanceof ArrayBuffer) return showFrame(new Uint8Array(event.data));
+    if (event.data instanceof ArrayBuffer) return showFrames(new Uint8Array(event.data));
     let message;
     try { message = JSON.parse(event.data); } catch { return; }
     if (Array.isArray(message)) message.forEach(handle);  // several pending at once, in order
@@ -61,11 +62,20 @@ function connect() {
   };
 }
 
-function showFrame(bytes) {
-  const camera = bytes[0];
+function showFrames(bytes) {
+  if (bytes[0] !== 0) return showFrame(bytes[0], bytes.subarray(1));
+  const view = new DataView(bytes.buffer, bytes.byteOffset, bytes.byteLength);
+  for (let at = 1; at + 5 <= bytes.length;) {
+    const length = view.getUint32(at + 1);
+    showFrame(bytes[at], bytes.subarray(at + 5, at + 5 + length));
+    at += 5 + length;
+  }
+}
+
+function showFrame(camera, jpeg) {
   const img = camera === 1 ? $("onboard") : camera === 2 ? $("panoramic") : null;
   if (!img) return;
-  const url = URL.createObjectURL(new Blob([bytes.subarray(1)], { type: "image/jpeg" }));
+  const url = URL.createObjectURL(new Blob([jpeg], { type: "image/jpeg" }));
   if (imageUrls[camera]) URL.revokeObjectURL(imageUrls[camera]);
   imageUrls[camera] = url;
   img.src = url;
