@@ -71,9 +71,11 @@ TOKEN_PROTOCOL = "weblab.token."
 
 
 class Session(Protocol):
-    """What the console drives: the running experiment."""
+    """What the console drives: the experiment it runs (``mode`` ``simulation``), or the
+    application it is attached to (``attached``)."""
 
     profiles: tuple[str, ...]
+    mode: str
 
     def authorize(self, token: str) -> bool: ...
 
@@ -113,7 +115,9 @@ def create_app(
         return FileResponse(str(STATIC / "index.html"), media_type="text/html")
 
     async def status(request) -> JSONResponse:
-        return JSONResponse({"profiles": list(session.profiles), **hub.stats()})
+        return JSONResponse(
+            {"profiles": list(session.profiles), "mode": session.mode, **hub.stats()}
+        )
 
     encode = _Encoded()  # shared by the viewers' senders, all on the server's event loop
     waker = _Waker()
@@ -151,7 +155,8 @@ def create_app(
             return
         viewer_id, box = joined
         pending.set()  # the current state first
-        await websocket.send_text(json.dumps({"type": "hello", "profiles": list(session.profiles)}))
+        hello = {"type": "hello", "profiles": list(session.profiles), "mode": session.mode}
+        await websocket.send_text(json.dumps(hello))
         if token:
             await websocket.send_text(json.dumps(_token_reply(viewer)))
         sender = asyncio.create_task(_send(websocket, hub, box, pending, encode))

@@ -59,6 +59,7 @@ class SessionError(RuntimeError):
 class ConsoleSession:
     """Runs experiments for the console; ``token`` is the one the console's URL carries."""
 
+    mode = "simulation"
     profiles: tuple[str, ...] = tuple(PROFILES)
 
     def __init__(

@@ -25,6 +25,7 @@ class Session:
     access service, and fails on demand."""
 
     profiles = PROFILES
+    mode = "simulation"
 
     def __init__(self) -> None:
         self.calls: list[tuple] = []
