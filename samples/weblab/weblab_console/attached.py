@@ -146,7 +146,10 @@ class AttachedSession:
 
     # ---------------------------------------------------------------- server.Session
     def authorize(self, token: str) -> bool:
+        """What the Access component says of ``token`` for the console's user, reserved again
+        first: a WebLab process started again since the console attached has forgotten it."""
         try:
+            self.app.call("Access", "AccessPort", "reserve", CONSOLE_USER, self.token)
             return (
                 self.app.call("Access", "AccessPort", "authenticate", CONSOLE_USER, token) is True
             )
@@ -267,19 +270,19 @@ class AttachedSession:
         while not self.closing.is_set():
             self._take()
             now = self.sim_time
-            if show.due("state", PUBLISH_HZ):
-                show.sent("state")
+            if show.due("state"):
+                show.sent("state", PUBLISH_HZ)
                 self._publish_state(now)
-            if self.frame_new and show.due("frame:onboard", FRAME_HZ):
-                show.sent("frame:onboard")
+            if self.frame_new and show.due("frame:onboard"):
+                show.sent("frame:onboard", FRAME_HZ)
                 self.frame_new = False
                 frame = self.frame or b""
                 turn = detector.find_stripe(frame, self.look_ahead)
                 self.hub.publish("frame:onboard", pictures.onboard(frame, turn))
             fps = self.mirror.get("PanoramicCamera", {}).get("fps")
             streaming = isinstance(fps, int | float) and fps > 0 and self.pose is not None
-            if streaming and show.due("frame:panoramic", min(float(fps), FRAME_HZ)):
-                show.sent("frame:panoramic")
+            if streaming and show.due("frame:panoramic"):  # at the rate the policy sets
+                show.sent("frame:panoramic", min(float(fps), FRAME_HZ))
                 x, y, heading = self._xyh()
                 self.hub.publish("frame:panoramic", pictures.panoramic(x, y, heading, show.trail))
             while self.next_sample <= now:

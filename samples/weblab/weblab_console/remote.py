@@ -149,8 +149,9 @@ class Watcher(threading.Thread):
             self._watch()
         except RuntimeFailure as err:
             raise AttachError(
-                f"container {self.container} does not answer: {err.message}"
-                + (f" ({err.hint})" if err.hint else "")
+                f"container {self.container} does not answer: {err.message}: start the "
+                "application first (make live-console starts it with the console; its "
+                "bin/start-all, with the same ACORDCS_RUN_DIR and ports, without)"
             ) from None
         self.start()
 

@@ -1,5 +1,6 @@
 """The console's session: one WebLab experiment at a time, run in a background thread and shown
-through the hub (implements :class:`weblab_console.server.Session`).
+through the hub (implements :class:`weblab_console.server.Session`; what it publishes is made by
+:mod:`weblab_console.showing`, as for the console attached to the two-process application).
 
 The experiment is :func:`weblab_sim.experiment.rig`: the generated application assembled in one
 process on a :class:`~acordcs.runtime.clock.VirtualClock`. A pacing timer on that clock (every
@@ -342,11 +343,11 @@ class _Run:
             ("frame:onboard", self._publish_onboard),
             ("frame:panoramic", self._publish_panorama),
         ):
-            if show.due(channel, FRAME_HZ, force=force) and publish():
-                show.sent(channel)
-        if not show.due("state", PUBLISH_HZ, force=force):
+            if show.due(channel, force=force) and publish():
+                show.sent(channel, FRAME_HZ)
+        if not show.due("state", force=force):
             return
-        show.sent("state")
+        show.sent("state", PUBLISH_HZ)
         r = self.rig
         lab, now = r.lab, r.clock.now()
         x, y, heading = lab.robot.pose(now)

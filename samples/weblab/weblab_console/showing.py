@@ -51,7 +51,7 @@ TEXTS = {
 
 class Showing:
     """One run as the console shows it: its hub, the trajectory so far, the series, what was
-    counted for the timeline, and when each channel last went out (wall clock)."""
+    counted for the timeline, and when each channel may go out again (wall clock)."""
 
     def __init__(self, hub: ConsoleHub, profile: str, seed: int) -> None:
         self.hub = hub
@@ -63,15 +63,18 @@ class Showing:
         }
         self.counts: dict[str, int] = {}
         self.last_state: dict[str, Any] | None = None
-        self._last: dict[str, float] = {}
+        self._next: dict[str, float] = {}  # when each channel may go out again (wall clock)
 
-    def due(self, channel: str, hz: float, *, force: bool = False) -> bool:
-        """Whether ``channel`` may go out now (at most ``hz`` times per wall second); say
-        :meth:`sent` when it went."""
-        return force or time.perf_counter() - self._last.get(channel, 0.0) >= 1.0 / hz
+    def due(self, channel: str, *, force: bool = False) -> bool:
+        """Whether ``channel`` may go out now; say :meth:`sent` when it went."""
+        return force or time.perf_counter() >= self._next.get(channel, 0.0)
 
-    def sent(self, channel: str) -> None:
-        self._last[channel] = time.perf_counter()
+    def sent(self, channel: str, hz: float) -> None:
+        """``channel`` went out: the next may go ``1/hz`` seconds after the slot this one took,
+        so that ``hz`` a second go out on average whatever the phase of the checks (a camera at
+        11 frames a second, checked every 50 ms, sends 11 a second under a cap of 15, not 10)."""
+        now = time.perf_counter()
+        self._next[channel] = max(self._next.get(channel, now), now - 1.0 / hz) + 1.0 / hz
 
     # ----------------------------------------------------------------------------- payloads
     def state(
@@ -169,8 +172,8 @@ class Showing:
 
     def plots(self, *, force: bool = False) -> None:
         """Publish the series and the viewer statistics, at most :data:`SERIES_HZ` a second."""
-        if self.due("series", SERIES_HZ, force=force):
-            self.sent("series")
+        if self.due("series", force=force):
+            self.sent("series", SERIES_HZ)
             self.hub.publish("series", {k: list(v) for k, v in self.series.items()})
             self.hub.publish("stats", self.hub.stats())
 

@@ -40,7 +40,7 @@ import time
 from collections import deque
 from collections.abc import Callable, Iterable, Mapping
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, TypeVar
 
 from acordcs.runtime import events as ev
 from acordcs.runtime.connectors.pyrogate import serpent_only
@@ -51,6 +51,8 @@ if TYPE_CHECKING:
     from acordcs.runtime.container import Container
     from acordcs.runtime.events import Event
     from acordcs.runtime.policy import Firing
+
+T = TypeVar("T")
 
 OBSERVE_OBJECT = "acordcs.observe.{}"
 """The Pyro5 object name of a container's observer interface."""
@@ -249,10 +251,9 @@ class Observer:
         recorded (``faults``: how many)."""
         container = self.container
         elements: dict[str, dict[str, Any]] = {}
-        for name, props in _settled(container.elements).items():
-            elements[name] = {
-                str(k): plain(v) for k, v in _settled(lambda p=props: dict(p)).items()
-            }
+        for name, props in _settled(container.elements, {}).items():
+            copied = _settled(lambda p=props: dict(p), {})
+            elements[name] = {str(k): plain(v) for k, v in copied.items()}
         sets: dict[str, Any] = {}
         for name in self.policy_sets():
             try:
@@ -367,7 +368,7 @@ class Observer:
         total = log.counts["total"]
         new = min(total - watch.faults_seen, len(log.recent), MAX_BATCH)
         watch.faults_seen = total
-        recent = list(log.recent)[-new:] if new > 0 else []
+        recent = _settled(lambda: list(log.recent), [])[-new:] if new > 0 else []
         return [
             {"kind": f.kind, "where": f.where, "error": f.error[:500], "time": f.time}
             for f in recent
@@ -419,14 +420,15 @@ def _firing(name: str, firing: Firing, fires: int, engine: str) -> dict[str, Any
     }
 
 
-def _settled(read: Callable[[], Mapping[str, Any]]) -> Mapping[str, Any]:
-    """``read()``, again if the container changed the mapping's size meanwhile (another thread)."""
+def _settled(read: Callable[[], T], empty: T) -> T:
+    """``read()``, again if another thread (the container's) changed what it copies meanwhile
+    (a dict or deque changing size while copied); ``empty`` if it never settles."""
     for _ in range(5):
         try:
             return read()
         except RuntimeError:
             continue
-    return {}
+    return empty
 
 
 def plain(value: object, depth: int = 0) -> Any:

@@ -150,6 +150,10 @@ def test_the_console_attached_to_the_two_processes_shows_and_drives_them(live, t
             "the Navigator's images again",
         )
         until(browser, lambda d: "handed back" in text(d, "timeline"), "the hand-back event")
+        # The Access component of the WebLab's process decides: another token watches only.
+        browser.execute_script("sessionStorage.clear()")
+        browser.get(started.url.split("#")[0] + "#token=not-the-token")
+        until(browser, lambda d: "does not know this token" in text(d, "message"), "the refusal")
         refusals = [
             e["message"]
             for e in browser.get_log("browser")
@@ -192,5 +196,6 @@ def test_attaching_to_an_application_that_does_not_run_is_refused_with_why(webla
         f"weblab_console: cannot attach to {LIVE.parent / 'app'}: container UserSide does not answer: cannot reach the remote container"
         in done.stderr
     )
-    assert "start the remote container" in done.stderr and "Traceback" not in done.stderr
+    assert "start the application first (make live-console starts it" in done.stderr
+    assert "Traceback" not in done.stderr
     assert not (tmp_path / "run" / "UserSide.pid").exists()
