@@ -57,12 +57,12 @@ docs: $(DEV_STAMP)
 	NO_MKDOCS_2_WARNING=1 $(BIN)/python -m mkdocs build --strict
 
 lint: $(DEV_STAMP)
-	$(BIN)/ruff format --check src tests benchmarks samples
-	$(BIN)/ruff check src tests benchmarks samples
+	$(BIN)/ruff format --check src tests benchmarks samples tools
+	$(BIN)/ruff check src tests benchmarks samples tools
 
 format: $(DEV_STAMP)
-	$(BIN)/ruff format src tests benchmarks samples
-	$(BIN)/ruff check --fix src tests benchmarks samples
+	$(BIN)/ruff format src tests benchmarks samples tools
+	$(BIN)/ruff check --fix src tests benchmarks samples tools
 
 bench: $(DEV_STAMP)
 	@for b in benchmarks/bench_*.py; do echo "== $$b"; $(BIN)/python $$b || exit 1; done

@@ -27,7 +27,8 @@ from pathlib import Path
 
 from lxml import etree
 
-from acordcs.xmi.writer.synthetic import generate
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # tools/, tests/ of the repository
+from tools.bouml_writer.synthetic import generate
 
 PAIRS = int(os.environ.get("BENCH_PAIRS", "15"))
 CLI = [str(Path(sys.executable).with_name("acordcs-gen"))]

@@ -191,7 +191,7 @@ def main() -> None:
     print(
         f"2. unthrottled, residential runs to the finish line, seeds {seeds.start}-{seeds.stop - 1}:"
     )
-    hub = ConsoleHub()
+    hub = ConsoleHub(max_watchers=10)  # the 10 viewers present no token: watching only
     session = ConsoleSession(hub, "bench", speed=0.0)
     rates: dict[int, list[float]] = {0: [], 10: []}
     with serving(hub, session) as url:

@@ -13,17 +13,23 @@ Prints, measured in one run on the same file:
 - reading (``read_uml``, in-process) a 3.5 MB Umbrello export and a 2 MB MagicDraw export, tiled
   from the real ones in ``../shared/reference/xmi-other-tools`` (see ``tiled_exports.py``), beside the
   BOUML reader on a synthetic BOUML export of the same size (target: no slower; alternated, 15 runs);
-- the model's 1,200 rules parsed by our parser (our LALR driver on lark's tables) and by lark's
-  own parser on the same grammar with the same tree builders (median of 7), and the cost of
-  analysing the grammar when the cached tables are missing (a fresh interpreter, lark import
-  included).
+- the model's 1,200 rules parsed by our parser (lark's standalone parser generated from the
+  grammar, the tree built by an inline transformer) and by lark's own parser on the same grammar
+  with the same builders (each a median of 7 in a fresh interpreter; medians of 5 such runs,
+  alternated), and what a fresh interpreter takes to parse its first rule (imports included);
+- with ``--before SRC`` (the ``src`` directory of another checkout, e.g. ``git worktree add
+  /tmp/before <commit>``), the same figures for that checkout's code in the same run, on the same
+  interpreter and packages: its ``validate`` alternated with B and ours, its parse of the same rules.
 
-Run: ``.venv/bin/python benchmarks/bench_validate.py``
+Run: ``.venv/bin/python benchmarks/bench_validate.py [--before SRC]``
 """
 
 from __future__ import annotations
 
+import argparse
 import gc
+import json
+import os
 import statistics
 import subprocess
 import sys
@@ -33,7 +39,8 @@ from pathlib import Path
 
 from lxml import etree
 
-from acordcs.xmi.writer.synthetic import generate
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # tools/, tests/ of the repository
+from tools.bouml_writer.synthetic import generate
 
 ROUNDS = 7
 PAIRS = 15
@@ -81,14 +88,30 @@ def lxml_round_trip(path: Path) -> None:
     etree.tostring(etree.parse(str(path)))
 
 
-def run_cli(path: Path, command: list[str] = CLI) -> None:
-    done = subprocess.run([*command, str(path)], capture_output=True, text=True)
+def run_cli(path: Path, command: list[str] = CLI, env: dict[str, str] | None = None) -> None:
+    done = subprocess.run([*command, str(path)], capture_output=True, text=True, env=env)
     if done.returncode != 0:
         raise SystemExit(f"validate failed on {path}:\n{done.stdout}{done.stderr}")
 
 
+def with_source(src: Path) -> dict[str, str]:
+    """The environment that runs ``src``'s acordcs instead of the installed one."""
+    return {**os.environ, "PYTHONPATH": str(src)}
+
+
 def main() -> int:
     from acordcs.model.reading import read_model
+
+    options = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    options.add_argument("--before", type=Path, help="src directory of a checkout to compare with")
+    before = options.parse_args().before
+    if before is not None and not (before / "acordcs" / "__init__.py").is_file():
+        raise SystemExit(f"--before {before}: not a src directory holding the acordcs package")
+    variants = {name: (command, None) for name, command in VARIANTS.items()}
+    if before is not None:
+        # the executable's own code path (run()), with that checkout's package
+        command = [sys.executable, "-c", _RUN.format(entry="run"), "validate"]
+        variants[f"before ({before})"] = (command, with_source(before))
 
     with tempfile.TemporaryDirectory() as tmp:
         big = Path(tmp, "synthetic-2000.xmi")
@@ -103,11 +126,13 @@ def main() -> int:
             text.replace('name="Plain', 'name="Configuração', 200).encode("iso-8859-1")
         )
 
-        b, *variants = alternated(
+        for command, env in variants.values():  # warm: byte-compiled, any cache filled
+            run_cli(big, command, env)
+        b, *timed = alternated(
             lambda: lxml_round_trip(big),
-            *(lambda command=command: run_cli(big, command) for command in VARIANTS.values()),
+            *(lambda c=command, e=env: run_cli(big, c, e) for command, env in variants.values()),
         )
-        whole = variants[0]
+        whole = timed[0]
         startup = median_seconds(lambda: run_cli(empty))
         reading = read_model(str(latin))
         read_latin = median_seconds(lambda: read_model(str(latin)))
@@ -121,7 +146,7 @@ def main() -> int:
     print(
         f"   acordcs-gen validate, whole process {whole * 1e3:8.1f} ms = {whole / b:5.2f} B (target <= 3 B)"
     )
-    by_name = dict(zip(VARIANTS, variants, strict=True))
+    by_name = dict(zip(variants, timed, strict=True))
     for name, seconds in by_name.items():
         print(f"     {name:38s} {seconds * 1e3:8.1f} ms = {seconds / b:5.2f} B")
     without = by_name["without os._exit"]
@@ -135,12 +160,7 @@ def main() -> int:
         f"   ISO-8859-1 export, {latin_mb:.1f} MB, {len(reading.uml.applications)} stereotype "
         f"applications, {len(reading.diagnostics)} diagnostics: read + check {read_latin * 1e3:.1f} ms"
     )
-    ours, theirs, count = _rule_parsers(reading)
-    print(
-        f"   {count:,} rules parsed: ours {ours * 1e3:.1f} ms, lark's parser "
-        f"{theirs * 1e3:.1f} ms: {theirs / ours:.1f}x"
-    )
-    print(f"   analysing the grammar without cached tables: {_analysis_cost() * 1e3:.0f} ms")
+    _rule_parsers(reading, before)
     _other_tools()
     return 0
 
@@ -157,8 +177,6 @@ def _other_tools() -> None:
     from tiled_exports import tiled
 
     from acordcs.xmi.readers import read_uml
-
-    sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
     from tests.support.toolchain import XMI_OTHER_TOOLS as shared  # ../shared, as the tests find it
 
     if not shared.is_dir():
@@ -188,12 +206,41 @@ def _other_tools() -> None:
             )
 
 
-def _rule_parsers(reading) -> tuple[float, float, int]:
-    """Median time to parse every rule of the model: our driver vs lark's, same builders."""
+# Parses every rule given (a JSON list of [text, kind]) 8 times, the memo of parsed texts cleared
+# each time, and prints the median of the last 7, then what its first rule took in this fresh
+# interpreter (imports included). With "lark": lark's own parser on the same grammar, with the
+# same builders, instead of parse_rule.
+_PARSE_ALL = """
+import json, statistics, sys, time
+first = time.perf_counter()
+from acordcs.rules import parse_rule
+from acordcs.rules import parser as rules
+parse_rule("if a is b then c is d")
+first = time.perf_counter() - first
+texts = json.load(open(sys.argv[1], encoding="utf-8"))
+parse = parse_rule
+if sys.argv[2:] == ["lark"]:
+    import lark
+    grammar = open(rules.__file__.replace("parser.py", "rules.lark"), encoding="utf-8").read()
+    own = lark.Lark(grammar, start=["start_fuzzy", "start_crisp", "start_terms"], parser="lalr",
+                    maybe_placeholders=True, transformer=rules._Builders())
+    parse = lambda text, kind: own.parse(text, start="start_" + kind)
+times = []
+for _ in range(8):
+    rules._PARSED.clear()
+    start = time.perf_counter()
+    for text, kind in texts:
+        parse(text, kind)
+    times.append(time.perf_counter() - start)
+print(statistics.median(times[1:]), first)
+"""
+
+
+def _rule_parsers(reading, before: Path | None) -> None:
+    """Every rule of the model parsed by our parser, by lark's own on the same grammar and
+    builders, and by ``before``'s: each in a fresh interpreter, alternated 5 times."""
     from acordcs.model.architecture import POLICY_SET
     from acordcs.model.queries import policy_rules, rule_kind
-    from acordcs.rules import lalr, parse_rule
-    from acordcs.rules import parser as rules
 
     arch = reading.architecture
     texts = []
@@ -201,33 +248,39 @@ def _rule_parsers(reading) -> tuple[float, float, int]:
         kind = rule_kind(policy_set)
         for policy in arch.policies(policy_set):
             texts += [(prule.text, kind) for prule in policy_rules(policy)]
-
-    grammar = Path(rules.__file__).with_name("rules.lark").read_text(encoding="utf-8")
-    starts = ["start_fuzzy", "start_crisp", "start_terms"]
-    lark_parser = lalr.lark_parser(grammar, starts, rules._BUILDERS)
-
-    def parse_all_uncached() -> None:
-        rules._PARSED.clear()  # parse_rule memoises by text: measure the parse itself
-        for text, kind in texts:
-            parse_rule(text, kind)
-
-    ours = median_seconds(parse_all_uncached)
-    theirs = median_seconds(lambda: [lark_parser.parse(t, start=f"start_{k}") for t, k in texts])
-    return ours, theirs, len(texts)
-
-
-def _analysis_cost() -> float:
-    code = (
-        "import time; t = time.perf_counter(); from acordcs.rules import lalr, parser as rules; "
-        "g = open(rules.__file__.replace('parser.py', 'rules.lark')).read(); "
-        "lalr.Tables(lalr.analyse(g, ['start_fuzzy', 'start_crisp', 'start_terms'])); "
-        "print(time.perf_counter() - t)"
+    runs: dict[str, list[tuple[float, float]]] = {"ours": [], "lark's own parser": []}
+    if before is not None:
+        runs[f"before ({before})"] = []
+    with tempfile.TemporaryDirectory() as tmp:
+        listed = Path(tmp, "rules.json")
+        listed.write_text(json.dumps(texts), encoding="utf-8")
+        for _ in range(5):
+            for name in runs:
+                env = with_source(before) if name.startswith("before") else None
+                mode = ["lark"] if name == "lark's own parser" else []
+                done = subprocess.run(
+                    [sys.executable, "-c", _PARSE_ALL, str(listed), *mode],
+                    capture_output=True,
+                    text=True,
+                    env=env,
+                    check=True,
+                )
+                all_rules, first = map(float, done.stdout.split())
+                runs[name].append((all_rules, first))
+    ours = statistics.median(r[0] for r in runs["ours"])
+    print(
+        f"   {len(texts):,} rules parsed (fresh interpreters, alternated): ours {ours * 1e3:.1f} ms"
     )
-    runs = [
-        float(subprocess.run([sys.executable, "-c", code], capture_output=True, text=True).stdout)
-        for _ in range(3)
-    ]
-    return statistics.median(runs)
+    for name, measured in runs.items():
+        if name != "ours":
+            theirs = statistics.median(r[0] for r in measured)
+            print(f"     {name}: {theirs * 1e3:.1f} ms; ours / it = {ours / theirs:.2f}")
+    for name, measured in runs.items():
+        if name != "lark's own parser":
+            first = statistics.median(r[1] for r in measured)
+            print(
+                f"   the first rule in a fresh interpreter, imports included, {name}: {first * 1e3:.1f} ms"
+            )
 
 
 def _empty_model() -> str:

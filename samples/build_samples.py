@@ -1,8 +1,10 @@
-"""Rebuild the BOUML-style sample models: ``weblab/weblab.xmi`` and ``smartroom/smartroom.xmi``.
+"""Rebuild the BOUML-style sample models: ``weblab/weblab.xmi`` and ``smartroom/smartroom.xmi``,
+and the two copies of the WebLab model with mistakes that the documentation's examples validate
+(``mistakes/broken-weblab.xmi``, ``mistakes/typos.xmi``).
 
 The samples are what BOUML's xmi2 exporter writes for the models described in each sample's README.
 They are written by the same writer as the synthetic benchmark model
-(:mod:`acordcs.xmi.writer`), so that both places BOUML puts a stereotype (root-level
+(`tools/bouml_writer`), so that both places BOUML puts a stereotype (root-level
 application, ``xmi:Extension``) always agree. Run ``.venv/bin/python samples/build_samples.py``;
 the output is deterministic.
 """
@@ -12,10 +14,10 @@ from __future__ import annotations
 import sys
 from pathlib import Path
 
-from acordcs.xmi.writer.bouml import BoumlWriter, ctx, ctx_var
-from acordcs.xmi.writer.elements import Pkg
-
 HERE = Path(__file__).resolve().parent
+sys.path.insert(0, str(HERE.parent))  # the repository: tools/ is not installed
+from tools.bouml_writer.bouml import BoumlWriter, ctx, ctx_var  # noqa: E402
+from tools.bouml_writer.elements import Pkg  # noqa: E402
 
 # ------------------------------------------------------------------------------------------ WebLab
 # Linguistic terms (our choices; the paper gives names of some terms, never their shapes).
@@ -398,9 +400,40 @@ def smartroom() -> Pkg:
     return root
 
 
+# The mistakes the documentation shows (README, docs/cli.md, docs/diagnostics.md): each (text of the
+# WebLab model, what a modeller mistyped it as): the first occurrence, the rule in both places
+# BOUML writes it.
+BROKEN = (
+    (
+        "smallNarrow: if cycleRate is small and angle is narrow",
+        "smallNarrow: if cycleRat is small and angle is narow",
+        2,
+    ),
+)
+TYPOS = (
+    (
+        '<ACORDCS:CtxPolicy xmi:id="BOUML_STELT_0x20302_4"',
+        '<ACORDCS:CtxPolcy xmi:id="BOUML_STELT_0x20302_4"',
+    ),
+    ('trigger="periodic" frequency="0.5"', 'triger="periodic" frequency="0.5"'),
+    ('engine="fuzzy" semantics', 'engine="fuzy" semantics'),
+    ('CtxPolicySet:engine" value="fuzzy"', 'CtxPolicySet:engine" value="fuzy"'),
+)
+
+
+def mistaken(text: str, edits: tuple[tuple, ...]) -> str:
+    """``text`` with the first ``count`` (default 1) occurrences of each ``old`` made ``new``."""
+    for old, new, *count in edits:
+        times = count[0] if count else 1
+        if text.count(old) < times:
+            raise ValueError(f"{old!r} is not {times} times in the WebLab model")
+        text = text.replace(old, new, times)
+    return text
+
+
 def render() -> dict[Path, str]:
     """The sample files and their text."""
-    return {
+    files = {
         HERE / "weblab" / "weblab.xmi": BoumlWriter(
             "WebLab",
             uml_version="2.1",
@@ -418,6 +451,10 @@ def render() -> dict[Path, str]:
             gxmi_path="/home/modeller/smartroom/smartroom.xmi",
         ).write(smartroom()),
     }
+    weblab_text = files[HERE / "weblab" / "weblab.xmi"]
+    files[HERE / "mistakes" / "broken-weblab.xmi"] = mistaken(weblab_text, BROKEN)
+    files[HERE / "mistakes" / "typos.xmi"] = mistaken(weblab_text, TYPOS)
+    return files
 
 
 def main() -> int:

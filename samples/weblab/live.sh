@@ -37,12 +37,20 @@ stop() {
 }
 trap stop EXIT
 trap 'echo "live: interrupted"; exit 130' INT TERM
+# A shell started with SIGINT ignored (a background job of a non-interactive shell, or a child of
+# a program that ignores it) cannot trap it: Ctrl-C would not reach this script. Say so.
+ignored=$(sed -n 's/^SigIgn:[[:space:]]*//p' /proc/$$/status 2>/dev/null) || ignored=
+if [ -n "$ignored" ] && [ $((0x${ignored#"${ignored%????}"} & 0x4002)) -ne 0 ]; then
+    echo "live: SIGINT or SIGTERM is ignored in this shell (started in the background?): Ctrl-C will not stop it; stop it with: kill -TERM $$ (or $app/bin/stop-all)" >&2
+fi
 
-mkdir -p -- "$ACORDCS_RUN_DIR" || exit 1
+# The run directory is the user's alone (the scripts refuse one others can write).
+(umask 077 && mkdir -p -- "$ACORDCS_RUN_DIR") || exit 1
 rm -f -- "$user_log" "$lab_log"
 echo "live: the WebLab on loopback in real time, at most $seconds s of driving (logs in $ACORDCS_RUN_DIR)"
 sh "$app/bin/start-all" || exit 1
 echo "live: processes: $(cat -- "$ACORDCS_RUN_DIR/UserSide.pid") (UserSide), $(cat -- "$ACORDCS_RUN_DIR/WebLabSide.pid") (WebLabSide)"
+echo "live: running (Ctrl-C stops both)"
 
 # Wait for the Navigator's run to end (or its process to stop), showing its progress.
 waited=0

@@ -4,7 +4,8 @@ lark's ``cache=True`` writes a pickle to a predictable name in the shared temp d
 whatever it finds there, so anyone able to write to /tmp could run code as our user. The cache goes to
 ``$XDG_CACHE_HOME/acordcs`` (default ``~/.cache/acordcs``), created with mode 0700 and used only while
 it belongs to us and nobody else can write to it; otherwise grammars are analysed afresh (slower
-start-up, same results). The rule language's parse tables live there too (:mod:`acordcs.rules.lalr`).
+start-up, same results). It serves the FCL reader; the rule language needs no cache (its parser is
+generated beforehand: :mod:`acordcs.rules.standalone_parser`).
 """
 
 from __future__ import annotations

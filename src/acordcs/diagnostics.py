@@ -54,6 +54,23 @@ def suggestion(word: str, names: list[str]) -> str:
     return f" (did you mean {close[0]!r}?)" if close else ""
 
 
+def within_edits(a: str, b: str, limit: int) -> bool:
+    """Whether ``a`` becomes ``b`` in at most ``limit`` single-character insertions, deletions or
+    substitutions (Levenshtein distance, case-insensitive), without computing more than needed."""
+    a, b = a.casefold(), b.casefold()
+    if abs(len(a) - len(b)) > limit:
+        return False
+    previous = list(range(len(b) + 1))
+    for i, x in enumerate(a, start=1):
+        current = [i]
+        for j, y in enumerate(b, start=1):
+            current.append(min(previous[j] + 1, current[j - 1] + 1, previous[j - 1] + (x != y)))
+        if min(current) > limit:
+            return False
+        previous = current
+    return previous[-1] <= limit
+
+
 class Severity(IntEnum):
     INFO = 0
     WARNING = 1
@@ -110,6 +127,12 @@ CODES: dict[str, tuple[Severity, str]] = {
     "T312": (E, "two terms of a variable share a name"),
     "T313": (W, "the model applies no ACORDCS stereotype (nothing to check)"),
     "T314": (E, "container port outside 1-65535"),
+    "T315": (
+        E,
+        "linguistic variable beyond the fuzzy engine's limits (1,000 terms, 500 points per term)",
+    ),
+    "T320": (E, "misspelt tag: within two edits of a tag of the stereotype"),
+    "T321": (W, "a profile the model applies by reference is not found"),
     # L: rules
     "L401": (E, "rule syntax error"),
     "L402": (E, "rule variable is not an attribute in the policy set's scope"),
@@ -156,13 +179,28 @@ CODES: dict[str, tuple[Severity, str]] = {
 }
 
 
-# Where each code is explained, with an example and the fix: one anchor per code (``#l402``).
-DOCS_URL = "https://github.com/acordcs/acordcs/blob/main/docs/diagnostics.md"
+def documentation_url() -> str | None:
+    """The project's documentation, as pyproject.toml declares it (``[project.urls]
+    Documentation``, read from the installed package's metadata), or None."""
+    from importlib import metadata  # only SARIF needs it: validate's start-up does not pay
+
+    try:
+        urls = metadata.metadata("acordcs").get_all("Project-URL") or []
+    except metadata.PackageNotFoundError:
+        return None
+    for entry in urls:
+        label, _, url = entry.partition(",")
+        if label.strip().lower() == "documentation" and url.strip():
+            return url.strip().rstrip("/")
+    return None
 
 
-def help_uri(code: str) -> str:
-    """The page section that explains ``code`` (SARIF ``helpUri``)."""
-    return f"{DOCS_URL}#{code.lower()}"
+def help_uri(code: str) -> str | None:
+    """Where ``code`` is explained, with an example and the fix (SARIF ``helpUri``): its section
+    of ``diagnostics.md`` (one anchor per code, ``#l402``) under the declared documentation URL;
+    None when none is declared (SARIF wants an absolute URI or none)."""
+    base = documentation_url()
+    return f"{base}/diagnostics.md#{code.lower()}" if base else None
 
 
 @dataclass(slots=True)

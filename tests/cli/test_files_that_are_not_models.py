@@ -5,6 +5,7 @@ profile is there."""
 from __future__ import annotations
 
 import json
+import shutil
 
 from tests.support.toolchain import ROOT, no_crash, run_main
 
@@ -68,6 +69,7 @@ def test_a_model_without_the_profile_warns_t313(tmp_path):
     bare = text.split("  <ACORDCS:CtxContainer", 1)[0] + "</xmi:XMI>\n"
     path = tmp_path / "bare.uml"
     path.write_text(bare, encoding="utf-8")
+    shutil.copy(PAPYRUS.with_name("ACORDCS.profile.uml"), tmp_path)  # the profile it applies
     result = run_main(["validate", str(path)])
     assert result.code == 0  # a warning: exit 1 only with --fail-on warning
     (line, summary) = result.out.splitlines()

@@ -1,7 +1,8 @@
 """The wheel, not the editable install: it builds with the declared build requirement, installs in
-a fresh virtual environment (no system site-packages) on this interpreter's Python and on the
-newest Python of the machine, carries py.typed and the licence, pulls no WebLab package, and its
-``acordcs-gen`` runs: version, a clean sample, a refused diagram file."""
+a fresh virtual environment (no system site-packages) on every Python version its classifiers
+name (``Programming Language :: Python :: 3.x`` in pyproject.toml: what it claims is what is
+tested), carries py.typed and the licences, pulls no WebLab package, and its ``acordcs-gen``
+runs: version, a clean sample, a refused diagram file, the profile and a model exported."""
 
 from __future__ import annotations
 
@@ -50,18 +51,27 @@ def _version(python: str) -> tuple[int, ...] | None:
     return tuple(int(x) for x in done.stdout.split())
 
 
-def _pythons() -> list[str]:
-    """This interpreter, and the newest Python 3.11+ found on the machine if it is newer."""
-    found = {shutil.which(f"python3.{minor}") for minor in range(11, 20)}
-    found |= set(glob.glob(os.path.expanduser("~/.pyenv/versions/3.*/bin/python3")))
-    versions = {p: _version(p) for p in found if p}
-    usable = {p: v for p, v in versions.items() if v and v >= (3, 11)}
-    ours = sys.version_info[:2]
-    newest = max(usable, key=lambda p: usable[p], default=None)
-    pythons = [sys.executable]
-    if newest is not None and usable[newest] > ours:
-        pythons.append(newest)
-    return pythons
+def _classified() -> list[tuple[int, int]]:
+    """The Python versions pyproject.toml's classifiers name."""
+    text = (ROOT / "pyproject.toml").read_text(encoding="utf-8")
+    found = re.findall(r'"Programming Language :: Python :: 3\.(\d+)"', text)
+    return sorted((3, int(minor)) for minor in found)
+
+
+def _interpreter(version: tuple[int, int]) -> str | None:
+    """An interpreter of ``version`` on the machine (this one first), or None."""
+    if sys.version_info[:2] == version:
+        return sys.executable
+    found = {shutil.which("python{}.{}".format(*version))}
+    found |= set(
+        glob.glob(os.path.expanduser("~/.pyenv/versions/{}.{}.*/bin/python3".format(*version)))
+    )
+    return next((p for p in sorted(filter(None, found)) if _version(p) == version), None)
+
+
+def test_the_classifiers_name_the_python_the_project_requires():
+    assert _classified()[0] == (3, 11)  # requires-python = ">=3.11"
+    assert sys.version_info[:2] in _classified()
 
 
 @pytest.fixture(scope="module")
@@ -70,7 +80,8 @@ def wheel(tmp_path_factory) -> Path:
     work = tmp_path_factory.mktemp("wheel")
     source = work / "source"
     source.mkdir()
-    for name in ("pyproject.toml", "README.md", "LICENSE"):
+    for name in ("pyproject.toml", "README.md", "LICENSE", "LICENSES/MPL-2.0.txt"):
+        (source / name).parent.mkdir(parents=True, exist_ok=True)
         shutil.copy2(ROOT / name, source / name)
     shutil.copytree(
         ROOT / "src", source / "src", ignore=shutil.ignore_patterns("__pycache__", "*.egg-info")
@@ -90,10 +101,11 @@ def wheel(tmp_path_factory) -> Path:
     return built
 
 
-@pytest.mark.parametrize(
-    "python", _pythons(), ids=lambda p: "python" + ".".join(map(str, _version(p) or ()))
-)
-def test_the_installed_wheel_runs(wheel: Path, python: str, tmp_path: Path) -> None:
+@pytest.mark.parametrize("version", _classified(), ids=lambda v: "python{}.{}".format(*v))
+def test_the_installed_wheel_runs(wheel: Path, version: tuple[int, int], tmp_path: Path) -> None:
+    python = _interpreter(version)
+    if python is None:
+        _unavailable("no interpreter of Python {}.{} on this machine".format(*version), "")
     venv = tmp_path / "venv"
     subprocess.run([python, "-m", "venv", str(venv)], check=True, timeout=120, env=CLEAN_ENV)
     pip = [str(venv / "bin" / "python"), "-m", "pip"]
@@ -114,7 +126,9 @@ def test_the_installed_wheel_runs(wheel: Path, python: str, tmp_path: Path) -> N
     assert not names & {"pymunk", "opencv-python-headless", "matplotlib", "jinja2"}, names
     site = next((venv / "lib").glob("python3.*/site-packages"))
     assert (site / "acordcs" / "py.typed").is_file()
-    assert (site / f"acordcs-{__version__}.dist-info" / "licenses" / "LICENSE").is_file()
+    licenses = site / f"acordcs-{__version__}.dist-info" / "licenses"
+    assert (licenses / "LICENSE").is_file()
+    assert (licenses / "LICENSES" / "MPL-2.0.txt").is_file()  # the generated rule parser's
     assert (site / "acordcs" / "profile" / "ACORDCS.profile.uml").is_file()
 
     where = subprocess.run(
@@ -152,3 +166,11 @@ def test_the_installed_wheel_runs(wheel: Path, python: str, tmp_path: Path) -> N
         "ACORDCS.profile.uml",
         "ACORDCS.xmi",
     ]
+    instance = subprocess.run(
+        [gen, "export", str(SAMPLES[0]), "-o", str(tmp_path / "emf" / "model.xmi")],
+        capture_output=True,
+        text=True,
+        env=CLEAN_ENV,
+    )
+    assert instance.returncode == 0, instance.stdout + instance.stderr
+    assert sorted(p.name for p in (tmp_path / "emf").iterdir()) == ["acordcs.ecore", "model.xmi"]

@@ -1,7 +1,7 @@
 """Target ``rules``, crisp sets: one CLIPS file per set, made with the runtime's CLIPS compiler.
 clipspy loads it; fired through its own functions it assigns the same values and calls the same
 operations, with the same arguments, as the runtime's ClipsEngine built for the same policy set
-from the model (``acordcs.runtime.clips.model.engine_for_policy_set``, given the descriptor's typed
+from the model (the pyecore oracle ``tests.support.ecore_clips_engine.engine_for_policy_set``, given the descriptor's typed
 defaults where the model leaves a default unset: the descriptor has no "unset", and the file
 starts from it); and it defines nothing but the prelude's ``acord-`` constructs and what the
 model names."""
@@ -15,8 +15,8 @@ import pytest
 
 from acordcs.model.ecore_builder import to_ecore
 from acordcs.model.reading import read_model
-from acordcs.runtime.clips.model import engine_for_policy_set
 from tests.support.codegen import build
+from tests.support.ecore_clips_engine import engine_for_policy_set
 from tests.support.toolchain import SMARTROOM, WEBLAB
 
 _LISTS = ("defmodule", "defrule", "defglobal", "deffunction", "deftemplate", "deffacts")

@@ -9,11 +9,11 @@ from __future__ import annotations
 import os
 import subprocess
 import sys
-import time
 from pathlib import Path
 
 import pytest
 
+from tests.support import scripts
 from tests.support.codegen import build
 from tests.support.toolchain import ROOT, WEBLAB
 
@@ -123,34 +123,20 @@ def test_a_real_clock_runs_the_operation_in_a_worker_while_it_serves(tmp_path: P
     assert lines[2].startswith("UserSide: stopped at t=3.")
 
 
-def test_the_start_script_passes_the_environment_variable_as_run_options(
-    built: Path, tmp_path: Path
-) -> None:
-    # A stand-in interpreter that writes its arguments, one a line, and waits to be stopped.
-    fake = tmp_path / "python"
-    fake.write_text("#!/bin/sh\nprintf '%s\\n' \"$@\"\nexec sleep 30\n", encoding="utf-8")
-    fake.chmod(0o755)
-    run = tmp_path / "run"
-    env = {
-        **os.environ,
-        "PYTHON": str(fake),
-        "ACORDCS_RUN_DIR": str(run),
-        "ACORDCS_UserSide_RUN": "Navigator.run  Navigator.step",
-        "ACORDCS_STOP_TIMEOUT": "2",
-    }
-    bin_ = built / "bin"
+def test_the_start_script_passes_the_environment_variable_as_run_options(tmp_path: Path) -> None:
+    # A stand-in for the container module that records its arguments (tests.support.fake_container).
+    bin_ = scripts.built(tmp_path / "out")
+    args = tmp_path / "args"
+    env = scripts.environment(
+        tmp_path / "run",
+        FAKE_ARGS=str(args),
+        ACORDCS_UserSide_RUN="Navigator.run  Navigator.step",
+    )
     try:
-        started = subprocess.run(["sh", str(bin_ / "UserSide-start")], env=env,
-                                 capture_output=True, text=True, timeout=30)  # fmt: skip
+        started = scripts.script(bin_, "UserSide-start", env)
         assert started.returncode == 0, started.stdout + started.stderr
-        deadline = time.monotonic() + 10
-        log = run / "UserSide.log"
-        while "--timeout" not in (log.read_text() if log.exists() else ""):
-            assert time.monotonic() < deadline
-            time.sleep(0.1)
-        args = log.read_text().splitlines()
-        runs = [args[i + 1] for i, a in enumerate(args) if a == "--run"]
-        assert runs == ["Navigator.run", "Navigator.step"]
     finally:
-        subprocess.run(["sh", str(bin_ / "UserSide-stop")], env=env, capture_output=True,
-                       timeout=30)  # fmt: skip
+        scripts.script(bin_, "UserSide-stop", env)
+    given = args.read_text().split("\0")
+    runs = [given[i + 1] for i, a in enumerate(given) if a == "--run"]
+    assert runs == ["Navigator.run", "Navigator.step"]

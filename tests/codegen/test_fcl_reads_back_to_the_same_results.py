@@ -1,7 +1,9 @@
 """Target ``rules``, fuzzy sets: one FCL file per set, written by the runtime's FCL writer with
 plain identifiers (jFuzzyLogic has no dotted names and reserves its keywords in any case), which
 our FCL reader reads back into an engine giving the same outputs as the engine built from the
-descriptor directly, on a grid of inputs."""
+descriptor directly, and as the engine an independent oracle builds from the pyecore model
+(tests/support/ecore_fuzzy_engine: the model's scope resolved apart from the descriptor), on a
+grid of inputs."""
 
 from __future__ import annotations
 
@@ -15,8 +17,11 @@ import pytest
 
 from acordcs.codegen.targets.fcl import FCL_KEYWORDS, fcl_for
 from acordcs.descriptor import Application, PolicySet
+from acordcs.model.ecore_builder import to_ecore
+from acordcs.model.reading import read_model
 from acordcs.runtime.fuzzy import FuzzyEngine, read_fcl
 from tests.support.codegen import build
+from tests.support.ecore_fuzzy_engine import engine_for_policy_set
 from tests.support.toolchain import SMARTROOM, WEBLAB
 
 DECLARED = re.compile(r"^\s+(\w+) : REAL;", re.M)
@@ -40,8 +45,16 @@ def fcl_names(text: str) -> dict[str, str]:
     return {model: fcl for fcl, model in found}
 
 
-def assert_same_results(ps: PolicySet, text: str, names: dict[str, str], points: int = 6) -> int:
-    direct = direct_engine(ps)
+def assert_same_results(
+    ps: PolicySet,
+    text: str,
+    names: dict[str, str],
+    points: int = 6,
+    direct: FuzzyEngine | None = None,
+) -> int:
+    """Fire the FCL file's engine and ``direct`` (default: the descriptor's engine) on a grid of
+    every input of each rule set; the number of outputs compared."""
+    direct = direct or direct_engine(ps)
     (read,) = read_fcl(text, filename=f"{ps.name}.fcl").values()
     compared = 0
     for ruleset in direct.rulesets():
@@ -77,6 +90,19 @@ def test_built_files_give_the_descriptors_results(sample: Path, tmp_path: Path, 
     for ps in fuzzy_sets(app):
         text = (tmp_path / "rules" / f"{ps.name}.fcl").read_text(encoding="utf-8")
         assert assert_same_results(ps, text, fcl_names(text)) >= 36  # 6 points per input
+
+
+@pytest.mark.parametrize("sample", [WEBLAB, SMARTROOM], ids=lambda p: p.stem)
+def test_built_files_give_what_the_pyecore_model_gives(sample: Path, tmp_path: Path, request):
+    app = request.getfixturevalue(sample.stem)
+    model = to_ecore(read_model(str(sample)).architecture)
+    assert build(sample, tmp_path, "--target", "rules").code == 0
+    for ps in fuzzy_sets(app):
+        text = (tmp_path / "rules" / f"{ps.name}.fcl").read_text(encoding="utf-8")
+        (oracle_set,) = (p for p in model.policySets if p.name == ps.name)
+        oracle = engine_for_policy_set(oracle_set)
+        assert sorted(oracle.variables) == sorted(v.name for v in ps.variables)
+        assert assert_same_results(ps, text, fcl_names(text), direct=oracle) >= 36
 
 
 @pytest.mark.parametrize("semantics", ["mamdani", "sazonov"])

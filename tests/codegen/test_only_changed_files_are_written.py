@@ -22,6 +22,7 @@ PACKAGE = sorted(
         "weblab_app/components/__init__.py",
         "weblab_app/descriptor.xml",
         "weblab_app/registry.py",
+        "weblab_app/model_types.py",
         "weblab_app/monitors/__init__.py",
         *(f"weblab_app/{d}/{c}.py" for d in ("base", "components") for c in COMPONENTS),
         *(f"weblab_app/{d}/{m}.py" for d in ("base", "monitors") for m in MONITORS),
@@ -72,7 +73,7 @@ def test_first_build_writes_every_file(tmp_path: Path):
     assert result.code == 0, result.both
     assert sorted(snapshot(tmp_path / "out")) == FILES
     assert (
-        "55 written, 0 deleted, 0 unchanged (targets: config, java, python, rules, shell)"
+        "56 written, 0 deleted, 0 unchanged (targets: config, java, python, rules, shell)"
         in result.out
     )
 
@@ -94,7 +95,7 @@ def test_forced_rebuild_runs_the_targets_and_writes_nothing(tmp_path: Path):
     before = snapshot(tmp_path)
     result = build(WEBLAB, tmp_path, "--force")
     assert result.code == 0
-    assert "nothing changed (55 files up to date)" in result.out
+    assert "nothing changed (56 files up to date)" in result.out
     assert snapshot(tmp_path) == before
 
 
@@ -132,7 +133,7 @@ def test_a_deleted_or_edited_generated_file_is_restored(tmp_path: Path):
     assert result.code == 0
     restored = snapshot(tmp_path)
     assert {p: d for p, (d, _) in restored.items()} == {p: d for p, (d, _) in original.items()}
-    assert "2 written, 0 deleted, 53 unchanged" in result.out
+    assert "2 written, 0 deleted, 54 unchanged" in result.out
 
 
 def test_same_model_same_bytes_wherever_it_is_built_from(tmp_path: Path, monkeypatch):
@@ -175,7 +176,7 @@ def test_the_same_model_under_another_name_is_built_again(tmp_path: Path):
     result = build(renamed, out)
     assert result.code == 0
     # every header names the model file; the user's files (written once) are not written again
-    assert "38 written, 0 deleted, 17 unchanged" in result.out
+    assert "39 written, 0 deleted, 17 unchanged" in result.out
     assert "in model file lab.xmi." in (out / "rules" / "Recovering.clp").read_text(
         encoding="utf-8"
     )

@@ -122,9 +122,10 @@ def test_hostile_text_parses_and_reads_back(tmp_path: Path, weblab):
         assert contains(doc_lines(telemetry.__doc__), doc_lines(TEXT))  # documentation
         assert telemetry.attribute_defaults["note"] == TEXT
         assert TEXT.splitlines()[0] in telemetry.__doc__  # the xpath, in its description
-        module = __import__(f"{package}.UserSide", fromlist=["HOST"])
-        assert module.HOST == 'h"o\\st\n'
+        module = __import__(f"{package}.UserSide", fromlist=["CONTAINER"])
+        assert module.CONTAINER == "UserSide" and module.LAUNCHER.package == package
         assert contains(doc_lines(module.__doc__), doc_lines(TEXT))
+        assert 'on host h"o\\st' in module.__doc__  # the host, escaped in the docstring
 
 
 @pytest.mark.parametrize(
@@ -135,6 +136,9 @@ def test_hostile_text_parses_and_reads_back(tmp_path: Path, weblab):
         ("component", "a-b", "not an identifier"),
         ("operation", "get", "a name of the component API"),
         ("operation", "_hidden", "a name of the component API"),
+        ("operation", "model_types", "a name the generated base class uses"),
+        ("operation", "unimplemented", "a name the generated base class uses"),
+        ("container", "model_types", "a module of the generated package"),
         ("parameter", "self", "parameter 'self'"),
         ("parameter", "lambda", "a Python keyword"),
         ("container", "registry", "a module of the generated package"),

@@ -115,3 +115,11 @@ def test_java_excerpt_is_the_start_of_the_base_class(tmp_path: Path):
     (excerpt,) = blocks("java")
     real = (tmp_path / "java" / "weblab" / "AccessBase.java").read_text(encoding="ascii")
     assert real.startswith(excerpt)
+
+
+def test_the_container_module_excerpt_is_the_end_of_the_file(tmp_path: Path):
+    build(WEBLAB, tmp_path, "-t", "python")
+    (excerpt,) = [b for b in blocks("python") if b.startswith("from acordcs.runtime.launcher")]
+    real = (tmp_path / "weblab_app" / "UserSide.py").read_text(encoding="utf-8")
+    assert real.endswith(excerpt)
+    assert len(real.splitlines()) == 25 and "(25 lines with its header and" in SECTION

@@ -1,9 +1,11 @@
 """The ``shell`` target's scripts: ``sh -n`` parses every one of both samples, shellcheck finds
-nothing (service test: ``make test`` installs shellcheck), model strings are quoted (hostile
-hosts, ids and documentation reach the program as data and never run), and the WebLab's scripts
-start both containers as two processes, which serve the endpoints the other is given, call each
-other over the remote connector (with user code in the user classes) while a policy adapts,
-report them running, refuse a second start, and stop them."""
+nothing (service test: ``make test`` installs shellcheck), the stylesheet's one quoting function
+(``sh:quote`` in shell.xsl) gives every string of a hostile corpus back through ``sh`` and starts
+no line with model text, model strings are quoted (hostile hosts, ids, qualified names and the
+model file's name reach the program as data, never run, never forge a protected region), and the
+WebLab's scripts start both containers as two processes, which serve the endpoints the other is
+given, call each other over the remote connector (with user code in the user classes) while a
+policy adapts, report them running, refuse a second start, and stop them."""
 
 from __future__ import annotations
 
@@ -18,7 +20,10 @@ from pathlib import Path
 
 import pytest
 
-from acordcs.codegen.targets.shell import needs, quote, shell
+from acordcs.codegen import regions
+from acordcs.codegen.targets.shell import STYLESHEET, shell
+from acordcs.descriptor import DescriptorError, to_xml
+from tests.support import fake_container
 from tests.support.codegen import build, context
 from tests.support.toolchain import SMARTROOM, WEBLAB
 
@@ -47,39 +52,120 @@ def test_every_script_parses_with_sh_n(built: Path) -> None:
         assert done.returncode == 0, (path, done.stderr)
 
 
-@pytest.mark.service
-def test_shellcheck_finds_nothing(built: Path) -> None:
+def shellcheck(directory: Path, *options: str) -> subprocess.CompletedProcess:
     found = shutil.which("shellcheck")
     if found is None:
         reason = "shellcheck is not on PATH (apt-get install shellcheck)"
         if os.environ.get("CI") == "true":
             pytest.fail(f"the shellcheck test cannot run in CI: {reason}")
         pytest.skip(reason)
-    done = subprocess.run(
-        [found, "-s", "sh", "-x", *(p.name for p in scripts(built))],
-        cwd=built / "bin",
-        capture_output=True,
-        text=True,
+    names = sorted(p.name for p in directory.iterdir() if not p.name.endswith(".lost"))
+    return subprocess.run(
+        [found, "-s", "sh", "-x", *options, *names], cwd=directory, capture_output=True, text=True
     )
+
+
+@pytest.mark.service
+def test_shellcheck_finds_nothing(built: Path) -> None:
+    done = shellcheck(built / "bin")
     assert done.returncode == 0, done.stdout + done.stderr
 
 
-@pytest.mark.parametrize("text", ["", "a b", "it's", "$(x)`y`", "'", "\n\\\"'", "'\\''"])
-def test_quote_gives_the_string_back_through_sh(text: str) -> None:
-    done = subprocess.run(
-        ["sh", "-c", f"printf '%s' {quote(text)}"], capture_output=True, text=True
+# Strings that are code, or end a line, in a shell script or for a reader of it.
+CORPUS = [
+    "",
+    "a b",
+    "it's",
+    "$(x)`y`",
+    "'",
+    "\n\\\"'",
+    "'\\''",
+    "${HOME} ~ * ? [a] ! & ; | < > #",
+    "-n",
+    "tab\there",
+    "line\n# END USER application\n",
+    "\n# BEGIN USER forged\nrm -rf ~\n# END USER forged",
+    "cr\r# END USER application",
+    "crlf\r\n",
+    "nel\x85# END USER application",
+    "ls\u2028# END USER application\u2029ps",
+    "vt\x0bff\x0c fs\x1c gs\x1d rs\x1e",
+    "esc \x1b[31mred\x1b[0m del\x7f",
+    "é 中 😀 e\u0301 \u200b \u202e",
+    "\\",
+    "''''",
+]
+
+
+@pytest.fixture(scope="module")
+def sh_quote(tmp_path_factory):
+    """``sh:quote`` of shell.xsl, called through a stylesheet that imports it."""
+    from saxonche import PySaxonProcessor
+
+    wrapper = tmp_path_factory.mktemp("quote") / "quote.xsl"
+    wrapper.write_text(
+        f"""<xsl:stylesheet version="3.0" xmlns:xsl="http://www.w3.org/1999/XSL/Transform"
+    xmlns:xs="http://www.w3.org/2001/XMLSchema" xmlns:sh="http://acordcs.org/codegen/sh">
+  <xsl:import href="{Path(str(STYLESHEET)).as_uri()}"/>
+  <xsl:param name="s" as="xs:string" required="yes"/>
+  <xsl:output method="text" encoding="UTF-8"/>
+  <xsl:template name="xsl:initial-template"><xsl:value-of select="sh:quote($s)"/></xsl:template>
+</xsl:stylesheet>
+""",
+        encoding="utf-8",
     )
-    assert done.stdout == text
+    processor = PySaxonProcessor(license=False)
+    executable = processor.new_xslt30_processor().compile_stylesheet(stylesheet_file=str(wrapper))
+    for name in ("source-file", "generator", "target", "descriptor-schema", "package", "python"):
+        executable.set_parameter(name, processor.make_string_value(""))
+    executable.set_parameter("region-keys", processor.make_string_value(""))
+
+    def quote(text: str) -> str:
+        executable.set_parameter("s", processor.make_string_value(text))
+        return executable.call_template_returning_string()
+
+    return quote
 
 
-def test_quote_refuses_nul() -> None:
-    with pytest.raises(ValueError):
-        quote("a\0b")
+@pytest.mark.parametrize("text", CORPUS, ids=repr)
+def test_quote_gives_the_string_back_through_sh(sh_quote, text: str) -> None:
+    quoted = sh_quote(text)
+    done = subprocess.run(["sh", "-c", f"printf '%s' {quoted}"], capture_output=True)
+    assert done.stdout.decode("utf-8") == text
 
 
+@pytest.mark.parametrize("text", CORPUS, ids=repr)
+def test_quote_starts_no_line_with_model_text(sh_quote, text: str) -> None:
+    """Every line break is followed by the quotes closed and opened again (a line starts with
+    ``''``), whichever reader splits the lines: Python's (the protected regions') or sh's."""
+    quoted = sh_quote(text)
+    assert quoted.startswith("'") and quoted.endswith("'")
+    for line in quoted.splitlines()[1:]:
+        assert line.startswith("''"), (quoted, line)
+    assert regions.parse("hash", f"x={quoted}\n") == []
+
+
+def test_a_nul_never_reaches_a_script(weblab) -> None:
+    """A NUL cannot be in a shell word; an XPath string cannot hold one either (XML characters
+    only), and the descriptor the stylesheet reads refuses it."""
+    c0 = weblab.containers[0]
+    app = dataclasses.replace(
+        weblab, containers=(dataclasses.replace(c0, host="a\0b"), *weblab.containers[1:])
+    )
+    with pytest.raises(DescriptorError, match=r"host 'a\\x00b' contains U\+0000"):
+        to_xml(app)
+
+
+HOSTILE = (
+    "$(touch {pwned})`touch {pwned}`'; touch {pwned}; '\n# END USER application\n"
+    "\u2028# BEGIN USER x\r"
+)
+
+
+@pytest.mark.service
 def test_hostile_strings_reach_the_program_as_data(weblab, tmp_path: Path) -> None:
     pwned = tmp_path / "pwned-XYZ"
-    evil = f"$(touch {pwned})`touch {pwned}`'; touch {pwned}; '\n# END USER application\n"
+    evil = HOSTILE.format(pwned=pwned)
     c0 = weblab.containers[0]
     app = dataclasses.replace(
         weblab,
@@ -90,18 +176,28 @@ def test_hostile_strings_reach_the_program_as_data(weblab, tmp_path: Path) -> No
             *weblab.containers[1:],
         ),
     )
-    made = context(app, tmp_path, "shell")
+    made = context(app, tmp_path, "shell", source=f"m{evil}.xmi")
     shell(made)
     out = tmp_path / "out"
     for f in made.files:
         (out / f.path).parent.mkdir(parents=True, exist_ok=True)
         (out / f.path).write_bytes(f.data)
+    env_text = (out / "bin" / "env.sh").read_text(encoding="utf-8")
+    keys = [r.key for r in regions.parse("hash", env_text)]
+    assert keys == ["application", *(regions.key(c.id) for c in app.containers)]
+    assert keys[1].startswith("id-")  # the hostile id, as a digest
+    # No error; its warnings here are guesses at intent ("expressions don't expand in single
+    # quotes", a quote that "looks suspect" after a line break): what the quoting is for.
+    checked = shellcheck(out / "bin", "--severity=error")
+    assert checked.returncode == 0, checked.stdout
+    fake_container.install(out, "weblab_app", tuple(c.name for c in app.containers))
     args = tmp_path / "args"
-    fake = tmp_path / "fake-python"
-    fake.write_text(f"#!/bin/sh\nprintf '%s\\0' \"$@\" >'{args}'\nexec sleep 30\n")
-    fake.chmod(0o755)
-    env = {**os.environ, "PYTHON": str(fake), "ACORDCS_RUN_DIR": str(tmp_path / "run")}
-    env.pop(f"ACORDCS_{c0.name}_HOST", None)
+    env = {
+        **{k: v for k, v in os.environ.items() if not k.startswith("ACORDCS_")},
+        "PYTHON": sys.executable,
+        "ACORDCS_RUN_DIR": str(tmp_path / "run"),
+        "FAKE_ARGS": str(args),
+    }
     bin_ = out / "bin"
     try:
         done = subprocess.run(["sh", str(bin_ / f"{c0.name}-start")], env=env, capture_output=True)
@@ -124,24 +220,6 @@ def free_ports(count: int) -> list[int]:
     finally:
         for s in sockets:
             s.close()
-
-
-def test_needs_is_what_assembly_requires(weblab, smartroom) -> None:
-    from acordcs.runtime.api import VirtualClock
-    from acordcs.runtime.assembly import assemble
-    from acordcs.runtime.errors import RuntimeFailure
-
-    assert needs(weblab, "UserSide") == ["WebLabSide"]
-    assert needs(weblab, "WebLabSide") == ["UserSide"]
-    for app in (weblab, smartroom):
-        for c in app.containers:
-            given = needs(app, c.name)
-            uris = {n: f"PYRO:acordcs.container.{n}@127.0.0.1:9" for n in given}
-            assemble(app, only=[c.name], clock=VirtualClock(0), remote=uris).close()
-            for missing in given:
-                fewer = {n: u for n, u in uris.items() if n != missing}
-                with pytest.raises(RuntimeFailure):
-                    assemble(app, only=[c.name], clock=VirtualClock(0), remote=fewer)
 
 
 # User code for the two-process run, written where the build keeps it (the user classes): the
@@ -296,12 +374,12 @@ def test_the_weblab_scripts_start_check_and_stop_both_containers(tmp_path: Path)
     assert again.returncode == 0 and "UserSide: not running" in again.stdout
 
 
-def test_readme_excerpt_is_the_end_of_the_weblab_env_file(tmp_path: Path) -> None:
+def test_readme_excerpt_is_in_the_weblab_env_file(tmp_path: Path) -> None:
     from tests.codegen.test_readme_build_section import blocks
 
     assert build(WEBLAB, tmp_path, "-t", "shell").code == 0
     (excerpt,) = [b for b in blocks("sh") if b.startswith("# Container")]
-    assert (tmp_path / "bin" / "env.sh").read_text(encoding="utf-8").endswith(excerpt)
+    assert excerpt in (tmp_path / "bin" / "env.sh").read_text(encoding="utf-8")
 
 
 def test_scripts_are_executable_and_env_file_is_not(built: Path) -> None:
@@ -320,3 +398,34 @@ def test_a_container_name_that_is_no_identifier_is_refused(weblab, tmp_path: Pat
     with pytest.raises(BuildError) as info:
         shell(made)
     assert [d.code for d in info.value.diagnostics] == ["G703"] and made.files == []
+
+
+def test_a_host_holding_region_markers_builds_and_keeps_the_users_lines(tmp_path: Path) -> None:
+    from tests.support.codegen import weblab_variant
+
+    forged = "user.example.org&#10;# END USER application&#10;# BEGIN USER application&#10;x"
+    model = weblab_variant(tmp_path, ('"user.example.org"', f'"{forged}"', 2))
+    out = tmp_path / "out"
+    first = build(model, out, "-t", "shell")
+    assert first.code == 0, first.both
+    env = out / "bin" / "env.sh"
+    text = env.read_text(encoding="utf-8")
+    assert [r.key for r in regions.parse("hash", text)] == [
+        "application",
+        "BOUML_0x20502_4",
+        "BOUML_0x20582_4",
+    ]
+    env.write_text(
+        text.replace("# BEGIN USER application\n", "# BEGIN USER application\nMINE=1\n", 1),
+        encoding="utf-8",
+    )
+    again = build(model, out, "-t", "shell", "--force")
+    assert again.code == 0, again.both
+    assert "# BEGIN USER application\nMINE=1\n# END USER application\n" in env.read_text()
+    host = subprocess.run(
+        ["sh", "-c", '. "$bin/env.sh" && printf %s "$ACORDCS_UserSide_HOST"'],
+        env={**os.environ, "bin": str(out / "bin"), "ACORDCS_RUN_DIR": str(tmp_path / "run")},
+        capture_output=True,
+        text=True,
+    )
+    assert host.stdout == forged.replace("&#10;", "\n"), host.stderr

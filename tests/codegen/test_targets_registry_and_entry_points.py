@@ -98,7 +98,7 @@ def test_built_in_targets_are_config_java_python_rules_and_shell_only():
         "java": "xslt",
         "python": "python",  # a function checking names, then running python.xsl
         "rules": "python",
-        "shell": "python",
+        "shell": "python",  # a function checking names, then running shell.xsl
     }
 
 

@@ -12,7 +12,7 @@ from pathlib import Path
 
 import pytest
 
-from tests.support.toolchain import ROOT, WEBLAB, run_main
+from tests.support.toolchain import ROOT, run_main
 
 DOCS = ROOT / "docs"
 TRANSCRIPTS = [
@@ -36,26 +36,19 @@ def _edit(text: str, old: str, new: str) -> str:
 def _example_files(folder: Path) -> None:
     """The files the pages' examples name, made from the samples as the pages say."""
     (folder / "samples").symlink_to(ROOT / "samples")
-    weblab = WEBLAB.read_text(encoding="utf-8")
-    rule = "smallNarrow: if cycleRate is small and angle is narrow"
-    broken = weblab.replace(rule, "smallNarrow: if cycleRat is small and angle is narow")
-    (folder / "broken-weblab.xmi").write_text(broken, encoding="utf-8")
-    typos = _edit(
-        weblab,
-        '<ACORDCS:CtxPolicy xmi:id="BOUML_STELT_0x20302_4"',
-        '<ACORDCS:CtxPolcy xmi:id="BOUML_STELT_0x20302_4"',
-    )
-    typos = _edit(typos, 'trigger="periodic" frequency="0.5"', 'triger="periodic" frequency="0.5"')
-    typos = _edit(typos, 'engine="fuzzy" semantics', 'engine="fuzy" semantics')
-    typos = _edit(typos, 'CtxPolicySet:engine" value="fuzzy"', 'CtxPolicySet:engine" value="fuzy"')
-    (folder / "typos.xmi").write_text(typos, encoding="utf-8")
     papyrus = (ROOT / "samples" / "papyrus" / "thermostat.uml").read_text(encoding="utf-8")
     bare = papyrus.split("  <ACORDCS:CtxContainer", 1)[0] + "</xmi:XMI>\n"
     (folder / "bare.uml").write_text(bare, encoding="utf-8")
+    profile = ROOT / "samples" / "papyrus" / "ACORDCS.profile.uml"
+    (folder / "ACORDCS.profile.uml").write_text(
+        profile.read_text(encoding="utf-8"), encoding="utf-8"
+    )
     (folder / "thermostat.notation").write_text(NOTATION, encoding="utf-8")
 
 
-def test_the_site_builds_strict(tmp_path):
+@pytest.fixture(scope="module")
+def site(tmp_path_factory) -> Path:
+    """The site, built once with ``mkdocs build --strict`` (a broken link fails it)."""
     try:
         import material  # noqa: F401
         import mkdocs  # noqa: F401
@@ -63,8 +56,9 @@ def test_the_site_builds_strict(tmp_path):
         if os.environ.get("CI") == "true":
             pytest.fail("mkdocs and mkdocs-material are in the dev extra: CI must have them")
         pytest.skip("mkdocs or mkdocs-material not installed (pip install -e '.[dev]')")
+    built = tmp_path_factory.mktemp("docs") / "site"
     done = subprocess.run(
-        [sys.executable, "-m", "mkdocs", "build", "--strict", "-d", str(tmp_path / "site")],
+        [sys.executable, "-m", "mkdocs", "build", "--strict", "-d", str(built)],
         cwd=ROOT,
         capture_output=True,
         text=True,
@@ -73,7 +67,46 @@ def test_the_site_builds_strict(tmp_path):
         env={**os.environ, "NO_MKDOCS_2_WARNING": "1"},
     )
     assert done.returncode == 0, done.stdout + done.stderr
-    assert (tmp_path / "site" / "diagnostics" / "index.html").is_file()
+    return built
+
+
+def test_the_site_builds_strict_with_a_file_per_page(site: Path):
+    assert (site / "index.html").is_file()
+    assert (site / "diagnostics.html").is_file() and not (site / "diagnostics").exists()
+
+
+def test_the_site_opens_from_disk_and_its_links_lead_to_pages(site: Path):
+    """Opened from ``file://`` in Chromium, as the README says: each link followed reaches a page
+    (its own title), not a directory listing; a diagnostic code's link reaches its section."""
+    from tests.support.browser import headless_chromium
+
+    with headless_chromium() as browser:
+        browser.get((site / "index.html").as_uri())
+        assert "acordcs" in browser.title
+        for label, expected in (
+            ("Getting started", "Getting started"),
+            ("Command line", "command line"),
+            ("Diagnostic codes", "Diagnostic codes"),
+        ):
+            browser.get((site / "index.html").as_uri())
+            link = next(
+                a
+                for a in browser.find_elements("css selector", "nav a")
+                if a.get_attribute("textContent").strip() == label
+            )
+            browser.get(link.get_attribute("href"))  # the href a click follows
+            assert browser.current_url.startswith("file://") and browser.current_url.endswith(
+                ".html"
+            )
+            heading = browser.find_element("css selector", "article h1").text
+            assert expected.lower() in heading.lower(), (label, heading)
+            assert "Index of" not in browser.page_source
+        browser.get((site / "diagnostics.html").as_uri() + "#l402")
+        section = browser.find_element("id", "l402")
+        assert section.text.startswith("L402 rule variable is not an attribute")
+        toc = browser.find_elements("css selector", ".md-nav--secondary a")
+        shown = {a.get_attribute("textContent").strip() for a in toc}
+        assert any(t.startswith("L402 rule variable") for t in shown), sorted(shown)[:5]
 
 
 def test_the_navigation_holds_every_page():

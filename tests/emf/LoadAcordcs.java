@@ -27,8 +27,12 @@ import org.eclipse.emf.ecore.xmi.impl.XMIResourceFactoryImpl;
  * <p>Usage: {@code LoadAcordcs ECORE [MODEL...]}. Validates the EPackage with EMF's Diagnostician,
  * registers it, loads every MODEL, resolves every reference, validates every root and prints, one
  * record per line, fields separated by TAB (tabs, newlines and backslashes in values escaped as
- * {@code \t \n \\}):
+ * {@code \t \n \\}). {@code LoadAcordcs --by-schema-location MODEL...} registers no metamodel:
+ * EMF must find it where each MODEL's {@code xsi:schemaLocation} says, as an EMF tool opening the
+ * file would.
  * <ul>
+ *   <li>{@code metamodel MODEL nsURI location}: where the EPackage of the model's root was loaded
+ *       from (its resource's URI);</li>
  *   <li>{@code count MODEL EClass n}: objects per EClass, the root included;</li>
  *   <li>{@code attr MODEL fragment feature set kind value}: every attribute of every object as EMF
  *       sees it ({@code set} is eIsSet; kind {@code null}, {@code one} or {@code many}, many values
@@ -48,10 +52,13 @@ public final class LoadAcordcs {
 
     public static void main(String[] args) {
         if (args.length < 1) {
-            System.err.println("usage: LoadAcordcs ECORE [MODEL...] (the metamodel, then model instance files)");
+            System.err.println("usage: LoadAcordcs ECORE [MODEL...] (the metamodel, then model instance files), "
+                    + "or LoadAcordcs --by-schema-location MODEL...");
             System.exit(2);
         }
-        for (String a : args) {
+        boolean bySchemaLocation = "--by-schema-location".equals(args[0]);
+        for (int i = bySchemaLocation ? 1 : 0; i < args.length; i++) {
+            String a = args[i];
             if (!new File(a).isFile()) {
                 System.err.println("LoadAcordcs: no such file: " + a + " (pass existing .ecore and .xmi paths)");
                 System.exit(2);
@@ -62,8 +69,10 @@ public final class LoadAcordcs {
         factories.put("ecore", new EcoreResourceFactoryImpl());
         factories.put(Resource.Factory.Registry.DEFAULT_EXTENSION, new XMIResourceFactoryImpl());
 
-        EPackage pkg = loadMetamodel(rs, args[0]);
-        rs.getPackageRegistry().put(pkg.getNsURI(), pkg);
+        if (!bySchemaLocation) {
+            EPackage pkg = loadMetamodel(rs, args[0]);
+            rs.getPackageRegistry().put(pkg.getNsURI(), pkg);
+        }
         for (int i = 1; i < args.length; i++) {
             loadModel(rs, args[i]);
         }
@@ -121,6 +130,10 @@ public final class LoadAcordcs {
             problem(path, "ERROR", "the resource is empty");
         }
         for (EObject root : roots) {
+            EPackage metamodel = root.eClass().getEPackage();
+            Resource from = metamodel.eResource();
+            System.out.println("metamodel\t" + path + "\t" + metamodel.getNsURI() + "\t"
+                    + (from == null ? "" : from.getURI().toFileString()));
             report(path, Diagnostician.INSTANCE.validate(root));
             counts.merge(root.eClass().getName(), 1, Integer::sum);
             for (TreeIterator<EObject> it = root.eAllContents(); it.hasNext();) {

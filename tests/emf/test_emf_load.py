@@ -1,10 +1,12 @@
 """The metamodel and the model files our toolchain writes load in Eclipse EMF itself.
 
 A small Java program (LoadAcordcs.java, next to this file) is compiled against Debian's EMF jars and
-run on ``acordcs.ecore`` and on model instance files written by ``acordcs.metamodel.save_model``.
-It validates the EPackage and every model with EMF's Diagnostician and prints what EMF read: objects
-per EClass, every attribute value, every cross reference. The tests compare that with the pyecore
-objects that were saved.
+run on ``acordcs.ecore`` and on model instance files written by ``acordcs.metamodel.save_model``
+and by ``acordcs-gen export``. It validates the EPackage and every model with EMF's Diagnostician
+and prints what EMF read: objects per EClass, every attribute value, every cross reference. The
+tests compare that with the pyecore objects that were saved. An exported file is loaded as an EMF
+tool opens one: with no metamodel registered, EMF finds ``acordcs.ecore`` by the file's
+``xsi:schemaLocation``.
 
 Needs a JDK (javac, java) and the jars of libeclipse-emf-{common,ecore,ecore-xmi}-java. Outside CI
 (``CI`` is not ``true``) the tests skip when those are missing; in CI they fail.
@@ -32,6 +34,8 @@ HERE = Path(__file__).resolve().parent
 JAVA_SOURCE = HERE / "LoadAcordcs.java"
 PROJECT = HERE.parent.parent
 WEBLAB_SAMPLE = PROJECT / "samples" / "weblab" / "weblab.xmi"
+SMARTROOM_SAMPLE = PROJECT / "samples" / "smartroom" / "smartroom.xmi"
+THERMOSTAT_SAMPLE = PROJECT / "samples" / "papyrus" / "thermostat.uml"
 JAR_DIR = Path(os.environ.get("ACORDCS_EMF_JAR_DIR", "/usr/share/java"))
 # Debian's unversioned symlinks; the package that provides each, for the error message.
 JARS = {
@@ -40,6 +44,10 @@ JARS = {
     "eclipse-emf-ecore-xmi.jar": "libeclipse-emf-ecore-xmi-java",
 }
 SEP = "\x1f"
+
+
+def _stem(path: Path) -> str:
+    return path.stem
 
 
 def _unavailable(reason: str) -> None:
@@ -57,6 +65,7 @@ class EmfRun:
     attrs: dict[str, dict[tuple[str, str], tuple[bool, str, object]]] = field(default_factory=dict)
     refs: dict[str, dict[tuple[str, str], list[str]]] = field(default_factory=dict)
     problems: list[str] = field(default_factory=list)
+    metamodels: dict[str, tuple[str, str]] = field(default_factory=dict)  # model -> nsURI, file
 
     def explain(self) -> str:
         return f"exit {self.returncode}\nstdout:\n{self.stdout}\nstderr:\n{self.stderr}"
@@ -97,6 +106,9 @@ def _parse(proc: subprocess.CompletedProcess) -> EmfRun:
             run.refs.setdefault(model, {})[frag, feature] = targets.split(SEP) if targets else []
         elif kind == "problem":
             run.problems.append("\t".join(rest))
+        elif kind == "metamodel":
+            model, ns_uri, location = rest
+            run.metamodels[model] = (ns_uri, location)
     return run
 
 
@@ -123,14 +135,17 @@ def emf(tmp_path_factory):
     )
     assert compiled.returncode == 0, f"javac failed on {JAVA_SOURCE}:\n{compiled.stderr}"
 
-    def run(*models: Path) -> EmfRun:
+    def run(*models: Path, by_schema_location: bool = False) -> EmfRun:
+        """LoadAcordcs on ``models``, with our metamodel registered, or (``by_schema_location``)
+        with none: EMF loads the one each model names."""
+        first = "--by-schema-location" if by_schema_location else metamodel.ecore_path()
         proc = subprocess.run(
             [
                 java,
                 "-cp",
                 os.pathsep.join([str(classes), classpath]),
                 "LoadAcordcs",
-                metamodel.ecore_path(),
+                first,
                 *map(str, models),
             ],
             capture_output=True,
@@ -495,3 +510,36 @@ def test_weblab_sample_loads_in_emf(emf, tmp_path):
     assert run.counts.get(str(path)) == _counts(root), run.explain()
     diffs = _compare(root, run, path)
     assert not diffs, "EMF read something else than pyecore saved:\n" + "\n".join(diffs)
+
+
+@pytest.mark.parametrize("sample", [WEBLAB_SAMPLE, SMARTROOM_SAMPLE, THERMOSTAT_SAMPLE], ids=_stem)
+def test_exported_model_loads_in_emf_by_its_schema_location(emf, tmp_path, sample):
+    # What a modeller gets from `acordcs-gen export`: EMF, with nothing registered, loads the
+    # metamodel written beside the file and reads back every object, value and reference.
+    from acordcs.model.ecore_builder import to_ecore
+    from acordcs.model.reading import read_model
+    from tests.support.toolchain import run_main
+
+    path = tmp_path / "out" / f"{sample.stem}.acordcs.xmi"
+    done = run_main(["export", str(sample), "-o", str(path)])
+    assert done.code == 0, done.both
+    run = emf(path, by_schema_location=True)
+    assert run.returncode == 0, f"EMF reports problems in {path}:\n{run.explain()}"
+    beside = tmp_path / "out" / "acordcs.ecore"
+    assert run.metamodels[str(path)] == (metamodel.NS_URI, str(beside)), run.explain()
+    root = to_ecore(read_model(str(sample)).architecture)
+    assert run.counts.get(str(path)) == _counts(root), run.explain()
+    diffs = _compare(root, run, path)
+    assert not diffs, "EMF read something else than the export wrote:\n" + "\n".join(diffs)
+
+
+def test_emf_fails_on_an_export_without_its_metamodel(emf, tmp_path):
+    # The test above could pass with the metamodel found elsewhere: without the file beside it,
+    # EMF must not load the model.
+    from tests.support.toolchain import run_main
+
+    path = tmp_path / "weblab.acordcs.xmi"
+    assert run_main(["export", str(WEBLAB_SAMPLE), "-o", str(path)]).code == 0
+    (tmp_path / "acordcs.ecore").unlink()
+    run = emf(path, by_schema_location=True)
+    assert run.returncode != 0, run.explain()

@@ -9,8 +9,8 @@ import pytest
 
 from acordcs.metamodel import create
 from acordcs.runtime.clips import ClipsEngine
-from acordcs.runtime.clips.model import engine_for_policy_set
 from acordcs.runtime.rule_engine import RuleEngine, RuleError
+from tests.support.ecore_clips_engine import engine_for_policy_set
 
 RECOVERY = [
     "count: if Control.speed == 0 then Recovery.zeros = Recovery.zeros + 1",

@@ -67,6 +67,31 @@ def test_a_zero_width_input_term_is_a_spike(spike: str) -> None:
     assert _fire(text, 5.5) == 0.0  # a is 0 beside its spike: no rule fires, y is its low end
 
 
+@pytest.mark.parametrize("spike", ["TRIAN 7 7 7", "TRAPE 7 7 7 7", "(7, 0) (7, 1)", "7"])
+def test_a_spike_beside_shaped_output_terms_is_read_and_seen_by_no_method(spike, caplog) -> None:
+    """jFuzzyLogic samples a continuous output on 1,001 points
+    (net.sourceforge.jFuzzyLogic.defuzzifier.DefuzzifierContinuous, RuleActivationMethod.imply):
+    a zero-width triangle (MembershipFunctionTriangular.membership: 1 only at x == mid) adds
+    nothing unless a sample falls exactly on it. Exactly: it has no width, for every method."""
+    both = "RULE 1 : IF x IS a THEN y IS b; RULE 2 : IF x IS a THEN y IS d;"
+    text = _fcl(defuzzify=f"TERM b := trian 0 2 4; TERM d := {spike};", rules=both)
+    for method in ("COG", "COA", "LM", "RM", "MM"):
+        mixed = text.replace(
+            "RANGE := (0 .. 10);\nEND_DEFUZZIFY",
+            f"RANGE := (0 .. 10);\n  METHOD : {method};\nEND_DEFUZZIFY",
+        )
+        alone = mixed.replace("RULE 2 : IF x IS a THEN y IS d;", "")
+        assert _fire(mixed, 1.0) == _fire(alone, 1.0)
+    assert "<input>:9:36: 1 singleton or zero-width term(s) of output y beside" in caplog.text
+    only = _fcl(
+        defuzzify=f"TERM b := trian 0 2 4; TERM d := {spike};",
+        rules="RULE 2 : IF x IS a THEN y IS d;",
+    )
+    assert (
+        _fire(only, 1.0) == 0.0
+    )  # only the spike fired: as if no rule fired (y keeps its low end)
+
+
 def test_zero_width_output_terms_are_singletons() -> None:
     text = _fcl(
         fuzzify="TERM a := trian 0 2 4; TERM c := trian 3 6 8;",
@@ -83,27 +108,27 @@ def test_zero_width_output_terms_are_singletons() -> None:
     [
         (
             _fcl(fuzzify="TERM a := trian 0 2 4; TERM f := FUNCTION (x + 1);"),
-            "FUNCTION is not supported",
+            "a FUNCTION term in FUZZIFY is 1 only where the input equals",
             5,
             36,
         ),
         (
             "FUNCTION f : REAL\nVAR_INPUT a : REAL; END_VAR\nf := a;\nEND_FUNCTION\n" + _fcl(),
-            "FUNCTION is not supported",
+            "FUNCTION definitions \\(IEC 61131-3 program code\\) are not read",
             1,
             1,
         ),
         (
             _fcl(defuzzify="TERM b := trian 0 2 4; ACCU : MAX;"),
-            "ACCU inside DEFUZZIFY y is not supported; write ACCU : MAX; in the RULEBLOCK",
+            "ACCU inside DEFUZZIFY y is fuzzylite's dialect .* move ACCU : MAX; into the RULEBLOCK",
             9,
             26,
         ),
         (
-            _fcl(defuzzify="TERM b := trian 0 2 4; TERM d := trian 7 7 7;"),
-            "an output cannot mix spikes with shaped terms",
+            _fcl(defuzzify="TERM b := trian 0 2 4; DEFAULT := nan;"),
+            "DEFAULT := nan is fuzzylite's dialect .* write DEFAULT := NC",
             9,
-            36,
+            37,
         ),
         (_fcl(defuzzify="TERM b := trian 4 2 0;"), "variable 'y', term 'b': triangle", 9, 13),
         (

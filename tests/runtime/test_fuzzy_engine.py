@@ -270,7 +270,7 @@ def test_maximum_methods_and_coa_exactly(method, expected):
         assert e.get("y") == pytest.approx(expected, abs=1e-12)
 
 
-def test_singleton_outputs_and_method_mismatch():
+def test_singleton_outputs_and_method_mismatch(caplog):
     e = FuzzyEngine()
     e.define_variable("x", 0, 1, "a := trian 0 1 1; b := trian 0 0 1")
     e.define_variable("y", 0, 100, "lo := 10; hi := 90")
@@ -282,9 +282,28 @@ def test_singleton_outputs_and_method_mismatch():
     e.define_variable("z", 0, 100, "mid := trian 0 50 100", method="COGS")
     with pytest.raises(RuleError, match="COGS needs singleton terms"):
         e.defrule("if x is a then z is mid", "s")
+    # A singleton beside shaped terms has no width: no method sees it (jFuzzyLogic's sampled set
+    # misses it too), and the plan says so once.
     e.define_variable("w", 0, 100, "mid := trian 0 50 100; top := 100")
-    with pytest.raises(RuleError, match="cannot mix singleton"):
-        e.defrule("if x is a then w is mid", "s")
+    e.defrule("if x is a then w is mid", "t")
+    e.defrule("if x is a then w is top", "t")
+    e.fire("t")
+    assert e.get("w") == pytest.approx(50.0)
+    assert "1 singleton term(s) beside shaped ones have no width" in caplog.text
+
+
+@pytest.mark.parametrize(("method", "expected"), [("LM", 90.0), ("RM", 90.0), ("MM", 90.0)])
+def test_a_set_of_tiny_height_still_has_its_own_maximum(method, expected):
+    """The maximum is taken within 1e-12 of the set's height, not within 1e-12 absolute: a rule
+    firing at 1e-28 alone made every singleton (at 0) a maximum."""
+    e = FuzzyEngine()
+    e.define_variable("x", 0, 1, "a := trian 0 1 1; b := trian 0 0 1")
+    e.define_variable("y", 0, 100, "lo := 10; hi := 90", method=method)
+    e.defrule("if x is a then y is hi", "s")
+    e.defrule("if x is b then y is lo with 0", "s")
+    e.set("x", 1e-28)
+    e.fire("s")
+    assert e.get("y") == expected
 
 
 def test_bad_variable_declarations():

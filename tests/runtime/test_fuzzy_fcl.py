@@ -181,7 +181,7 @@ def _block(
         (_block("METHOD : CENTROID;"), "unknown METHOD CENTROID for y; use one of COG", 9, 12),
         (_block("METHOD : COGF;"), "unknown METHOD COGF", 9, 12),
         (_block(rules="ACCU : AVG;"), "unknown ACCU operator AVG in RULEBLOCK r", 12, 10),
-        (_block(rules="AND : HAMACHER;"), "unknown AND operator HAMACHER", 12, 9),
+        (_block(rules="AND : YAGER;"), "unknown AND operator YAGER", 12, 9),
         (_block("TERM c := cosine 1 2;"), "membership function cosine is not supported", 9, 13),
         (_block("TERM c := trian 5 1 8;"), "inverted", 9, 13),
         (_block("DEFAULT := MAYBE;"), "DEFAULT must be a number or NC", 9, 14),

@@ -1,4 +1,6 @@
-"""Loading a fuzzy policy set from an ACORD-CS model (pyecore)."""
+"""The oracle that builds a fuzzy engine straight from a pyecore model (tests/support/ecore_fuzzy_engine)
+is itself right: it declares the scope's variables with their defaults, keeps the set's semantics and
+infers what the hand-built engine of the same rules infers; rules outside the scope fail."""
 
 from __future__ import annotations
 
@@ -7,8 +9,8 @@ import pytest
 
 from acordcs.metamodel import create, load
 from acordcs.rules import parse_terms
-from acordcs.runtime.fuzzy.model import engine_for_policy_set
 from acordcs.runtime.rule_engine import RuleError
+from tests.support.ecore_fuzzy_engine import engine_for_policy_set
 from tests.support.fuzzy_bases import SPEED_RULES, SPEED_VARIABLES, speed_engine
 
 

@@ -17,6 +17,7 @@ from acordcs.runtime.repository import (
     RepositoryError,
     parse_description,
 )
+from acordcs.vocabularies import PORT_KINDS, PORT_ROLES
 from tests.support.services import free_port
 
 PLAIN_PACKAGE = {
@@ -160,6 +161,27 @@ def test_malformed_description_is_a_clear_error_and_nothing_is_added(
         repo.add(document.replace("{sha}", "a" * 64), source="x.xml")
     assert info.value.file == "x.xml" and info.value.hint
     assert len(repo) == 0
+
+
+def test_port_kinds_and_roles_are_the_metamodels() -> None:
+    # "notification" is the paper's (RM-ODP's) name of the asynchronous kind, not a kind of its
+    # own: no port of the runtime, the schema or the metamodel has it.
+    for kind in PORT_KINDS:
+        for role in PORT_ROLES:
+            port = f'<port name="p" kind="{kind}" role="{role}"/>'
+            text = GOOD.replace("{sha}", "a" * 64).replace("<factory", port + "<factory")
+            assert parse_description(text).ports[0].kind == kind
+    text = GOOD.replace("{sha}", "a" * 64).replace(
+        "<factory", '<port name="p" kind="notification"/><factory'
+    )
+    with pytest.raises(
+        RepositoryError, match="kind 'notification' / role 'provided' unknown"
+    ) as info:
+        parse_description(text, "d.xml")
+    assert info.value.hint == (
+        "kind is one of synchronous, asynchronous, stream (RM-ODP's request-reply, notification "
+        "and flow), role one of provided, required"
+    )
 
 
 def test_description_error_names_the_line() -> None:

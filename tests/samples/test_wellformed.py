@@ -109,7 +109,7 @@ def valid_identifier(name: str) -> bool:
 
 
 def load_generator():
-    from acordcs.xmi.writer import synthetic
+    from tools.bouml_writer import synthetic
 
     return synthetic
 

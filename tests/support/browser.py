@@ -40,6 +40,8 @@ def chromium_driver(width: int = WINDOW[0], height: int = WINDOW[1]):
     chromium, driver = browser_binaries()
     options = webdriver.ChromeOptions()
     options.binary_location = chromium
+    # the page's console messages (CSP refusals among them), for get_log("browser")
+    options.set_capability("goog:loggingPrefs", {"browser": "ALL"})
     for arg in (
         "--headless=new",
         "--no-sandbox",

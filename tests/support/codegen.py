@@ -92,3 +92,23 @@ def python_files(directory: Path) -> dict[str, str]:
         p.relative_to(directory).as_posix(): p.read_text(encoding="utf-8")
         for p in sorted(directory.rglob("*.py"))
     }
+
+
+def run_container(directory: Path, module: str, *args: str, timeout: float = 60):
+    """``python -m MODULE ARGS...`` (a generated container module) with ``directory`` and the
+    repository's ``src`` on PYTHONPATH, in ``directory``: the CompletedProcess (text)."""
+    import os
+    import subprocess
+    import sys
+
+    from tests.support.toolchain import ROOT
+
+    env = dict(os.environ, PYTHONPATH=os.pathsep.join([str(directory), str(ROOT / "src")]))
+    return subprocess.run(
+        [sys.executable, "-m", module, *args],
+        cwd=directory,
+        env=env,
+        capture_output=True,
+        text=True,
+        timeout=timeout,
+    )

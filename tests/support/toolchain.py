@@ -205,8 +205,8 @@ def rule_and_tag_findings(tmp_path: Path, build: Callable) -> list[tuple[str, st
     """(code, message) of the rule (L) and tag (T) diagnostics of a model that ``build(writer,
     package)`` fills in, written by the BOUML writer and read back."""
     from acordcs.model.reading import read_model
-    from acordcs.xmi.writer import bouml
-    from acordcs.xmi.writer.elements import Pkg
+    from tools.bouml_writer import bouml
+    from tools.bouml_writer.elements import Pkg
 
     gen = bouml
     root = Pkg("Model")

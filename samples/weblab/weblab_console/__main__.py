@@ -1,8 +1,9 @@
 """``python -m weblab_console [--host 127.0.0.1] [--port 8765] [--speed 1]``: the WebLab console.
 
-Serves the console on uvicorn and prints its URL, which carries the session's token (random per
-start: whoever has the link may drive). Run from ``samples/weblab`` with the generated application
-built into ``samples/weblab/app`` (``make console`` does both). Ctrl-C stops it.
+Serves the console on uvicorn and prints its URL, whose fragment (``#token=...``, never sent to a
+server) carries the session's token (random per start: whoever has the link may drive). Run from
+``samples/weblab`` with the generated application built into ``samples/weblab/app`` (``make
+console`` does both). Ctrl-C stops it.
 """
 
 from __future__ import annotations
@@ -14,6 +15,7 @@ import sys
 
 import uvicorn
 
+from weblab_console.guard import allowed_names, host_name, is_loopback
 from weblab_console.hub import ConsoleHub
 from weblab_console.server import create_app
 from weblab_console.serving import free_port
@@ -34,41 +36,99 @@ def main(argv: list[str] | None = None) -> int:
         default=1.0,
         help="simulated seconds per wall second (0: as fast as it runs)",
     )
-    parser.add_argument("--viewers", type=int, default=32, help="most viewers at once (default 32)")
+    parser.add_argument(
+        "--viewers",
+        type=int,
+        default=32,
+        help="most viewers holding the token at once (default 32)",
+    )
+    parser.add_argument(
+        "--watchers",
+        type=int,
+        default=8,
+        help="most viewers without the token (watching only) at once (default 8)",
+    )
+    parser.add_argument(
+        "--allow-host",
+        action="append",
+        default=[],
+        metavar="NAME",
+        help="a name browsers may reach the console by besides the address it listens on "
+        "(repeat for each; e.g. the name of this machine with --host 0.0.0.0)",
+    )
     parser.add_argument(
         "--start", metavar="PROFILE", help="start an experiment on this network at once"
     )
     parser.add_argument("--seed", type=int, default=0, help="the seed of --start (default 0)")
     args = parser.parse_args(argv)
-    if not 0 <= args.port <= 65535 or args.speed < 0 or args.viewers < 1:
-        parser.error("--port must be 0..65535, --speed >= 0, --viewers >= 1")
+    if not 0 <= args.port <= 65535 or args.speed < 0 or args.viewers < 1 or args.watchers < 0:
+        parser.error("--port must be 0..65535, --speed >= 0, --viewers >= 1, --watchers >= 0")
     logging.basicConfig(level=logging.WARNING, format="%(levelname)s %(name)s: %(message)s")
+    everywhere = args.host.strip("[]") in ("0.0.0.0", "::")
+    if everywhere and not args.allow_host:
+        parser.error(
+            f"--host {args.host} listens on every address: name the one browsers will use with "
+            "--allow-host NAME (the console refuses requests sent to any other name)"
+        )
+    allowed = allowed_names(args.host, args.allow_host)
+    if not is_loopback(args.host):
+        print(exposure_warning(args.host), file=sys.stderr, flush=True)
     token = secrets.token_urlsafe(16)
-    hub = ConsoleHub(max_viewers=args.viewers)
+    hub = ConsoleHub(max_viewers=args.viewers, max_watchers=args.watchers)
     session = ConsoleSession(hub, token, speed=args.speed)
-    try:
-        if args.start:
-            session.start(args.start, args.seed)
-    except Exception as err:
-        print(f"weblab_console: cannot start the experiment: {err}", file=sys.stderr)
-        return 2
     port = args.port or free_port(args.host)
-    host = f"[{args.host}]" if ":" in args.host else args.host
-    print(f"WebLab console: http://{host}:{port}/?token={token}", flush=True)
-    print(
-        "(the link carries the session's token: whoever has it may drive; Ctrl-C stops)", flush=True
+    shown = host_name(args.allow_host[0]) if everywhere else args.host.strip("[]")
+    shown = f"[{shown}]" if ":" in shown else shown
+    link = (
+        f"WebLab console: http://{shown}:{port}/#token={token}\n"
+        "(the link carries the session's token: whoever has it may drive; Ctrl-C stops)"
     )
-    config = uvicorn.Config(
-        create_app(hub, session), host=args.host, port=port, log_level="warning", ws_max_size=65536
-    )
-    try:
-        uvicorn.Server(config).run()
+    try:  # Ctrl-C at any moment, also before the server runs, stops cleanly
+        if args.start:
+            try:
+                session.start(args.start, args.seed)
+            except Exception as err:
+                print(f"weblab_console: cannot start the experiment: {err}", file=sys.stderr)
+                return 2
+        config = uvicorn.Config(
+            create_app(hub, session, allowed_hosts=allowed),
+            host=args.host,
+            port=port,
+            log_level="warning",
+            ws_max_size=65536,
+        )
+        _Announcing(config, link).run()
     except KeyboardInterrupt:  # uvicorn shut down cleanly, then passes Ctrl-C on
         pass
     finally:
         session.close()
     print("WebLab console stopped", flush=True)
     return 0
+
+
+class _Announcing(uvicorn.Server):
+    """uvicorn's server, printing the console's link once it listens (so that the link is also
+    the sign the console is ready, and its Ctrl-C handling in place)."""
+
+    def __init__(self, config: uvicorn.Config, link: str) -> None:
+        super().__init__(config)
+        self.link = link
+
+    async def startup(self, sockets: list | None = None) -> None:
+        await super().startup(sockets)
+        if self.started:
+            print(self.link, flush=True)
+
+
+def exposure_warning(host: str) -> str:
+    """What listening on ``host``, not a loopback address, exposes."""
+    return (
+        f"weblab_console: warning: --host {host} is not a loopback address: anyone who can reach "
+        "this machine's port can watch the experiment (up to --watchers at once), and the link's "
+        "token, the cameras and every command travel in clear text (no TLS), where anyone on the "
+        "network path can read the token and drive; prefer --host 127.0.0.1 and an SSH tunnel "
+        "(ssh -L PORT:127.0.0.1:PORT this-machine)"
+    )
 
 
 if __name__ == "__main__":

@@ -31,6 +31,7 @@ class Mailbox:
     new is pending, to wake the viewer's sender."""
 
     wake: Callable[[], None]
+    holder: bool = False  # the viewer presented the session's token when it connected
     latest: dict[str, Any] = field(default_factory=dict)
     events: deque[Any] = field(default_factory=lambda: deque(maxlen=EVENTS_KEPT))
     replaced: int = 0  # latest payloads overwritten before they were sent
@@ -45,10 +46,13 @@ class Mailbox:
 
 
 class ConsoleHub:
-    """Fan-out of the experiment's output to viewers, with a cap on their number."""
+    """Fan-out of the experiment's output to viewers, with two caps on their number: viewers who
+    presented the session's token (``max_viewers``) and viewers without it (``max_watchers``), so
+    that connections without the token, however many, never take a token holder's place."""
 
-    def __init__(self, max_viewers: int = 32) -> None:
+    def __init__(self, max_viewers: int = 32, max_watchers: int = 8) -> None:
         self.max_viewers = max_viewers
+        self.max_watchers = max_watchers
         self._lock = threading.Lock()
         self._viewers: dict[int, Mailbox] = {}
         self._ids = 0
@@ -85,13 +89,15 @@ class ConsoleHub:
             box.wake()
 
     # ---------------------------------------------------------------------- the viewers' side
-    def join(self, wake: Callable[[], None]) -> tuple[int, Mailbox] | None:
-        """A new viewer's id and mailbox, primed with the current state; None when full."""
+    def join(self, wake: Callable[[], None], *, holder: bool = False) -> tuple[int, Mailbox] | None:
+        """A new viewer's id and mailbox, primed with the current state; None when the viewers
+        of its kind (``holder``: with the session's token) are at their cap."""
         with self._lock:
-            if len(self._viewers) >= self.max_viewers:
+            same = sum(1 for b in self._viewers.values() if b.holder == holder)
+            if same >= (self.max_viewers if holder else self.max_watchers):
                 return None
             self._ids += 1
-            box = Mailbox(wake)
+            box = Mailbox(wake, holder)
             box.latest.update(self._current)
             box.events.extend(self._recent_events)
             self._viewers[self._ids] = box
@@ -115,6 +121,7 @@ class ConsoleHub:
         with self._lock:
             return {
                 "viewers": len(self._viewers),
+                "watchers": sum(1 for b in self._viewers.values() if not b.holder),
                 "published": self.published,
                 "replaced": sum(b.replaced for b in self._viewers.values()),
                 "dropped": sum(b.dropped for b in self._viewers.values()),

@@ -44,7 +44,7 @@ def main(argv: list[str] | None = None) -> int:
             {"width": 1400, "height": 900, "deviceScaleFactor": 1, "mobile": False},
         )
         with serving(hub, session) as url:
-            browser.get(f"{url}/?token={TOKEN}")
+            browser.get(f"{url}/#token={TOKEN}")
             wait = WebDriverWait(browser, 60, poll_frequency=0.1)
             wait.until(lambda d: d.find_elements("css selector", "#profile option"))
             Select(browser.find_element("id", "profile")).select_by_value(args.profile)

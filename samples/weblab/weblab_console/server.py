@@ -5,15 +5,21 @@
 messages (one byte naming the camera, then the JPEG), everything else as JSON text: an object
 ``{"type", "data"}``, or an array of such objects when several were pending. A viewer sends
 commands (:mod:`weblab_console.commands`); those that change the experiment need the session's token,
-which the application's access service checks (:class:`Session.authorize`).
+which the application's access service checks (:class:`Session.authorize`). The page presents the
+token when it opens the WebSocket, as the subprotocol ``weblab.token.<token>`` beside ``weblab``
+(a header: never in a URL), so the server knows at once whether the viewer holds it.
 
 What it promises, and its limits:
 
-- it authenticates nothing but the token of a control command, and trusts no viewer message:
-  each is parsed strictly, at most 4 KB (uvicorn refuses frames over 64 KB before we see them);
-- at most ``max_viewers`` connections at once (the hub's cap): one more is told so and closed
-  (code 1013, try again later); 20 refused messages close a viewer (1008); manual driving is
-  taken at most 30 times a second per viewer;
+- every request passes :class:`~weblab_console.guard.SiteGuard` first: its ``Host`` must name the
+  console, a WebSocket's ``Origin`` must be the console's own; responses carry a
+  Content-Security-Policy, ``X-Frame-Options: DENY`` and ``Referrer-Policy: no-referrer``;
+- it authenticates nothing but the token, and trusts no viewer message: each is parsed strictly, at
+  most 4 KB (uvicorn refuses frames over 64 KB before we see them);
+- at most ``max_viewers`` connections holding the token and ``max_watchers`` without it (the hub's
+  caps, kept apart: connections without the token never take a token holder's place); one more is
+  told so and closed (code 1013, try again later); 20 refused messages close a viewer (1008);
+  manual driving is taken at most 30 times a second per viewer;
 - a viewer never slows the experiment: the experiment only stores into the viewer's mailbox
   (see the hub), and each viewer's sender awaits its own socket;
 - the experiment stopping, or raising in a command, is a message to the page, never a crash.
@@ -26,17 +32,19 @@ import contextlib
 import json
 import logging
 import time
-from collections.abc import Callable
+from collections.abc import Callable, Iterable
 from importlib import resources
 from typing import Any, Protocol
 
 from starlette.applications import Starlette
+from starlette.middleware import Middleware
 from starlette.responses import FileResponse, JSONResponse
 from starlette.routing import Mount, Route, WebSocketRoute
 from starlette.staticfiles import StaticFiles
 from starlette.websockets import WebSocket, WebSocketDisconnect
 
 from weblab_console.commands import CommandError, parse
+from weblab_console.guard import LOOPBACK_NAMES, SiteGuard
 from weblab_console.hub import ConsoleHub
 
 log = logging.getLogger("weblab.console")
@@ -47,6 +55,9 @@ FRAME_CHANNELS = {"frame:onboard": 1, "frame:panoramic": 2}
 
 STRIKES = 20
 DRIVES_PER_SECOND = 30
+PROTOCOL = "weblab"
+TOKEN_PROTOCOL = "weblab.token."
+"""The subprotocol that carries the session's token when the page opens the WebSocket."""
 
 
 class Session(Protocol):
@@ -82,8 +93,11 @@ class _Viewer:
         return self.drives <= DRIVES_PER_SECOND
 
 
-def create_app(hub: ConsoleHub, session: Session) -> Starlette:
-    """The console's ASGI application over ``hub`` and ``session``."""
+def create_app(
+    hub: ConsoleHub, session: Session, *, allowed_hosts: Iterable[str] = LOOPBACK_NAMES
+) -> Starlette:
+    """The console's ASGI application over ``hub`` and ``session``; ``allowed_hosts``: the names
+    requests may be sent to (:func:`weblab_console.guard.allowed_names`)."""
 
     async def page(request) -> FileResponse:
         return FileResponse(str(STATIC / "index.html"), media_type="text/html")
@@ -94,7 +108,16 @@ def create_app(hub: ConsoleHub, session: Session) -> Starlette:
     encode = _Encoded()  # shared by the viewers' senders, all on the server's event loop
 
     async def socket(websocket: WebSocket) -> None:
-        await websocket.accept()
+        offered = [
+            p.strip() for p in websocket.headers.get("sec-websocket-protocol", "").split(",")
+        ]
+        token = next(
+            (p[len(TOKEN_PROTOCOL) :] for p in offered if p.startswith(TOKEN_PROTOCOL)), ""
+        )
+        viewer = _Viewer()
+        if 0 < len(token) <= 128:
+            viewer.authorized = await asyncio.to_thread(_call, session.authorize, token) is True
+        await websocket.accept(subprotocol=PROTOCOL if PROTOCOL in offered else None)
         loop = asyncio.get_running_loop()
         pending = asyncio.Event()
 
@@ -102,13 +125,18 @@ def create_app(hub: ConsoleHub, session: Session) -> Starlette:
             with contextlib.suppress(RuntimeError):  # the loop is closing
                 loop.call_soon_threadsafe(pending.set)
 
-        joined = hub.join(wake)
+        joined = hub.join(wake, holder=viewer.authorized)
         if joined is None:
+            kind = (
+                f"{hub.max_viewers} viewers holding the token"
+                if viewer.authorized
+                else f"{hub.max_watchers} viewers without the token (watching only)"
+            )
             await websocket.send_text(
                 json.dumps(
                     {
                         "type": "refused",
-                        "why": f"the console has its maximum of {hub.max_viewers} viewers",
+                        "why": f"the console has its maximum of {kind}",
                         "todo": "close another console tab, or try again later",
                     }
                 )
@@ -118,9 +146,11 @@ def create_app(hub: ConsoleHub, session: Session) -> Starlette:
         viewer_id, box = joined
         pending.set()  # the current state first
         await websocket.send_text(json.dumps({"type": "hello", "profiles": list(session.profiles)}))
+        if token:
+            await websocket.send_text(json.dumps(_token_reply(viewer)))
         sender = asyncio.create_task(_send(websocket, hub, box, pending, encode))
         try:
-            await _receive(websocket, session, _Viewer())
+            await _receive(websocket, session, viewer)
         finally:
             hub.leave(viewer_id)
             sender.cancel()
@@ -133,7 +163,8 @@ def create_app(hub: ConsoleHub, session: Session) -> Starlette:
             Route("/status", status),
             WebSocketRoute("/ws", socket),
             Mount("/static", StaticFiles(directory=str(STATIC)), name="static"),
-        ]
+        ],
+        middleware=[Middleware(SiteGuard, allowed_hosts=frozenset(allowed_hosts))],
     )
 
 
@@ -216,14 +247,7 @@ def _handle(raw: str | bytes, session: Session, viewer: _Viewer) -> dict[str, An
         return {"type": "pong"}
     if command.name == "auth":
         viewer.authorized = _call(session.authorize, command.args["token"]) is True
-        if not viewer.authorized:
-            viewer.strikes += 1
-            return {
-                "type": "refused",
-                "why": "the access service does not know this token",
-                "todo": "open the console with the link the experiment printed (it holds the token)",
-            }
-        return {"type": "authorized"}
+        return _token_reply(viewer)
     if not viewer.authorized:
         viewer.strikes += 1
         return {
@@ -240,6 +264,18 @@ def _handle(raw: str | bytes, session: Session, viewer: _Viewer) -> dict[str, An
         log.warning("console command %s failed: %s", command.name, err)
         return {"type": "error", "cmd": command.name, "why": f"{type(err).__name__}: {err}"}
     return {"type": "done", "cmd": command.name}
+
+
+def _token_reply(viewer: _Viewer) -> dict[str, Any]:
+    """What a viewer is told after presenting a token (a wrong one is a strike)."""
+    if viewer.authorized:
+        return {"type": "authorized"}
+    viewer.strikes += 1
+    return {
+        "type": "refused",
+        "why": "the access service does not know this token",
+        "todo": "open the console with the link the experiment printed (it holds the token)",
+    }
 
 
 def _call(fn: Callable[[str], bool], token: str) -> bool:

@@ -12,6 +12,7 @@ from contextlib import contextmanager
 
 import uvicorn
 
+from weblab_console.guard import allowed_names
 from weblab_console.hub import ConsoleHub
 from weblab_console.server import Session, create_app
 
@@ -30,7 +31,11 @@ def serving(
     """The console's base URL (``http://host:port``) while the block runs."""
     port = port or free_port(host)
     config = uvicorn.Config(
-        create_app(hub, session), host=host, port=port, log_level="warning", ws_max_size=65536
+        create_app(hub, session, allowed_hosts=allowed_names(host)),
+        host=host,
+        port=port,
+        log_level="warning",
+        ws_max_size=65536,
     )
     server = uvicorn.Server(config)
     thread = threading.Thread(target=server.run, name="weblab-console-server", daemon=True)

@@ -1,4 +1,4 @@
-"""``acordcs-gen``: validate, inspect and build ACORD-CS applications modelled in UML.
+"""``acordcs-gen``: validate, inspect, build and export ACORD-CS applications modelled in UML.
 
 The click group :data:`cli` is the executable. :func:`main` runs it and turns every outcome into an
 exit code (0 ok, 1 failure found, 2 usage or unreadable input), never a traceback; tests and
@@ -15,20 +15,22 @@ from typing import NoReturn
 import click
 
 from acordcs import __version__
-from acordcs.cli import build, inspect, profile, validate
+from acordcs.cli import build, export, inspect, profile, validate
 
 
 @click.group(context_settings={"help_option_names": ["-h", "--help"]})
 @click.version_option(__version__, prog_name="acordcs-gen")
 def cli() -> None:
     """ACORD-CS toolchain: read UML models (BOUML XMI, Eclipse UML2/Papyrus), check them and
-    generate the application's files from them; write the UML profile for BOUML and Papyrus."""
+    generate the application's files from them; write the UML profile for BOUML and Papyrus, and
+    a model as an instance of the ACORD-CS metamodel for EMF tools."""
 
 
 cli.add_command(validate.validate)
 cli.add_command(inspect.inspect)
 cli.add_command(build.build)
 cli.add_command(profile.profile)
+cli.add_command(export.export)
 
 
 def main(argv: list[str] | None = None) -> int:

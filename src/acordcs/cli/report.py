@@ -83,16 +83,18 @@ def as_sarif(readings: list[ModelReading], *, exit_code: int = 0) -> dict:
     misspelt variables in one rule) are told apart by their order.
     """
     used = sorted({d.code for r in readings for d in r.diagnostics})
-    rules = [
-        {
+    rules = []
+    for code in used:
+        rule = {
             "id": code,
             "name": CODES[code][1].title().replace(" ", "").replace("'", "")[:60],
             "shortDescription": {"text": CODES[code][1]},
             "defaultConfiguration": {"level": _SARIF_LEVEL[CODES[code][0]]},
-            "helpUri": help_uri(code),
         }
-        for code in used
-    ]
+        uri = help_uri(code)
+        if uri is not None:
+            rule["helpUri"] = uri
+        rules.append(rule)
     index = {code: n for n, code in enumerate(used)}
     results = []
     seen: Counter = Counter()

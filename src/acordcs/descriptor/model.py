@@ -142,7 +142,12 @@ class Endpoint:
 @dataclass(frozen=True, slots=True)
 class Container:
     """A container, the host it runs on, its remote endpoint (None when no remote connection
-    reaches it) and the components, monitors and policy sets it hosts (``hosts``)."""
+    reaches it), the components, monitors and policy sets it hosts (``hosts``) and ``reaches``:
+    the names of the other containers its process must be given the address of (``--remote``;
+    :func:`acordcs.runtime.assembly.assemble` refuses to build it without them): those across a
+    connection whose required end it hosts, those calling one of its ports that is not
+    synchronous, and those hosting the policy sets its monitors feed; in the order of
+    :attr:`Application.containers`."""
 
     id: str
     name: str
@@ -153,6 +158,7 @@ class Container:
     properties: tuple[Property, ...] = ()
     operations: tuple[Operation, ...] = ()
     documentation: str = ""
+    reaches: tuple[str, ...] = ()
 
     def hosted(self, kind: str) -> tuple[str, ...]:
         """Names of the hosted elements of ``kind`` (component, monitor, policy-set)."""

@@ -139,6 +139,7 @@ class _Reader:
             self.properties(el),
             self.operations(el),
             self._doc(el),
+            tuple(r.get("name") for r in self._children(el, "reaches")),
         )
 
     def bound(self, el) -> Bound:

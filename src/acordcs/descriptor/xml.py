@@ -177,6 +177,8 @@ class _Writer:
                 port=port,
             )
         self.refs(el, "hosts", c.hosts, where)
+        for name in c.reaches:
+            _sub(el, "reaches", where, name=name)
         self.members(el, c, where)
 
     def component(self, parent, c: Component) -> None:

@@ -6,12 +6,14 @@ rule grammar from this package and must not pay pyecore's start-up on every run.
 
 from __future__ import annotations
 
-import os
+import io
 from functools import cache
 from typing import TYPE_CHECKING
 
 if TYPE_CHECKING:
     from pyecore.ecore import EClass, EPackage
+
+from acordcs.vocabularies import ECORE_PATH
 
 ECORE_FILE = "acordcs.ecore"
 NS_URI = "http://acordcs.org/acordcs/1.0"
@@ -19,8 +21,9 @@ PROFILE_SOURCE = "http://acordcs.org/profile"
 
 
 def ecore_path() -> str:
-    """Filesystem path of the shipped ``acordcs.ecore``."""
-    return os.path.join(os.path.dirname(__file__), ECORE_FILE)
+    """Filesystem path of the shipped ``acordcs.ecore`` (its enumerations without pyecore:
+    :mod:`acordcs.vocabularies`)."""
+    return ECORE_PATH
 
 
 @cache
@@ -57,26 +60,43 @@ def create(class_name: str, /, **features: object):
     return obj
 
 
-def save_model(root, path: str) -> None:
-    """Write an ACORD-CS model (an ``Application``) as an XMI instance file EMF can load.
+def instance_bytes(root, *, schema_location: str | None = None) -> bytes:
+    """An ACORD-CS model (an ``Application``) as the bytes of an XMI instance file EMF loads.
 
     Default values are written too: pyecore otherwise drops a value equal to the default, and an
-    unsettable feature set to it (a frequency of 0.0) would come back unset.
+    unsettable feature set to it (a frequency of 0.0) would come back unset. ``schema_location``:
+    where the metamodel file is, relative to the instance file; it goes into ``xsi:schemaLocation``
+    (paired with :data:`NS_URI`), which EMF follows to load the metamodel when it has none
+    registered under that namespace.
     """
     from pyecore.resources import URI, ResourceSet
     from pyecore.resources.xmi import XMIOptions
 
+    buffer = io.BytesIO()
+
+    class InMemory(URI):  # where pyecore writes: a file is then written whole, or not at all
+        def create_outstream(self) -> io.BytesIO:
+            return buffer
+
     rset = ResourceSet()
     rset.metamodel_registry[NS_URI] = load()
-    resource = rset.create_resource(URI(str(path)))
+    resource = rset.create_resource(URI("model.xmi"))
     resource.append(root)
-    resource.save(options={XMIOptions.SERIALIZE_DEFAULT_VALUES: True})
+    resource.save(output=InMemory("model.xmi"), options={XMIOptions.SERIALIZE_DEFAULT_VALUES: True})
+    data = buffer.getvalue()
+    if schema_location is None:
+        return data
+    from lxml import etree
+
+    tree = etree.fromstring(data, etree.XMLParser(resolve_entities=False, no_network=True))
+    tree.set(f"{{{_XSI}}}schemaLocation", f"{NS_URI} {schema_location}")
+    return etree.tostring(tree, xml_declaration=True, encoding="UTF-8", pretty_print=True)
 
 
-def load_model(path: str):
-    """Read an ACORD-CS model instance file written by :func:`save_model` (or by EMF)."""
-    from pyecore.resources import URI, ResourceSet
+def save_model(root, path: str) -> None:
+    """Write an ACORD-CS model (an ``Application``) as an XMI instance file EMF can load."""
+    with open(path, "wb") as handle:
+        handle.write(instance_bytes(root))
 
-    rset = ResourceSet()
-    rset.metamodel_registry[NS_URI] = load()
-    return rset.get_resource(URI(str(path))).contents[0]
+
+_XSI = "http://www.w3.org/2001/XMLSchema-instance"

@@ -107,6 +107,9 @@ class Architecture:
     inverse: dict[str, dict[str, list[Role]]] = field(
         default_factory=lambda: defaultdict(lambda: defaultdict(list))
     )
+    # Elements with an ACORDCS stereotype the profile does not have (T302): what rules name of
+    # them is not reported again (the stereotype is the cause).
+    misapplied: dict[str, Element] = field(default_factory=dict)
 
     def of_kind(self, kind: str) -> list[Role]:
         return [r for r in self.roles.values() if r.kind == kind]
@@ -179,7 +182,7 @@ def interpret(uml: UmlModel) -> Architecture:
     """Find the roles and classify the relations between them; diagnostics go to ``uml.diagnostics``."""
     arch = Architecture(uml)
     for app in uml.applications.values():
-        role = _role(uml, app)
+        role = _role(uml, app, arch.misapplied)
         if role is None:
             continue
         if role.id in arch.roles:
@@ -200,7 +203,7 @@ def interpret(uml: UmlModel) -> Architecture:
     return arch
 
 
-def _role(uml: UmlModel, app: StereotypeApplication) -> Role | None:
+def _role(uml: UmlModel, app: StereotypeApplication, misapplied: dict[str, Element]) -> Role | None:
     element = uml.elements[app.base]
 
     def report(code: str, message: str) -> None:
@@ -231,8 +234,9 @@ def _role(uml: UmlModel, app: StereotypeApplication) -> Role | None:
             report(
                 "T302",
                 f"ACORDCS has no stereotype {app.name!r}{suggestion(app.name, names)}; use one of "
-                f"{', '.join(names)}",
+                f"{', '.join(names)} (rules naming this element are checked once it is fixed)",
             )
+            misapplied[element.id] = element
             return None
     elif app.profile is None and stereotype(app.name) is not None:
         # A free stereotype named like ours (older BOUML models, XMI 1.2): its element's tagged

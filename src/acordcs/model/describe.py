@@ -22,6 +22,7 @@ from __future__ import annotations
 
 import re
 from collections.abc import Iterable
+from dataclasses import replace
 from typing import TypeVar
 
 from acordcs.descriptor.model import (
@@ -96,6 +97,37 @@ def describe(arch: Architecture) -> Application:
     return _Describer(arch).application()
 
 
+# ---------------------------------------------------------------------------- remote addresses
+def reached(app: Application, container: str) -> tuple[str, ...]:
+    """The other containers the process of ``container`` must be given the address of
+    (:attr:`Container.reaches`, as :func:`acordcs.runtime.assembly.assemble` requires them): the
+    containers across a connection it calls (the required end here), or that call one of its
+    ports that is not synchronous (its messages are sent back over the caller's endpoint), and
+    the containers of the policy sets its monitors feed; in the order of ``app.containers``."""
+    where = {r.name: c.name for c in app.containers for r in c.hosts}
+    found: set[str] = set()
+    for conn in app.connections:
+        caller = where.get(conn.required.component)
+        callee = where.get(conn.provided.component)
+        if caller is None or callee is None or caller == callee:
+            continue
+        if caller == container:
+            found.add(callee)
+        elif callee == container:
+            comp = next((c for c in app.components if c.name == conn.provided.component), None)
+            port = comp.port(conn.provided.port) if comp is not None else None
+            if port is None or port.kind != "synchronous":
+                found.add(caller)
+    for mon in app.monitors:
+        if where.get(mon.name) != container:
+            continue
+        for fed in mon.feeds:
+            other = where.get(fed.name)
+            if other is not None and other != container:
+                found.add(other)
+    return tuple(c.name for c in app.containers if c.name in found)
+
+
 # ------------------------------------------------------------------------------------- builder
 def _order(item: object) -> tuple[str, str]:
     return (item.name, item.id)  # type: ignore[attr-defined]
@@ -114,13 +146,16 @@ class _Describer:
 
     def application(self) -> Application:
         arch = self.arch
-        return Application(
+        app = Application(
             name=arch.uml.name or "application",
             containers=self._sorted(self.container(r) for r in arch.of_kind(CONTAINER)),
             components=self._sorted(self.component(r) for r in arch.of_kind(COMPONENT)),
             connections=self._sorted(self.connection(r) for r in arch.of_kind(CONNECTION)),
             monitors=self._sorted(self.monitor(r) for r in arch.of_kind(MONITOR)),
             policy_sets=self._sorted(self.policy_set(r) for r in arch.of_kind(POLICY_SET)),
+        )
+        return replace(
+            app, containers=tuple(replace(c, reaches=reached(app, c.name)) for c in app.containers)
         )
 
     @staticmethod

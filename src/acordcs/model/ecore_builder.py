@@ -1,12 +1,11 @@
 """The ACORD-CS model as pyecore instances of the metamodel, built from a checked architecture.
 
-Only for consumers that need the model itself (generation, EMF interchange, the runtime): validation
-works on the architecture index, because pyecore costs about 40 us per object.
+What ``acordcs-gen export --format ecore`` writes (an XMI instance of ``acordcs.ecore`` that EMF
+tools load), and, in the tests, an oracle read apart from the descriptor. Validation and generation
+work on the architecture and the descriptor instead: pyecore costs about 40 us per object.
 """
 
 from __future__ import annotations
-
-import re
 
 from acordcs import metamodel
 from acordcs.model.architecture import (
@@ -18,12 +17,17 @@ from acordcs.model.architecture import (
     Architecture,
     Role,
 )
-from acordcs.model.queries import parse_integer, parse_real, policy_rules, variable_terms
+from acordcs.model.queries import (
+    parse_integer,
+    parse_real,
+    policy_rules,
+    rule_kind,
+    variable_terms,
+)
+from acordcs.rules import RuleSyntaxError, parse_rule
 from acordcs.xmi.uml import Classifier
 
-# "label: if ..." (a label is an identifier before the first ':'; rules have no other ':' before 'if')
 _NUMBER_PARSERS = {"EDouble": parse_real, "EInt": parse_integer}
-_LABELLED = re.compile(r"^\s*([A-Za-z_][A-Za-z0-9_]*)\s*:\s*((?i:if)\b.*)$")
 
 _ROOT_LISTS = {
     CONTAINER: "containers",
@@ -60,8 +64,7 @@ def to_ecore(arch: Architecture):
                 "CtxPolicy", name=policy.name, xmiId=policy.id, sourceLine=policy.element.line
             )
             for n, rule in enumerate(policy_rules(policy), start=1):
-                found = _LABELLED.match(rule.text)
-                label, text = (found.group(1), found.group(2)) if found else (None, rule.text)
+                label, text = _split_label(rule.text, rule_kind(ps))
                 pol.rules.append(
                     metamodel.create(
                         "Rule",
@@ -97,6 +100,16 @@ def to_ecore(arch: Architecture):
                     built[port.id],
                 )
     return app
+
+
+def _split_label(text: str, kind) -> tuple[str | None, str]:
+    """A rule's label, as the rule parser reads it, and the rule without it (after the label's
+    colon, the first in the text: a label is a name)."""
+    try:
+        label = parse_rule(text, kind).label
+    except RuleSyntaxError:  # the checks report it; the text is kept whole
+        return None, text
+    return (label, text.split(":", 1)[1].strip()) if label else (None, text)
 
 
 def _enum(name: str, literal: str | None):

@@ -11,6 +11,7 @@ from __future__ import annotations
 from collections.abc import Callable
 from dataclasses import dataclass
 
+from acordcs import vocabularies
 from acordcs.descriptor.model import parse_integer, parse_real
 from acordcs.diagnostics import suggestion
 from acordcs.model.architecture import Architecture, Role
@@ -58,7 +59,7 @@ def rule_kind(policy_set: Role) -> RuleKind:
 _TERMS_CACHE: dict[str, list[TermDef] | RuleSyntaxError] = {}
 
 
-ACQUISITIONS = ("intercept", "subscribe", "poll", "custom")
+ACQUISITIONS = vocabularies.ACQUISITIONS  # the metamodel's MonitorAcquisition
 
 
 def monitor_acquisition(monitor: Role) -> str:
@@ -142,7 +143,15 @@ class Unresolved:
     reason: str
 
 
-Resolution = Resolved | Ambiguous | Unresolved
+@dataclass(frozen=True)
+class Unchecked:
+    """A name that may denote a member of an element whose stereotype is misspelt (T302): not
+    reported again, the stereotype is the cause."""
+
+    element: str
+
+
+Resolution = Resolved | Ambiguous | Unresolved | Unchecked
 MemberKind = str  # "attribute" or "operation"
 
 
@@ -171,12 +180,25 @@ class PolicySetScope:
             answer = self._answers[key] = self._worded(self.scope.resolve(name.text, kind), kind)  # type: ignore[arg-type]
         return answer
 
+    def _misapplied(self, found: BoundUnresolved, kind: MemberKind) -> str | None:
+        """The element with a misspelt stereotype the name may refer to, if any."""
+        for element in self.arch.misapplied.values():
+            if found.element is not None and found.element != element.name:
+                continue
+            members = getattr(element, "attributes" if kind == "attribute" else "operations", ())
+            if found.element is not None or any(m.name == found.member for m in members):
+                return element.name
+        return None
+
     def _worded(self, found: object, kind: MemberKind) -> Resolution:
         if isinstance(found, Target):
             return Resolved(found.element.origin, found.payload)  # type: ignore[arg-type]
         if isinstance(found, BoundAmbiguous):
             return Ambiguous(tuple(f"{t.element.shown}.{t.member}" for t in found.candidates))
         assert isinstance(found, BoundUnresolved)
+        cause = self._misapplied(found, kind)
+        if cause is not None:
+            return Unchecked(cause)
         name = self.policy_set.name
         if found.element is not None and not found.owners:
             exists = any(r.name == found.element for r in self.arch.roles.values())
@@ -206,6 +228,7 @@ __all__ = [
     "PolicySetScope",
     "Resolution",
     "Resolved",
+    "Unchecked",
     "Unresolved",
     "monitor_acquisition",
     "parse_integer",

@@ -35,5 +35,26 @@ def read_model(path: str, *, check: bool = True) -> ModelReading:
     found = list(uml.diagnostics)
     if check:
         found += run_checks(Context(uml, arch))
-    found.sort(key=lambda d: (d.line, d.column, d.code))
-    return ModelReading(path, uml, arch, found)
+    return ModelReading(path, uml, arch, in_reading_order(found))
+
+
+# What a finding's code is about, from reading the file to generating code: a finding of an
+# earlier stage about an element can cause findings of later stages about it, never the reverse.
+_STAGES = {letter: n for n, letter in enumerate("XRTNLAGZ")}
+
+
+def in_reading_order(found: list[Diagnostic]) -> list[Diagnostic]:
+    """``found`` by source position, causes before consequences: the findings about one element
+    together, where its first one is in the file, in the order of their stages (a misspelt tag
+    of a monitor, at the stereotype application near the file's end, before what the monitor
+    then lacks, at the monitor itself), then by line and column."""
+    first: dict[str, int] = {}
+    for d in found:
+        if d.xmi_id:
+            first[d.xmi_id] = min(first.get(d.xmi_id, d.line), d.line)
+
+    def key(d: Diagnostic) -> tuple:
+        where = first.get(d.xmi_id, d.line) if d.xmi_id else d.line
+        return (where, d.xmi_id or "", _STAGES.get(d.code[:1], 9), d.line, d.column, d.code)
+
+    return sorted(found, key=key)

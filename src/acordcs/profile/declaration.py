@@ -13,7 +13,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 from functools import cache
 
-from acordcs import metamodel
+from acordcs import metamodel, vocabularies
 
 PROFILE_NAME = "ACORDCS"
 PROFILE_URI = "http:///schemas/ACORDCS/1"
@@ -59,7 +59,6 @@ class Stereotype:
 
 
 _GENMODEL = "http://www.eclipse.org/emf/2002/GenModel"
-_XSI_TYPE = "{http://www.w3.org/2001/XMLSchema-instance}type"
 
 
 def _details(element, source: str) -> dict[str, str]:
@@ -103,18 +102,12 @@ def _tag(feature, enums: dict[str, tuple[str, ...]]) -> Tag | None:
 def profile() -> tuple[Stereotype, ...]:
     """Every stereotype of the profile, in metamodel order.
 
-    Read straight from ``acordcs.ecore`` with lxml rather than through pyecore: the validator needs the
-    profile on every run and pyecore's import alone would cost more than validating a small model.
+    Read straight from ``acordcs.ecore`` with lxml (:mod:`acordcs.vocabularies`) rather than through
+    pyecore: the validator needs the profile on every run and pyecore's import alone would cost more
+    than validating a small model.
     """
-    from lxml import etree
-
-    root = etree.parse(metamodel.ecore_path(), etree.XMLParser(resolve_entities=False)).getroot()
-    classifiers = root.findall("eClassifiers")
-    enums = {
-        c.get("name"): tuple(lit.get("name") for lit in c.iterfind("eLiterals"))
-        for c in classifiers
-        if c.get(_XSI_TYPE) == "ecore:EEnum"
-    }
+    classifiers = vocabularies.ecore_root().findall("eClassifiers")
+    enums = vocabularies.enumerations()
     by_name = {c.get("name"): c for c in classifiers}
 
     def features(eclass) -> list:

@@ -9,18 +9,27 @@ Two rule syntaxes share keywords and layout:
 
 Variables are ``attribute`` or ``Element.attribute``. Linguistic terms of a variable are written FCL
 style: ``slow := trape 0 0 40 80; fast := trian 60 200 200``. One parser serves the validator and the
-engines (lark analyses the grammar; :mod:`acordcs.rules.lalr` runs its tables); every error is a
-:class:`RuleSyntaxError` with the column in the rule text.
+engines: :mod:`acordcs.rules.standalone_parser`, lark's LALR(1) parser generated from ``rules.lark``
+by lark's standalone generator (``tools/generate_rules_parser.py``), so that reading rules needs no
+lark; every error is a :class:`RuleSyntaxError` with the column in the rule text.
 """
 
 from __future__ import annotations
 
-import os
 from collections.abc import Callable, Iterable
 from functools import cache
 
 from acordcs.errors import AcordError
-from acordcs.rules.lalr import Node, Tables, Tok, Unexpected
+from acordcs.rules.standalone_parser import (
+    Lark,
+    Lark_StandAlone,
+    Token,
+    Transformer,
+    Tree,
+    UnexpectedCharacters,
+    UnexpectedInput,
+    UnexpectedToken,
+)
 from acordcs.rules.tree import (
     MAX_DEPTH,
     Arith,
@@ -86,83 +95,118 @@ class RuleSyntaxError(AcordError):
 
 
 # ------------------------------------------------------------------------------ building the tree
-# One function per grammar rule (or alias), called with the rule's kept children; tokens are
-# lalr.Tok (keyword tokens such as IF or IS arrive too and are skipped).
-def _name(tok: Tok) -> Name:
-    return Name(tok.text, tok.column)
+# One method per grammar rule (or alias), called by the parser with the rule's kept children as a
+# list, as it reduces (lark's inline transformer: no tree is built and walked afterwards); tokens
+# are lark Tokens (keyword tokens such as IF or IS arrive too and are skipped by position).
+def _name(tok: Token) -> Name:
+    return Name(tok.value, tok.column)
 
 
-def _number_text(tok: Tok) -> str:
+def _number_text(tok: Token) -> str:
     # int() refuses 4,300+ digits; no rule needs more than a double's range
-    if len(tok.text) > 64:
-        raise RuleSyntaxError(f"number {tok.text[:12]}... is too long", column=tok.column)
-    return tok.text
+    if len(tok.value) > 64:
+        raise RuleSyntaxError(f"number {tok.value[:12]}... is too long", column=tok.column)
+    return tok.value
 
 
-def _num(tok: Tok) -> float:
+def _num(tok: Token) -> float:
     return float(_number_text(tok))
 
 
-def _c_num(tok: Tok) -> Const:
-    # Integer literals stay integers: `retries + 1` must not turn a count into 1.0.
-    text = _number_text(tok)
-    value = int(text) if text.lstrip("+-").isdigit() else float(text)
-    return Const(value, tok.column)
+def _mf(shape: str) -> Callable[[object, list], tuple[str, tuple[float, ...]]]:
+    return lambda _self, c: (shape, tuple(map(_num, c[1:])))
 
 
-def _f_is(var: Tok, _is: Tok, *rest: Tok) -> Is:
-    *hedges, term = rest
-    return Is(_name(var), tuple(h.text.lower() for h in hedges), _name(term))
+class _Builders(Transformer):
+    """The rule tree's builders, one per rule of ``rules.lark`` (by its alias when it has one)."""
 
+    def label(self, c: list) -> tuple[str, str]:
+        return ("label", c[0].value)
 
-def _mf(shape: str) -> Callable[..., tuple[str, tuple[float, ...]]]:
-    return lambda _kw, *nums: (shape, tuple(map(_num, nums)))
+    def weight(self, c: list) -> tuple[str, float]:
+        return ("weight", _num(c[1]))
 
+    def f_is(self, c: list) -> Is:
+        var, _is, *hedges, term = c
+        return Is(_name(var), tuple(h.value.lower() for h in hedges), _name(term))
 
-_BUILDERS: dict[str, Callable] = {
-    "label": lambda name, *_colon: ("label", name.text),
-    "weight": lambda _with, number: ("weight", _num(number)),
-    "f_is": _f_is,
-    "f_and": lambda left, _kw, right: BoolOp("and", left, right),
-    "f_or": lambda left, _kw, right: BoolOp("or", left, right),
-    "f_not": lambda _kw, operand: Not(operand),
-    "consequent": lambda var, _is, term: Consequent(_name(var), _name(term)),
-    "c_or": lambda left, _kw, right: BoolOp("or", left, right),
-    "c_and": lambda left, _kw, right: BoolOp("and", left, right),
-    "c_not": lambda _kw, operand: Not(operand),
-    "c_cmp": lambda left, op, right: Compare(op.text, left, right),
-    "c_arith": lambda left, op, right: Arith(op.text, left, right),
-    "c_neg": lambda operand: Neg(operand),
-    "c_num": _c_num,
-    "c_str": lambda tok: Const(tok.text[1:-1], tok.column),
-    "c_true": lambda tok: Const(True, tok.column),
-    "c_false": lambda tok: Const(False, tok.column),
-    "c_var": lambda tok: VarRef(_name(tok)),
-    "a_assign": lambda var, value: Assign(_name(var), value),
-    "a_call": lambda target, *args: Call(_name(target), tuple(a for a in args if a is not None)),
-    "term_def": lambda name, mf: TermDef(_name(name), *mf),
-    "mf_trape": _mf("trapezoid"),
-    "mf_trian": _mf("triangle"),
-    "mf_gauss": _mf("gaussian"),
-    "mf_gbell": _mf("bell"),
-    "mf_sigm": _mf("sigmoid"),
-    "mf_points": lambda *points: ("points", tuple(v for p in points for v in p)),
-    "point": lambda x, y: (_num(x), _num(y)),
-    "mf_singleton": lambda tok: ("singleton", (_num(tok),)),
-}
+    def f_and(self, c: list) -> BoolOp:
+        return BoolOp("and", c[0], c[2])
 
-_STARTS = ("start_fuzzy", "start_crisp", "start_terms")
+    def f_or(self, c: list) -> BoolOp:
+        return BoolOp("or", c[0], c[2])
+
+    def f_not(self, c: list) -> Not:
+        return Not(c[1])
+
+    def consequent(self, c: list) -> Consequent:
+        return Consequent(_name(c[0]), _name(c[2]))
+
+    def c_or(self, c: list) -> BoolOp:
+        return BoolOp("or", c[0], c[2])
+
+    def c_and(self, c: list) -> BoolOp:
+        return BoolOp("and", c[0], c[2])
+
+    def c_not(self, c: list) -> Not:
+        return Not(c[1])
+
+    def c_cmp(self, c: list) -> Compare:
+        return Compare(c[1].value, c[0], c[2])
+
+    def c_arith(self, c: list) -> Arith:
+        return Arith(c[1].value, c[0], c[2])
+
+    def c_neg(self, c: list) -> Neg:
+        return Neg(c[0])
+
+    def c_num(self, c: list) -> Const:
+        # Integer literals stay integers: `retries + 1` must not turn a count into 1.0.
+        text = _number_text(c[0])
+        return Const(int(text) if text.lstrip("+-").isdigit() else float(text), c[0].column)
+
+    def c_str(self, c: list) -> Const:
+        return Const(c[0].value[1:-1], c[0].column)
+
+    def c_true(self, c: list) -> Const:
+        return Const(True, c[0].column)
+
+    def c_false(self, c: list) -> Const:
+        return Const(False, c[0].column)
+
+    def c_var(self, c: list) -> VarRef:
+        return VarRef(_name(c[0]))
+
+    def a_assign(self, c: list) -> Assign:
+        return Assign(_name(c[0]), c[1])
+
+    def a_call(self, c: list) -> Call:
+        return Call(_name(c[0]), tuple(a for a in c[1:] if a is not None))
+
+    def term_def(self, c: list) -> TermDef:
+        return TermDef(_name(c[0]), *c[1])
+
+    mf_trape = _mf("trapezoid")
+    mf_trian = _mf("triangle")
+    mf_gauss = _mf("gaussian")
+    mf_gbell = _mf("bell")
+    mf_sigm = _mf("sigmoid")
+
+    def mf_points(self, c: list) -> tuple[str, tuple[float, ...]]:
+        return ("points", tuple(v for point in c for v in point))
+
+    def point(self, c: list) -> tuple[float, float]:
+        return (_num(c[0]), _num(c[1]))
+
+    def mf_singleton(self, c: list) -> tuple[str, tuple[float]]:
+        return ("singleton", (_num(c[0]),))
 
 
 @cache
-def _grammar() -> str:
-    with open(os.path.join(os.path.dirname(__file__), "rules.lark"), encoding="utf-8") as handle:
-        return handle.read()
-
-
-@cache
-def _tables() -> Tables:
-    return Tables.for_grammar(_grammar(), _STARTS, "rules")
+def _parser() -> Lark:
+    """The generated parser (``standalone_parser``, made by lark's standalone generator from
+    ``rules.lark``: no lark at run time) building the tree with :class:`_Builders`."""
+    return Lark_StandAlone(transformer=_Builders())
 
 
 _EXPECT_WORDS = {
@@ -201,31 +245,34 @@ def _describe_expected(expected: Iterable[str]) -> str:
     return ", ".join(words)
 
 
-def syntax_error(err: Unexpected, text: str) -> RuleSyntaxError:
-    """The error a parse that stopped at ``err`` reports (column 1-based in ``text``)."""
-    if err.expected is None:
+def syntax_error(err: UnexpectedInput, text: str) -> RuleSyntaxError:
+    """The error a parse of ``text`` that stopped at ``err`` (lark's UnexpectedToken or
+    UnexpectedCharacters) reports, column 1-based in ``text``."""
+    token = getattr(err, "token", None)
+    if token is not None:  # a token of the grammar where it does not fit, or the end
+        if token.type == "$END":
+            found, column = "end of rule", len(text) + 1
+        else:
+            found, column = repr(token.value), token.column
         return RuleSyntaxError(
-            f"unexpected character {text[err.column - 1]!r}", column=err.column or None
+            f"unexpected {found}; expected {_describe_expected(err.expected)}", column=column
         )
-    found = "end of rule" if err.found is None else repr(err.found)
-    return RuleSyntaxError(
-        f"unexpected {found}; expected {_describe_expected(err.expected)}",
-        column=err.column or None,
-    )
+    column = getattr(err, "column", None)
+    return RuleSyntaxError(f"unexpected character {text[column - 1]!r}", column=column or None)
 
 
-def _parse(start: str, text: str):
+def _parse(start: str, text: str) -> Tree:
     if "\n" in text or "\r" in text:
         raise RuleSyntaxError(
             "a rule is one line; put each rule on its own line", column=text.find("\n") + 1
         )
     try:
-        return _tables().parse(text, start, _BUILDERS)
-    except Unexpected as err:
+        return _parser().parse(text, start=start)
+    except (UnexpectedToken, UnexpectedCharacters) as err:
         raise syntax_error(err, text) from None
 
 
-def _assemble(kind: RuleKind, tree: Node, text: str) -> Rule:
+def _assemble(kind: RuleKind, tree: Tree, text: str) -> Rule:
     label = None
     weight = 1.0
     condition = None
@@ -235,7 +282,7 @@ def _assemble(kind: RuleKind, tree: Node, text: str) -> Rule:
             label = child[1]
         elif isinstance(child, tuple) and child[0] == "weight":
             weight = child[1]
-        elif isinstance(child, Tok):
+        elif isinstance(child, Token):
             continue
         elif condition is None:
             condition = child

@@ -347,6 +347,13 @@ def names_in(node: object) -> list[Name]:
 # left) thousands deep would exhaust Python's stack at run time. The parser refuses such rules,
 # so the validator reports them, and the engines check trees they are given directly.
 MAX_DEPTH = 200
+# The fuzzy engine's limits on a linguistic variable, checked by the model checks (T315), by
+# define_variable and by the FCL reader: above them a firing and the generated rule set grow
+# beyond what a controller needs (1,000 deeply overlapping output terms fire in ~0.1 s), and a
+# point list's generated membership nests one branch per point (thousands exhaust Python's
+# compiler stack).
+MAX_TERMS = 1000
+MAX_POINTS = 500
 _NESTING = (BoolOp, Compare, Arith, Not, Neg)
 
 

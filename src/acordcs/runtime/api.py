@@ -11,7 +11,7 @@ from acordcs.runtime.acquisition import (
 )
 from acordcs.runtime.assembly import RunningApplication, assemble
 from acordcs.runtime.clock import Clock, RealClock, VirtualClock
-from acordcs.runtime.component import ComponentFactory, ComponentRef, CtxComponent
+from acordcs.runtime.component import ComponentFactory, ComponentRef, CtxComponent, ModelProperty
 from acordcs.runtime.connectors import (
     Connection,
     Connector,
@@ -26,6 +26,7 @@ from acordcs.runtime.container import Container
 from acordcs.runtime.events import Event, Fault
 from acordcs.runtime.interceptors import Interceptor, Invocation
 from acordcs.runtime.monitor import Monitor
+from acordcs.runtime.operations import unimplemented
 from acordcs.runtime.policy import PolicySet
 from acordcs.runtime.ports import PortSpec, async_port, stream_port, sync_port
 from acordcs.runtime.registry import EngineSetup, Variable, register_engine
@@ -46,6 +47,7 @@ __all__ = [
     "InterceptingMonitor",
     "Interceptor",
     "Invocation",
+    "ModelProperty",
     "Monitor",
     "ObservedCall",
     "PolicySet",
@@ -65,4 +67,5 @@ __all__ = [
     "register_engine",
     "stream_port",
     "sync_port",
+    "unimplemented",
 ]

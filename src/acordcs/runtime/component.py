@@ -16,7 +16,7 @@ from __future__ import annotations
 import copy
 from collections.abc import Callable
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING, Any, ClassVar, Protocol
+from typing import TYPE_CHECKING, Any, ClassVar, Generic, Protocol, TypeVar, cast, overload
 
 from acordcs.runtime.callgate import CallGate
 from acordcs.runtime.errors import ComponentDestroyedError, FactoryError, PortError
@@ -56,7 +56,8 @@ class CtxComponent:
     Subclasses declare ``properties`` (name -> default), ``ports`` (PortSpecs) and optionally
     ``state_fields`` (plain attributes saved with the state besides the properties). Override
     :meth:`save_state` / :meth:`restore_state` for state that is neither. Hooks: :meth:`on_start`
-    after creation (or replacement), :meth:`on_stop` before destruction.
+    after creation (or replacement), :meth:`on_stop` before destruction,
+    :meth:`on_property_changed` after a property changed.
     """
 
     properties: ClassVar[dict[str, object]] = {}
@@ -127,6 +128,12 @@ class CtxComponent:
     def on_stop(self) -> None:
         """Called before the component is destroyed or replaced."""
 
+    def on_property_changed(self, name: str, old: object, new: object) -> None:
+        """Called after one of this component's properties changed value (a policy set's action,
+        another component, the component itself), once the change's event has been delivered.
+        Runs on the thread that made the change: keep it short. An exception is recorded as a
+        fault of this component; the change stands."""
+
     @classmethod
     def operation_names(cls) -> frozenset[str]:
         """Public methods of the subclass: the operations callers and rules may invoke."""
@@ -136,6 +143,39 @@ class CtxComponent:
             for n in dir(cls)
             if not n.startswith("_") and n not in base and callable(getattr(cls, n, None))
         )
+
+
+T = TypeVar("T")
+
+
+class ModelProperty(Generic[T]):
+    """A property of the model as a typed attribute of a component class: ``self.maxSpeed`` reads
+    ``self.get("maxSpeed")`` and ``self.maxSpeed = v`` is ``self.set("maxSpeed", v)``, through the
+    container (policies and monitors see the change). The generated base classes declare one per
+    property, typed by the model (``maxSpeed = ModelProperty[float]("maxSpeed")``), so that code
+    using them needs no cast. The value is what the container holds: the model's default, what a
+    policy set wrote (an engine's number rounded for an ``int`` property) or what code set; it is
+    not converted on reading."""
+
+    def __init__(self, name: str) -> None:
+        self.name = name
+
+    def __repr__(self) -> str:
+        return f"<ModelProperty {self.name}>"
+
+    @overload
+    def __get__(self, instance: None, owner: type[Any]) -> ModelProperty[T]: ...
+
+    @overload
+    def __get__(self, instance: CtxComponent, owner: type[Any]) -> T: ...
+
+    def __get__(self, instance: CtxComponent | None, owner: type[Any]) -> ModelProperty[T] | T:
+        if instance is None:
+            return self
+        return cast(T, instance.get(self.name))
+
+    def __set__(self, instance: CtxComponent, value: T) -> None:
+        instance.set(self.name, value)
 
 
 def attach_component(

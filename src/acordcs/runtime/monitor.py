@@ -96,6 +96,16 @@ class Monitor:
         self._busy = threading.Lock()  # held while an acquire runs off the clock's thread
 
     @property
+    def clock(self) -> Clock:
+        """The clock of the container the monitor is in (as a component's ``clock``)."""
+        if self.container is None:
+            raise ConfigurationError(
+                f"monitor {self.name!r} has no clock until it is added to a container",
+                hint="container.add_monitor(monitor) first",
+            )
+        return self.container.clock
+
+    @property
     def event_sources(self) -> tuple[str, ...]:
         """The sources whose calls and property changes reach :meth:`on_event` (all of them,
         unless the monitor acquires otherwise: subscribing and polling monitors)."""

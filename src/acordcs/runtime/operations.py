@@ -19,6 +19,11 @@ A generic component runs (its properties are rule variables, its ports connect) 
 operation the model declares, with the model's parameters, so crisp rules calling them bind; calling
 one raises :class:`~acordcs.runtime.errors.OperationNotImplementedError` naming the component and the
 operation: its code comes from a factory (``assemble(..., factories={name: cls})``).
+
+A method standing for an operation without code (a generic component's, a generated base class's)
+is marked :func:`unimplemented`; :func:`has_code` tells whether a class implements an operation
+(a container's start lists the operations that the model calls and that have none:
+:mod:`acordcs.runtime.drift`).
 """
 
 from __future__ import annotations
@@ -26,7 +31,7 @@ from __future__ import annotations
 import inspect
 import keyword
 from collections.abc import Callable, Iterable
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, TypeVar
 
 from acordcs.runtime.component import CtxComponent
 from acordcs.runtime.errors import (
@@ -42,6 +47,25 @@ if TYPE_CHECKING:
 
 # Names a generic operation cannot take: the component API every component inherits.
 _RESERVED = frozenset(dir(CtxComponent))
+
+F = TypeVar("F", bound=Callable[..., Any])
+
+# The mark unimplemented() leaves on a method.
+_UNIMPLEMENTED = "__acordcs_unimplemented__"
+
+
+def unimplemented(method: F) -> F:
+    """Mark ``method`` as standing for a model operation that has no code (it raises
+    OperationNotImplementedError): a subclass implements the operation by overriding it."""
+    setattr(method, _UNIMPLEMENTED, True)
+    return method
+
+
+def has_code(cls: type, operation: str) -> bool:
+    """True when ``cls`` has a method ``operation`` that is not marked :func:`unimplemented` (a
+    generated base's method the user's class does not override is not code)."""
+    method = getattr(cls, operation, None)
+    return callable(method) and not getattr(method, _UNIMPLEMENTED, False)
 
 
 def signature(op: Operation) -> inspect.Signature:
@@ -176,6 +200,7 @@ def _unimplemented(component: str, ops: list[Operation]) -> Callable[..., Any]:
             f"YourClass}}) where YourClass(CtxComponent) defines {ops[0].name}()",
         )
 
+    unimplemented(operation)
     operation.__name__ = ops[0].name
     operation.__qualname__ = f"{component}.{ops[0].name}"
     docs = [op.documentation for op in ops if op.documentation]

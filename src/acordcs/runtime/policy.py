@@ -36,6 +36,7 @@ from acordcs.runtime.errors import BindingError, ComponentNotFoundError, Configu
 from acordcs.runtime.plan import PolicyPlan, Terms, plan_by_hand
 from acordcs.runtime.registry import EngineSetup, Variable, lookup_engine
 from acordcs.runtime.rule_engine import RuleEngine, RuleError
+from acordcs.vocabularies import TRIGGERS
 
 if TYPE_CHECKING:
     from acordcs.runtime.clock import Clock, Timer
@@ -126,9 +127,10 @@ class PolicySet:
         bindings: Mapping[str, str] | None = None,
         plan: PolicyPlan | None = None,
     ) -> None:
-        if trigger not in ("event", "periodic"):
+        if trigger not in TRIGGERS:
             raise ConfigurationError(
-                f"policy set {name!r}: trigger must be 'event' or 'periodic', not {trigger!r}"
+                f"policy set {name!r}: trigger must be {' or '.join(map(repr, TRIGGERS))}, "
+                f"not {trigger!r}"
             )
         if trigger == "periodic" and not (frequency and frequency > 0):
             raise ConfigurationError(

@@ -25,13 +25,14 @@ from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any, Protocol
 
 from acordcs.runtime.errors import ComponentError, PortError, QueueFullError
+from acordcs.vocabularies import PORT_KINDS, PORT_ROLES
 
 if TYPE_CHECKING:
     from acordcs.runtime.clock import Clock, Timer
     from acordcs.runtime.connectors.base import Connection
 
-KINDS = ("synchronous", "asynchronous", "stream")
-ROLES = ("provided", "required")
+KINDS = PORT_KINDS  # the metamodel's PortKind and PortRole
+ROLES = PORT_ROLES
 OVERFLOW_POLICIES = ("drop_oldest", "drop_newest", "reject")
 
 

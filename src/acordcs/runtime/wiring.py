@@ -10,6 +10,8 @@ from __future__ import annotations
 
 import threading
 from collections import Counter
+from collections.abc import Callable
+from contextlib import AbstractContextManager
 from typing import TYPE_CHECKING, Any
 
 from acordcs.runtime import events as ev
@@ -34,6 +36,7 @@ class Wiring:
     name: str
     properties: dict[str, object]
     stats: Counter[str]
+    guard: Callable[..., AbstractContextManager[None]]
     _where: str
     _lock: threading.RLock
     _components: dict[str, Hosted]
@@ -111,6 +114,11 @@ class Wiring:
             owner.restart_stream()
         self.stats["property_changes"] += 1
         self.emit(ev.PROPERTY_CHANGED, element, attribute, value=value, old=old)
+        if kind == "component":
+            # The component's own hook, after everyone subscribed has seen the change; a hook that
+            # raises is a fault of the component, never of whoever set the property.
+            with self.guard("component", f"{element}.on_property_changed", attribute=attribute):
+                owner.on_property_changed(attribute, old, value)  # type: ignore[union-attr]
 
     def elements(self) -> dict[str, dict[str, object]]:
         """Every element name with its properties (policy variable resolution reads this)."""

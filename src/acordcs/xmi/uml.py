@@ -166,6 +166,8 @@ class UmlModel:
     generalizations: list[Generalization] = field(default_factory=list)
     applications: dict[tuple[str, str], StereotypeApplication] = field(default_factory=dict)
     diagnostics: list[Diagnostic] = field(default_factory=list)
+    # The profiles the model applies by reference (Eclipse's appliedProfile href), with the line.
+    profile_references: list[tuple[str, int]] = field(default_factory=list)
 
     def applications_of(self, element_id: str) -> list[StereotypeApplication]:
         return [a for (base, _), a in self.applications.items() if base == element_id]

@@ -11,7 +11,7 @@ import re
 import signal
 import subprocess
 import sys
-import time
+import threading
 from pathlib import Path
 
 from tests.codegen.test_shell_scripts_parse_quote_and_run import free_ports
@@ -111,26 +111,52 @@ def test_a_short_live_run_over_pyro5_on_loopback(weblab_app: None, tmp_path: Pat
     assert "live: done: the Navigator completed its run over Pyro5" in done.stdout
 
 
+# What a terminal's shell does for a foreground job: SIGINT and SIGTERM at their defaults. A shell
+# started with SIGINT ignored cannot trap it (POSIX), and pytest may run with it ignored (a
+# background job of a non-interactive shell): then Ctrl-C never reached live.sh, which drove on
+# to the finish line. The test starts live.sh as a terminal would.
+AS_A_TERMINAL_WOULD = (
+    "import os, signal, sys\n"
+    "signal.signal(signal.SIGINT, signal.SIG_DFL)\n"
+    "signal.signal(signal.SIGTERM, signal.SIG_DFL)\n"
+    "os.execvp('sh', ['sh', sys.argv[1]])\n"
+)
+READY = "live: running (Ctrl-C stops both)"
+
+
 def test_ctrl_c_stops_both_processes(weblab_app: None, tmp_path: Path) -> None:
     run = tmp_path / "run"
     env = environment(run, 60)
-    live = subprocess.Popen(["sh", str(LIVE)], env=env, stdout=subprocess.PIPE,
-                            stderr=subprocess.STDOUT, text=True, start_new_session=True)  # fmt: skip
+    live = subprocess.Popen([sys.executable, "-c", AS_A_TERMINAL_WOULD, str(LIVE)], env=env,
+                            stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
+                            start_new_session=True)  # fmt: skip
+    lines: list[str] = []
+    ready = threading.Event()
+
+    def read() -> None:
+        assert live.stdout is not None
+        for line in live.stdout:
+            lines.append(line)
+            if line.rstrip("\n") == READY:
+                ready.set()
+        ready.set()  # the end of the output: never ready
+
+    reader = threading.Thread(target=read, daemon=True)
+    reader.start()
     try:
-        deadline = time.monotonic() + 60
-        log = run / "UserSide.log"
-        while "Navigator t=" not in (log.read_text() if log.exists() else ""):
-            assert time.monotonic() < deadline and live.poll() is None
-            time.sleep(0.2)
+        # its processes started and its traps set: the readiness line, not a delay
+        assert ready.wait(120) and live.poll() is None, "".join(lines)
         os.killpg(live.pid, signal.SIGINT)  # what Ctrl-C in a terminal does
-        out, _ = live.communicate(timeout=60)
+        live.wait(timeout=60)
+        reader.join(10)
     finally:
         if live.poll() is None:
             os.killpg(live.pid, signal.SIGKILL)
             live.wait()
         cleanup(env, run)
+    out = "".join(lines)
     assert live.returncode == 130, out
-    assert "live: interrupted" in out
+    assert "live: interrupted" in out and "is ignored in this shell" not in out
     # The user's process first (its Navigator is mid-run), then stop-all.
     assert out.index("UserSide: stopped (pid") < out.index("WebLabSide: stopped (pid")
     user_pid, lab_pid = pids(out)
@@ -138,3 +164,26 @@ def test_ctrl_c_stops_both_processes(weblab_app: None, tmp_path: Path) -> None:
     for name in ("UserSide", "WebLabSide"):
         assert not (run / f"{name}.pid").exists()
         assert f"{name}: stopped at t=" in (run / f"{name}.log").read_text()
+
+
+def test_live_says_when_ctrl_c_cannot_reach_it(tmp_path: Path) -> None:
+    # started with SIGINT ignored, live.sh says so before anything else (its app dir is empty here,
+    # so it stops at once after that)
+    app = tmp_path / "weblab"
+    (app / "app" / "bin").mkdir(parents=True)
+    (app / "live.sh").write_bytes(LIVE.read_bytes())
+    (app / "app" / "bin" / "start-all").write_text("exit 1\n")
+    (app / "app" / "bin" / "stop-all").write_text("exit 0\n")
+    (app / "app" / "bin" / "UserSide-stop").write_text("exit 0\n")
+    ignoring = "import os, signal, sys\nsignal.signal(signal.SIGINT, signal.SIG_IGN)\n"
+    ignoring += "os.execvp('sh', ['sh', sys.argv[1]])\n"
+    done = subprocess.run([sys.executable, "-c", ignoring, str(app / "live.sh")],
+                          env={**os.environ, "ACORDCS_RUN_DIR": str(tmp_path / "run")},
+                          capture_output=True, text=True, timeout=60)  # fmt: skip
+    assert "live: SIGINT or SIGTERM is ignored in this shell" in done.stderr, done.stderr
+    assert "kill -TERM" in done.stderr
+    quiet = AS_A_TERMINAL_WOULD
+    done = subprocess.run([sys.executable, "-c", quiet, str(app / "live.sh")],
+                          env={**os.environ, "ACORDCS_RUN_DIR": str(tmp_path / "run")},
+                          capture_output=True, text=True, timeout=60)  # fmt: skip
+    assert "is ignored in this shell" not in done.stderr, done.stderr

@@ -64,8 +64,12 @@ def test_the_page_shows_a_running_experiment_in_every_panel(console, browser):
     from selenium.webdriver.support.ui import Select
 
     url, _session = console
-    browser.get(f"{url}/?token={TOKEN}")
+    browser.get(f"{url}/#token={TOKEN}")
     until(browser, lambda d: "you hold the session" in text(d, "message"), "the token accepted")
+    # the token left the address bar and the history entry: the link's fragment is gone
+    assert browser.current_url == f"{url}/"
+    entries = browser.execute_cdp_cmd("Page.getNavigationHistory", {})["entries"]
+    assert entries[-1]["url"] == f"{url}/" and not any("token" in e["url"] for e in entries)
     Select(browser.find_element("id", "profile")).select_by_value("residential")
     browser.find_element("id", "seed").clear()
     browser.find_element("id", "seed").send_keys("3")
@@ -119,6 +123,20 @@ def test_the_page_shows_a_running_experiment_in_every_panel(console, browser):
     until(browser, lambda d: d.find_elements("id", "policy-BandwidthLimiting"), "BandwidthLimiting")
 
 
+def test_the_content_security_policy_refuses_nothing_the_page_does(console, browser):
+    # after the page ran every panel (the test above): no CSP refusal in its console
+    refusals = [
+        entry["message"]
+        for entry in browser.get_log("browser")
+        if "Content Security Policy" in entry["message"] or "Refused to" in entry["message"]
+    ]
+    assert refusals == []
+    policy = browser.execute_script(
+        "return fetch('/').then((r) => r.headers.get('content-security-policy'))"
+    )
+    assert "script-src 'self'" in policy and "unsafe-inline" not in policy
+
+
 def test_manual_control_moves_the_robot_and_hands_back(console, browser):
     _url, session = console
     assert session.running, "the previous test started a run in this page"
@@ -143,6 +161,7 @@ def test_manual_control_moves_the_robot_and_hands_back(console, browser):
 
 def test_a_viewer_without_the_token_is_refused_with_the_reason_shown(console, browser):
     url, session = console
+    browser.execute_script("sessionStorage.clear()")  # as a new tab, which has none
     browser.get(f"{url}/")
     until(browser, lambda d: "watching only" in text(d, "message"), "the watching-only notice")
     until(browser, lambda d: d.find_elements("css selector", "#profile option"), "the profiles")
@@ -151,7 +170,7 @@ def test_a_viewer_without_the_token_is_refused_with_the_reason_shown(console, br
     assert "refused" in attr(browser, "message", "class")
     assert session.running, "the refused stop did not reach the experiment"
     # A wrong token is refused by the access service.
-    browser.get(f"{url}/?token=not-the-token")
+    browser.get(f"{url}/#token=not-the-token")
     until(
         browser,
         lambda d: "does not know this token" in text(d, "message"),
@@ -163,7 +182,7 @@ def test_the_page_says_disconnected_when_the_console_goes_away(weblab_app, brows
     hub = ConsoleHub()
     session = ConsoleSession(hub, TOKEN, speed=SPEED)
     with serving(hub, session) as url:
-        browser.get(f"{url}/?token={TOKEN}")
+        browser.get(f"{url}/#token={TOKEN}")
         until(browser, lambda d: text(d, "connection") == "live", "live")
         browser.find_element("id", "start").click()
         until(browser, lambda d: attr(d, "map", "data-running") == "true", "the run")

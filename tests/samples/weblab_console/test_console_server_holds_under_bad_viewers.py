@@ -48,10 +48,14 @@ class Session:
         self.calls.append(("release",))
 
 
+BASE = "http://127.0.0.1:8765"  # the Host the console answers to (TestClient's default is not)
+WS = "ws://127.0.0.1:8765/ws"
+
+
 @pytest.fixture
 def console():
-    hub, session = ConsoleHub(max_viewers=4), Session()
-    with TestClient(create_app(hub, session)) as client:
+    hub, session = ConsoleHub(max_viewers=4, max_watchers=2), Session()
+    with TestClient(create_app(hub, session), base_url=BASE) as client:
         yield client, hub, session
 
 
@@ -125,7 +129,7 @@ def test_the_page_and_its_module_are_served(console):
 
 def test_control_without_the_token_is_refused_and_with_it_reaches_the_experiment(console):
     client, _, session = console
-    with client.websocket_connect("/ws") as ws:
+    with client.websocket_connect(WS) as ws:
         assert receive_until(ws, "hello")["profiles"] == list(PROFILES)
         ws.send_text(json.dumps({"cmd": "start", "profile": "lan", "seed": 1}))
         refused = receive_until(ws, "refused")
@@ -143,7 +147,7 @@ def test_control_without_the_token_is_refused_and_with_it_reaches_the_experiment
 def test_a_failing_experiment_command_is_told_to_the_viewer(console):
     client, _, session = console
     session.fail = True
-    with client.websocket_connect("/ws") as ws:
+    with client.websocket_connect(WS) as ws:
         ws.send_text(json.dumps({"cmd": "auth", "token": "s3cret"}))
         receive_until(ws, "authorized")
         ws.send_text(json.dumps({"cmd": "start", "profile": "lan", "seed": 1}))
@@ -155,7 +159,7 @@ def test_a_failing_experiment_command_is_told_to_the_viewer(console):
 
 def test_a_viewer_sending_garbage_is_closed_after_its_strikes(console):
     client, hub, _ = console
-    with client.websocket_connect("/ws") as ws:
+    with client.websocket_connect(WS) as ws:
         for _ in range(STRIKES):
             ws.send_text("garbage")
         closed = None
@@ -168,16 +172,20 @@ def test_a_viewer_sending_garbage_is_closed_after_its_strikes(console):
     assert wait_for(lambda: hub.viewers == 0)
 
 
+HOLDER = ["weblab", "weblab.token.s3cret"]  # how the page presents the token
+
+
 def test_the_viewer_cap_turns_the_next_connection_away(console):
     client, hub, _ = console
-    opened = [client.websocket_connect("/ws") for _ in range(hub.max_viewers)]
+    opened = [client.websocket_connect(WS, subprotocols=HOLDER) for _ in range(hub.max_viewers)]
     sockets = [c.__enter__() for c in opened]
     try:
         for ws in sockets:
-            receive_until(ws, "hello")
-        with client.websocket_connect("/ws") as extra:
+            receive_until(ws, "authorized")
+        with client.websocket_connect(WS, subprotocols=HOLDER) as extra:
             refused = json.loads(extra.receive()["text"])
-            assert refused["type"] == "refused" and "maximum of 4 viewers" in refused["why"]
+            assert refused["type"] == "refused"
+            assert "maximum of 4 viewers holding the token" in refused["why"]
             assert extra.receive()["code"] == 1013
     finally:
         for c in opened:
@@ -187,7 +195,7 @@ def test_the_viewer_cap_turns_the_next_connection_away(console):
 
 def test_viewers_get_frames_as_binary_and_the_rest_as_json(console):
     client, hub, _ = console
-    with client.websocket_connect("/ws") as ws:
+    with client.websocket_connect(WS) as ws:
         receive_until(ws, "hello")
         hub.publish("frame:onboard", b"\xff\xd8jpeg")
         hub.publish("context", {"Control.cycleRate": 1.5})

@@ -137,15 +137,23 @@ def test_a_viewer_opening_100_connections_gets_the_cap_and_a_refusal_for_the_res
             ws = stack.enter_context(websockets_sync.connect(url))
             first = json.loads(ws.recv(timeout=10))
             if first["type"] == "refused":
-                assert "maximum of 32 viewers" in first["why"]
+                assert "maximum of 8 viewers without the token" in first["why"]
                 with pytest.raises(ConnectionClosed):  # closed by the server: try again later
                     ws.recv(timeout=10)
                 assert ws.close_code == 1013
                 refused += 1
             else:
                 opened += 1
-        assert (opened, refused) == (32, 68)
-        assert hub.viewers == 32
+        assert (opened, refused) == (8, 92)
+        assert hub.viewers == 8
+        # the connections without the token never take the token holder's place
+        holder = stack.enter_context(
+            websockets_sync.connect(url, subprotocols=["weblab", f"weblab.token.{TOKEN}"])
+        )
+        assert messages(holder, lambda m: m["type"] in ("authorized", "refused"))[-1] == {
+            "type": "authorized"
+        }
+        assert hub.viewers == 9
     deadline = time.monotonic() + 10
     while hub.viewers and time.monotonic() < deadline:
         time.sleep(0.05)

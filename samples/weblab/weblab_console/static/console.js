@@ -1,9 +1,23 @@
 // The WebLab console's page: one WebSocket, camera frames as binary messages (first byte: 1 on-board,
-// 2 panoramic), everything else as JSON {type, data}. Commands go back as JSON (see commands.py);
-// those that change the experiment carry the session's token, given in the page's URL (?token=...).
+// 2 panoramic), everything else as JSON {type, data}. Commands go back as JSON (see commands.py).
+// The session's token comes in the link's fragment (#token=..., never sent to a server): the page
+// keeps it in this tab's sessionStorage (this origin only), takes it out of the address bar and
+// history, and presents it when it opens the WebSocket (subprotocol weblab.token.<token>).
 
 const $ = (id) => document.getElementById(id);
-const token = new URLSearchParams(location.search).get("token");
+const TOKEN_KEY = "weblab-console-token";
+const TOKEN_SHAPE = /^[A-Za-z0-9_-]{1,128}$/;  // what a subprotocol may carry; the console's are so
+
+function takeToken() {
+  const given = new URLSearchParams(location.hash.slice(1)).get("token");
+  if (given !== null) {
+    sessionStorage.setItem(TOKEN_KEY, given);
+    history.replaceState(null, "", location.pathname + location.search);
+  }
+  return sessionStorage.getItem(TOKEN_KEY);
+}
+
+let token = takeToken();
 const state = { path: null, last: null, manual: false, driveTimer: null, socket: null, frames: 0 };
 const imageUrls = { 1: null, 2: null };
 
@@ -20,16 +34,19 @@ function send(command) {
 }
 
 function connect() {
-  const socket = new WebSocket(`${location.protocol === "https:" ? "wss" : "ws"}://${location.host}/ws`);
+  const protocols = ["weblab"];
+  if (token && TOKEN_SHAPE.test(token)) protocols.push(`weblab.token.${token}`);
+  const socket = new WebSocket(`${location.protocol === "https:" ? "wss" : "ws"}://${location.host}/ws`, protocols);
   socket.binaryType = "arraybuffer";
   state.socket = socket;
   socket.onopen = () => {
     $("connection").textContent = "live";
     $("connection").className = "badge on";
-    if (token) send({ cmd: "auth", token });
-    else say("watching only: open the link with the session's token to drive", "refused");
+    if (!token) say("watching only: open the link with the session's token to drive", "refused");
+    else if (!TOKEN_SHAPE.test(token)) say("the link's token is malformed: watching only (open the link the console printed)", "refused");
   };
   socket.onclose = (event) => {
+    if (socket !== state.socket) return;  // replaced (a new token): the new one is connecting
     $("connection").textContent = event.code === 1013 ? "full" : "disconnected";
     $("connection").className = "badge off";
     stopDriving();
@@ -251,5 +268,15 @@ $("release").addEventListener("click", () => { stopDriving(); send({ cmd: "relea
 for (const id of ["speed", "turn"]) {
   $(id).addEventListener("input", () => ($(`${id}-out`).textContent = $(id).value));
 }
+// A link opened in a tab that shows the console already changes only the fragment: take its
+// token and connect again with it.
+window.addEventListener("hashchange", () => {
+  if (!new URLSearchParams(location.hash.slice(1)).has("token")) return;
+  token = takeToken();
+  const old = state.socket;
+  stopDriving();
+  connect();
+  if (old) old.close();
+});
 setInterval(() => send({ cmd: "ping" }), 15000);
 connect();

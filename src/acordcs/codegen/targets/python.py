@@ -14,28 +14,66 @@ The package's name is :func:`package_name` of the application's name (``WebLab``
 digit, ``_app`` appended, so it is an identifier, no keyword, no module of the standard library
 (none ends in ``_app``) and not ``acordcs``.
 
-The container modules call :func:`acordcs.runtime.assembly.assemble` on the package's copy of the
-descriptor (``descriptor.xml``, the document the ``config`` target writes) with the registry of
-user classes, ``only=[container]``: one source of truth for what a container holds, and the package
-runs wherever it is copied.
+A container module names its package and container and hands over to
+:class:`acordcs.runtime.launcher.Launcher`, which assembles the container from the package's copy
+of the descriptor (``descriptor.xml``, the document the ``config`` target writes) with the
+registry of user classes: one source of truth for what a container holds, and the package runs
+wherever it is copied.
+
+The types (:func:`typing_plan`, given to the stylesheet as JSON): a property's Python type is its
+kind's (``int``, ``float``, ``bool``; ``str`` for a string-typed one); a parameter's or return
+value's is its UML type's by the table of :func:`python_type` (the one
+:func:`acordcs.descriptor.value_kind` reads defaults by); any other UML type is ``object``, named
+in ``model_types.py`` (``model_types.Image``) when its name can be a Python name. A property
+becomes a typed attribute of the base class (``self.maxSpeed: float``,
+:class:`acordcs.runtime.component.ModelProperty`) unless its name is taken (:data:`TAKEN`, an
+operation of the component, ``on_<port>``) or is no identifier: code reads those with ``get``.
 """
 
 from __future__ import annotations
 
+import builtins
+import json
 import keyword
 import re
 from importlib import resources
 from pathlib import Path
+from typing import TYPE_CHECKING, Any
 
 from acordcs.codegen.registry import Target, target
 from acordcs.codegen.targets.names import NameRefused, refused, require_identifiers
+
+if TYPE_CHECKING:
+    from acordcs.descriptor import Application, Component
 
 STYLESHEET = resources.files(__package__) / "python.xsl"
 
 # Modules and packages of the generated package a container module must not shadow.
 OWN_MODULES = frozenset(
-    {"__init__", "__main__", "registry", "base", "components", "monitors", "descriptor"}
+    {
+        "__init__",
+        "__main__",
+        "registry",
+        "base",
+        "components",
+        "monitors",
+        "descriptor",
+        "model_types",
+    }
 )
+
+# The names a generated base module binds and uses in its class's scope (imports, annotations): an
+# operation of that name would hide them (refused, G703), a property of that name gets no attribute.
+CLASS_SCOPE = frozenset(
+    {
+        "CtxComponent", "ModelProperty", "PortSpec", "OperationNotImplementedError",
+        "unimplemented", "model_types", "annotations", "int", "float", "bool", "str", "object",
+        "tuple",
+    }
+)  # fmt: skip
+
+# A UML type read as a number or a truth value (acordcs.descriptor.value_kind's kinds) -> Python.
+KIND_TYPES = {"int": "int", "double": "float", "bool": "bool"}
 
 
 def package_name(application: str) -> str:
@@ -74,12 +112,99 @@ def check_names(app) -> None:
                 element_id,
                 qualified,
             )
+        if what == "operation" and name in CLASS_SCOPE:
+            raise NameRefused(
+                f"{what} (a name the generated base class uses)", name, element_id, qualified
+            )
         if what == "parameter" and name == "self":
             raise NameRefused(what, name, element_id, qualified)
         if what == "container" and name.lower() in OWN_MODULES:
             raise NameRefused(
                 f"{what} (a module of the generated package)", name, element_id, qualified
             )
+
+
+def python_type(uml: str) -> str:
+    """The annotation of a value of UML type ``uml``: ``int``, ``float``, ``bool``, ``str``,
+    ``model_types.<uml>`` for another type whose name can be a Python name, else ``object``."""
+    from acordcs.descriptor import value_kind
+
+    text = uml.strip()
+    kind = value_kind(text) if text else ""
+    if kind in KIND_TYPES:
+        return KIND_TYPES[kind]
+    if text.lower() == "string":
+        return "str"
+    return f"model_types.{text}" if alias_allowed(text) else "object"
+
+
+def alias_allowed(uml: str) -> bool:
+    """Whether model_types.py names the UML type ``uml``: an ASCII identifier, no keyword, not
+    private, no name of Python's builtins (a type ``bytes`` stays ``object``, not bytes)."""
+    return (
+        uml.isascii()
+        and uml.isidentifier()
+        and not keyword.iskeyword(uml)
+        and not uml.startswith("_")
+        and uml not in dir(builtins)
+        and uml.lower() != "void"
+    )
+
+
+def taken() -> frozenset[str]:
+    """The names a property attribute cannot take: the component API (its members, and what the
+    container sets on an instance) and the names the class scope uses."""
+    from acordcs.runtime.component import COMPONENT_API, CtxComponent
+
+    return COMPONENT_API | frozenset(CtxComponent.__annotations__) | CLASS_SCOPE
+
+
+def _attribute_allowed(name: str, component: Component, reserved: frozenset[str]) -> bool:
+    return (
+        name.isascii()  # Python folds other identifiers (NFKC): the attribute would be renamed
+        and name.isidentifier()
+        and not keyword.iskeyword(name)
+        and not name.startswith("_")
+        and name not in reserved
+        and name not in {op.name for op in component.operations}
+        and name not in {f"on_{port.name}" for port in component.ports}
+    )
+
+
+def typing_plan(app: Application) -> dict[str, Any]:
+    """The Python types of the package's signatures, for python.xsl (see the module's docstring):
+    ``types`` (UML type -> annotation), ``returns`` (UML return type, ``""`` for none ->
+    annotation), ``attributes`` (component -> property -> annotation, the typed attributes) and
+    ``aliases`` (UML type -> where model_types.py says it is used)."""
+    types: dict[str, str] = {}
+    returns: dict[str, str] = {"": "None"}
+    attributes: dict[str, dict[str, str]] = {}
+    aliases: dict[str, list[str]] = {}
+    reserved = taken()
+
+    def note(annotation: str, where: str) -> str:
+        if annotation.startswith("model_types."):
+            aliases.setdefault(annotation.partition(".")[2], []).append(where)
+        return annotation
+
+    for comp in app.components:
+        typed = attributes.setdefault(comp.name, {})
+        for prop in comp.properties:
+            annotation = KIND_TYPES.get(prop.kind) or python_type(prop.type)
+            if _attribute_allowed(prop.name, comp, reserved) and prop.name not in typed:
+                typed[prop.name] = note(annotation, f"{comp.name}.{prop.name}")
+        for op in comp.operations:
+            for param in op.parameters:
+                types[param.type] = note(python_type(param.type), f"{comp.name}.{op.name}")
+            text = op.return_type or ""
+            blank = text.strip().lower() in ("", "void")
+            returns[text] = "None" if blank else note(python_type(text), f"{comp.name}.{op.name}")
+    return {
+        "types": types,
+        "returns": returns,
+        "attributes": attributes,
+        "aliases": {name: list(dict.fromkeys(uses)) for name, uses in aliases.items()},
+    }
 
 
 # The stylesheet as a target object, not registered: run by the function target below.
@@ -99,7 +224,24 @@ def python(context) -> None:
         raise refused(context, err, "Python") from None
     from acordcs.codegen.xslt import run_stylesheet
 
-    run_stylesheet(_STYLESHEET_TARGET, context, {"package": package_name(context.application.name)})
+    run_stylesheet(
+        _STYLESHEET_TARGET,
+        context,
+        {
+            "package": package_name(context.application.name),
+            "typing": json.dumps(typing_plan(context.application)),
+        },
+    )
 
 
-__all__ = ["OWN_MODULES", "STYLESHEET", "check_names", "package_name", "python"]
+__all__ = [
+    "CLASS_SCOPE",
+    "OWN_MODULES",
+    "STYLESHEET",
+    "check_names",
+    "package_name",
+    "python",
+    "python_type",
+    "taken",
+    "typing_plan",
+]

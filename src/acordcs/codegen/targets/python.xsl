@@ -7,11 +7,15 @@
     <pkg>/__init__.py              the application: its name, containers, assemble_application()
     <pkg>/descriptor.xml           the descriptor (the document the config target writes)
     <pkg>/registry.py              FACTORIES: component name -> the user's class
+    <pkg>/model_types.py           the model's types that are not Python's (aliases of object)
     <pkg>/base/__init__.py
-    <pkg>/base/<Component>.py      <Component>Base(CtxComponent): properties, ports, operations
+    <pkg>/base/<Component>.py      <Component>Base(CtxComponent): typed properties, ports, operations
     <pkg>/components/__init__.py   created once (the user's)
     <pkg>/components/<Component>.py  <Component>(<Component>Base): created once, never overwritten
-    <pkg>/<Container>.py           the container: assemble_container(), main() (python -m)
+    <pkg>/<Container>.py           the container: a few lines handing over to acordcs.runtime.launcher
+
+  The Python types in signatures come from python.py's typing plan (parameter "typing", JSON):
+  decided once in Python, looked up here.
 
   Files listed with once="yes" are written only when absent and never deleted (generation gap).
 -->
@@ -20,8 +24,10 @@
     xmlns:xs="http://www.w3.org/2001/XMLSchema"
     xmlns:d="http://acordcs.org/descriptor/1.0"
     xmlns:py="http://acordcs.org/codegen/python"
+    xmlns:map="http://www.w3.org/2005/xpath-functions/map"
+    xmlns:array="http://www.w3.org/2005/xpath-functions/array"
     xmlns="http://acordcs.org/codegen/1.0"
-    exclude-result-prefixes="xs d py"
+    exclude-result-prefixes="xs d py map array"
     expand-text="yes">
 
   <xsl:param name="source-file" as="xs:string" required="yes"/>
@@ -31,6 +37,12 @@
   <!-- The package's name, from python.py's package_name (an identifier, no keyword, no module of
        the standard library, not acordcs). -->
   <xsl:param name="package" as="xs:string" required="yes"/>
+  <!-- python.py's typing_plan as JSON: "types" (UML type -> annotation of a value), "returns"
+       (UML return type, '' when none -> annotation), "attributes" (component -> property ->
+       annotation, for the properties that become typed attributes), "aliases" (the UML types
+       model_types.py declares). -->
+  <xsl:param name="typing" as="xs:string" required="yes"/>
+  <xsl:variable name="plan" as="map(*)" select="parse-json($typing)"/>
 
   <xsl:output method="xml" encoding="UTF-8" indent="no"/>
 
@@ -182,6 +194,11 @@
         <xsl:with-param name="pkg" select="$pkg"/>
       </xsl:call-template>
     </xsl:result-document>
+    <xsl:result-document href="{$pkg}/model_types.py" method="text" encoding="UTF-8">
+      <xsl:call-template name="model-types">
+        <xsl:with-param name="app" select="$app"/>
+      </xsl:call-template>
+    </xsl:result-document>
     <xsl:result-document href="{$pkg}/base/__init__.py" method="text" encoding="UTF-8">
       <xsl:sequence select="py:header('model ''' || $app/@name || '''', $regenerated)"/>
       <xsl:text>"""The generated base classes of the components and monitors of '{py:inline($app/@name)}': one module each."""&#10;</xsl:text>
@@ -226,6 +243,7 @@
       <file path="{$pkg}/__init__.py" element="{$app/@name}" ids="{$all-ids}"/>
       <file path="{$pkg}/descriptor.xml" element="{$app/@name}" ids="{$all-ids}"/>
       <file path="{$pkg}/registry.py" element="{$app/@name}" ids="{string-join(($components/@id, $monitors/@id), ' ')}"/>
+      <file path="{$pkg}/model_types.py" element="{$app/@name}" ids="{string-join($components/@id, ' ')}"/>
       <file path="{$pkg}/base/__init__.py" element="{$app/@name}" ids=""/>
       <file path="{$pkg}/components/__init__.py" element="{$app/@name}" ids="" once="yes"/>
       <file path="{$pkg}/monitors/__init__.py" element="{$app/@name}" ids="" once="yes"/>
@@ -256,12 +274,28 @@ The component classes are in ``{$pkg}.components`` and the monitor classes in
 ``{$pkg}.base``; ``{$pkg}.registry`` maps each component and monitor to its class.
 """
 
-from {$pkg}.registry import FACTORIES, MONITORS, assemble_application, descriptor
+from __future__ import annotations
+
+from typing import TYPE_CHECKING
+
+if TYPE_CHECKING:
+    from {$pkg}.registry import FACTORIES, MONITORS, assemble_application, descriptor
 
 APPLICATION = {py:str($app/@name)}
 CONTAINERS = {py:tuple(for $c in $app/d:containers/d:container return py:str($c/@name))}
 
 __all__ = ["APPLICATION", "CONTAINERS", "FACTORIES", "MONITORS", "assemble_application", "descriptor"]
+_REGISTRY = frozenset(__all__[2:])
+
+
+def __getattr__(name: str) -> object:
+    # The registry imports your classes: only when asked, so that a container's launcher reports
+    # an error in them (file and line) instead of a traceback.
+    if name in _REGISTRY:
+        from {$pkg} import registry
+
+        return getattr(registry, name)
+    raise AttributeError(f"module {{__name__!r}} has no attribute {{name!r}}")
 </xsl:text>
   </xsl:template>
 
@@ -312,7 +346,7 @@ DESCRIPTOR = Path(__file__).with_name("descriptor.xml")
 
 def descriptor() -> Application:
     """The application descriptor, read (and validated) from ``descriptor.xml``."""
-    return from_xml(DESCRIPTOR.read_bytes())
+    return from_xml(DESCRIPTOR.read_bytes(), file=str(DESCRIPTOR))
 
 
 def assemble_application(
@@ -322,12 +356,14 @@ def assemble_application(
     remote: Mapping[str, str] | None = None,
     remote_timeout: float = 5.0,
     monitors: Mapping[str, type[Monitor]] | None = None,
+    application: Application | None = None,
 ) -> RunningApplication:
     """The containers of the application (all, or those in ``only``), with the component classes
     of :data:`FACTORIES` and the monitor classes of :data:`MONITORS` (``monitors`` replaces some);
-    ``remote`` gives the URI of each container running elsewhere."""
+    ``remote`` gives the URI of each container running elsewhere; ``application``: the
+    descriptor, if read already (default: :func:`descriptor`)."""
     return assemble(
-        descriptor(),
+        application if application is not None else descriptor(),
         factories=FACTORIES,
         monitors={{**MONITORS, **(monitors or {{}})}},
         clock=clock,
@@ -341,15 +377,27 @@ def assemble_application(
   <!-- ================================================================ base/<Component>.py -->
   <xsl:template match="d:component" mode="base">
     <xsl:variable name="ops" select="d:operation"/>
+    <xsl:variable name="attributes" select="py:attributes(.)"/>
+    <xsl:variable name="untyped" select="d:property[not(map:contains($attributes, string(@name)))]"/>
+    <xsl:variable name="signatures" as="xs:string*">
+      <xsl:for-each-group select="$ops" group-by="@name">
+        <xsl:sequence select="py:parameters(current-group()) || py:returns-type(current-group())"/>
+      </xsl:for-each-group>
+    </xsl:variable>
+    <xsl:variable name="uses-types" select="some $a in (map:for-each($attributes, function($k, $v) {string($v)}), $signatures) satisfies contains($a, 'model_types.')"/>
+    <xsl:variable name="api" select="('CtxComponent', if (map:size($attributes)) then 'ModelProperty' else (), 'PortSpec', if ($ops) then 'unimplemented' else ())"/>
     <xsl:sequence select="py:header('component ''' || @name || ''' ('|| @qname || ', id ' || @id || ')', $regenerated)"/>
     <xsl:text>"""The generated base of component {@name}; its code is in ``components/{@name}.py``."""
 
 from __future__ import annotations
 
-from acordcs.runtime.api import CtxComponent, PortSpec
+from acordcs.runtime.api import {string-join($api, ', ')}
 </xsl:text>
     <xsl:if test="$ops">
       <xsl:text>from acordcs.runtime.errors import OperationNotImplementedError&#10;</xsl:text>
+    </xsl:if>
+    <xsl:if test="$uses-types">
+      <xsl:text>from {$package} import model_types&#10;</xsl:text>
     </xsl:if>
     <xsl:text>
 
@@ -383,6 +431,20 @@ class {@name}Base(CtxComponent):
       </xsl:when>
       <xsl:otherwise>)&#10;</xsl:otherwise>
     </xsl:choose>
+    <xsl:if test="map:size($attributes)">
+      <xsl:text>
+    # The properties as typed attributes: self.x reads self.get("x"), self.x = v is
+    # self.set("x", v), through the container (policies and monitors see the change).
+</xsl:text>
+      <xsl:for-each select="d:property[map:contains($attributes, string(@name))]">
+        <xsl:if test="not(preceding-sibling::d:property[@name = current()/@name])">
+          <xsl:text>    {@name} = ModelProperty[{$attributes(string(@name))}]({py:str(@name)})&#10;</xsl:text>
+        </xsl:if>
+      </xsl:for-each>
+    </xsl:if>
+    <xsl:if test="$untyped">
+      <xsl:text>    # Without an attribute (a name that is taken or no identifier): self.get({string-join(distinct-values($untyped/@name) ! py:str(.), '), self.get(')})&#10;</xsl:text>
+    </xsl:if>
     <xsl:for-each-group select="$ops" group-by="@name">
       <xsl:variable name="overloads" select="current-group()"/>
       <xsl:variable name="first" select="$overloads[1]"/>
@@ -392,7 +454,8 @@ class {@name}Base(CtxComponent):
           'Operation ' || $shown || '.',
           for $o in $overloads return py:returns($o)), '&#10;&#10;')"/>
       <xsl:text>
-    def {$first/@name}(self{py:parameters($overloads)}):
+    @unimplemented
+    def {$first/@name}(self{py:parameters($overloads)}){py:returns-type($overloads)}:
         {py:doc($doc, '        ')}
         raise OperationNotImplementedError(
             {py:str('component ' || ../@name || ' has no code for operation ' || $shown)},
@@ -401,6 +464,31 @@ class {@name}Base(CtxComponent):
 </xsl:text>
     </xsl:for-each-group>
   </xsl:template>
+
+  <!-- The typed attributes of component $c: property name -> annotation (python.py decides which
+       properties get one). -->
+  <xsl:function name="py:attributes" as="map(*)">
+    <xsl:param name="c" as="element()"/>
+    <xsl:sequence select="(map:get(map:get($plan, 'attributes'), string($c/@name)), map{})[1]"/>
+  </xsl:function>
+
+  <!-- The annotation of a value of UML type $t. -->
+  <xsl:function name="py:type" as="xs:string">
+    <xsl:param name="t" as="xs:string?"/>
+    <xsl:sequence select="(map:get(map:get($plan, 'types'), string($t)), 'object')[1]"/>
+  </xsl:function>
+
+  <!-- " -> T" for an operation (its overloads: object): its return type, or a tuple of it and
+       its out and inout parameters (acordcs.runtime.operations' mapping). -->
+  <xsl:function name="py:returns-type" as="xs:string">
+    <xsl:param name="overloads" as="element()+"/>
+    <xsl:variable name="op" select="$overloads[1]"/>
+    <xsl:variable name="r" select="(map:get(map:get($plan, 'returns'), string($op/@returns)), 'object')[1]"/>
+    <xsl:variable name="outs" select="$op/d:parameter[@direction = ('out', 'inout')]"/>
+    <xsl:sequence select="' -> ' || (if (count($overloads) gt 1) then 'object'
+        else if ($outs) then 'tuple[' || string-join(($r, $outs ! py:type(@type)), ', ') || ']'
+        else $r)"/>
+  </xsl:function>
 
   <!-- name(in a: T, out b: U): R, as the model declares it -->
   <xsl:function name="py:signature" as="xs:string">
@@ -431,22 +519,31 @@ from {$pkg}.base.{@name} import {@name}Base
 
 class {@name}({@name}Base):
 </xsl:text>
+    <xsl:variable name="attributes" select="py:attributes(.)"/>
+    <xsl:variable name="typed" select="d:property[map:contains($attributes, string(@name))][1]"/>
     <xsl:if test="d:operation">
       <xsl:text>    # The model's operations, to implement here (those of {@name}Base raise
     # OperationNotImplementedError):
 </xsl:text>
       <xsl:for-each-group select="d:operation" group-by="@name">
-        <xsl:text>    #   def {current-grouping-key()}(self{py:parameters(current-group())})&#10;</xsl:text>
+        <xsl:text>    #   def {current-grouping-key()}(self{py:parameters(current-group())}){py:returns-type(current-group())}:&#10;</xsl:text>
       </xsl:for-each-group>
+    </xsl:if>
+    <xsl:if test="$typed">
+      <xsl:text>    # Its properties are typed attributes of {@name}Base (self.{$typed/@name}: {$attributes(string($typed/@name))}).&#10;</xsl:text>
+    </xsl:if>
+    <xsl:if test="some $o in d:operation satisfies contains(py:parameters($o) || py:returns-type($o), 'model_types.')">
+      <xsl:text>    # The model's other types: from {$package} import model_types&#10;</xsl:text>
     </xsl:if>
     <xsl:text>    pass&#10;</xsl:text>
   </xsl:template>
 
-  <!-- ", a, b" for the Python parameters of an operation (its overloads: *args, **kwargs). -->
+  <!-- ", a: T, b: U" for the Python parameters of an operation, annotated (its overloads:
+       *args: object, **kwargs: object). -->
   <xsl:function name="py:parameters" as="xs:string">
     <xsl:param name="overloads" as="element()+"/>
-    <xsl:variable name="params" select="if (count($overloads) gt 1) then '*args, **kwargs'
-        else string-join($overloads[1]/d:parameter[@direction = ('in', 'inout')]/@name, ', ')"/>
+    <xsl:variable name="params" select="if (count($overloads) gt 1) then '*args: object, **kwargs: object'
+        else string-join($overloads[1]/d:parameter[@direction = ('in', 'inout')] ! (@name || ': ' || py:type(@type)), ', ')"/>
     <xsl:sequence select="if ($params) then ', ' || $params else ''"/>
   </xsl:function>
 
@@ -544,6 +641,30 @@ class {@name}({@name}Base):
     <xsl:text>    pass&#10;</xsl:text>
   </xsl:template>
 
+  <!-- ============================================================== model_types.py -->
+  <xsl:template name="model-types">
+    <xsl:param name="app" as="element()"/>
+    <xsl:variable name="aliases" select="map:get($plan, 'aliases')"/>
+    <xsl:sequence select="py:header('model ''' || $app/@name || '''', $regenerated)"/>
+    <xsl:text>"""The model's types that are not Python's, named for the signatures of ``{$package}.base``.
+
+A UML type int, integer, long or short is ``int``; double, float, real or number ``float``; bool
+or boolean ``bool``; string ``str``. Any other type is ``object`` (named here when its name can be
+a Python name): the runtime passes whatever the caller gives, in-process the object itself,
+through a remote connector what Pyro5's serializer makes of it (bytes arrive as a dict:
+``serpent.tobytes``), so check it with ``isinstance`` where you use it.
+"""
+
+import typing as _typing
+</xsl:text>
+    <xsl:for-each select="sort(map:keys($aliases))">
+      <xsl:text>
+{.}: _typing.TypeAlias = object
+{py:doc('UML type ' || . || ', in ' || string-join(array:flatten($aliases(.)), ', ') || '.', '')}
+</xsl:text>
+    </xsl:for-each>
+  </xsl:template>
+
   <!-- ================================================================= <Container>.py -->
   <xsl:template match="d:container" mode="container">
     <xsl:param name="pkg" tunnel="yes"/>
@@ -553,170 +674,22 @@ class {@name}({@name}Base):
     'Container ' || @name || ' of application ' || /d:application/@name || ', on host ' || @host || '.',
     string(d:documentation)[. ne ''],
     'Hosts: ' || (if ($hosted) then $hosted else 'nothing') || '.',
-    'Run it: python -m ' || $pkg || '.' || @name || ' [--clock virtual|real] [--serve PORT] [--remote NAME=URI]...'), '&#10;&#10;'), '')}
+    'Run it: python -m ' || $pkg || '.' || @name || ' [--clock virtual|real] [--serve PORT] [--remote NAME=URI]...',
+    '(--help: every option and the exit status; acordcs.runtime.launcher runs it).'), '&#10;&#10;'), '')}
 
 from __future__ import annotations
 
-import argparse
-import signal
 import sys
-import threading
-from collections.abc import Mapping
 
-from acordcs.runtime.api import Clock, RealClock, RunningApplication, VirtualClock
-from acordcs.runtime.errors import RuntimeFailure
-from {$pkg}.registry import assemble_application
+from acordcs.runtime.launcher import Launcher
 
-APPLICATION = {py:str(/d:application/@name)}
 CONTAINER = {py:str(@name)}
-HOST = {py:str((@host, 'localhost')[1])}
-OTHERS = {py:tuple(for $c in ../d:container[@name ne current()/@name] return py:str($c/@name))}
-
-
-def assemble_container(
-    clock: Clock | None = None,
-    remote: Mapping[str, str] | None = None,
-    remote_timeout: float = 5.0,
-) -> RunningApplication:
-    """Container {@name} assembled from the descriptor; ``remote``: the URI of each other
-    container its connections reach (``PYRO:acordcs.container.&lt;name&gt;@host:port``)."""
-    return assemble_application(
-        only=[CONTAINER], clock=clock, remote=remote, remote_timeout=remote_timeout
-    )
-
-
-def _remote(text: str) -> tuple[str, str]:
-    name, sep, uri = text.partition("=")
-    if not sep or not name or not uri:
-        raise argparse.ArgumentTypeError(f"{{text!r}} is not NAME=URI")
-    return name, uri
-
-
-def _interrupt(signum, frame) -> None:
-    raise KeyboardInterrupt
-
-
-def _operation(text: str) -> tuple[str, str]:
-    component, sep, operation = text.partition(".")
-    if not sep or not component or not operation:
-        raise argparse.ArgumentTypeError(f"{{text!r}} is not COMPONENT.OPERATION")
-    return component, operation
-
-
-def _unknown_run(container, runs: list[tuple[str, str]]) -> str | None:
-    """What is wrong with the --run operations (None: each names an operation hosted here)."""
-    for component, operation in runs:
-        ops = container.operations_of(component)
-        if not ops:
-            hosted = ", ".join(c.name for c in container.components()) or "nothing"
-            return (f"--run {{component}}.{{operation}}: container {{CONTAINER}} hosts no component "
-                    f"{{component!r}} (it hosts: {{hosted}})")
-        if operation not in ops:
-            return (f"--run {{component}}.{{operation}}: component {{component!r}} has no operation "
-                    f"{{operation!r}} (operations: {{', '.join(sorted(ops))}})")
-    return None
-
-
-def _call(container, component: str, operation: str, failed: list[str],
-          stop: threading.Event) -> None:
-    """A --run operation, called through the container (its interceptors and monitors see the
-    call); a failure is reported as a line in ``failed`` and stops the container."""
-    what = f"{{component}}.{{operation}}()"
-    try:
-        result = container.find(component).call(operation)
-    except Exception as err:  # reported (what, where, when), never a traceback
-        if not stop.is_set():
-            failed.append(f"--run {{what}} failed at t={{container.clock.now():.3f}} s: {{err}}")
-            stop.set()
-        return
-    print(f"{{CONTAINER}}: --run {{what}} returned {{result!r:.200}} at "
-          f"t={{container.clock.now():.3f}} s", flush=True)
-
-
-def main(argv: list[str] | None = None) -> int:
-    parser = argparse.ArgumentParser(
-        prog={py:str('python -m ' || $pkg || '.' || @name)},
-        description=f"Run container {{CONTAINER}} of application {{APPLICATION}}.",
-        epilog="ACORDCS_TOKEN: the application's token, the same in each of its processes; "
-        "--serve admits only callers presenting it, --remote presents it (required to serve a "
-        "host other than loopback).",
-    )
-    parser.add_argument("--clock", choices=("virtual", "real"), default="virtual",
-                        help="virtual: simulated time, as fast as it runs (default); real: wall time")
-    parser.add_argument("--seed", type=int, default=0, help="the virtual clock's seed (default 0)")
-    parser.add_argument("--duration", type=float, metavar="SECONDS",
-                        help="how long to run (default: 10 virtual seconds; real: until interrupted)")
-    parser.add_argument("--serve", type=int, metavar="PORT",
-                        help="serve the container to other processes at this TCP port (0: any)")
-    parser.add_argument("--host", default=HOST, help=f"the host to serve at (default {{HOST}})")
-    parser.add_argument("--remote", type=_remote, action="append", default=[], metavar="NAME=URI",
-                        help="the URI of another container (repeat for each)")
-    parser.add_argument("--timeout", type=float, default=5.0, help="remote call timeout, s")
-    parser.add_argument("--run", type=_operation, action="append", default=[],
-                        metavar="COMPONENT.OPERATION",
-                        help="call this operation of a component hosted here once the container "
-                             "serves, in a worker thread (virtual clock: in turn, before the "
-                             "duration runs); its failure stops the container, exit 1 (repeat "
-                             "for each)")
-    args = parser.parse_args(argv)
-    clock: Clock = VirtualClock(args.seed) if args.clock == "virtual" else RealClock()
-    try:
-        app = assemble_container(clock, dict(args.remote), args.timeout)
-    except RuntimeFailure as err:
-        clock.close()
-        print(f"{{parser.prog}}: {{err}}", file=sys.stderr)
-        if OTHERS:
-            print(f"{{parser.prog}}: the other containers: {{', '.join(OTHERS)}}; give the "
-                  "address of each one this container reaches with --remote NAME=URI",
-                  file=sys.stderr)
-        return 2
-    stop = threading.Event()  # set by a failing --run operation
-    failed: list[str] = []
-    with app:
-        container = app.container(CONTAINER)
-        unknown = _unknown_run(container, args.run)
-        if unknown is not None:
-            print(f"{{parser.prog}}: {{unknown}}", file=sys.stderr)
-            return 2
-        if args.serve is not None:
-            try:
-                server = app.serve(CONTAINER, host=args.host, port=args.serve)
-            except RuntimeFailure as err:
-                print(f"{{parser.prog}}: {{err}}", file=sys.stderr)
-                return 2
-            print(f"{{CONTAINER}}: serving at {{server.uri}}", flush=True)
-        signal.signal(signal.SIGTERM, _interrupt)  # kill, bin/*-stop: stop as on Ctrl-C
-        try:
-            if isinstance(clock, VirtualClock):
-                for component, operation in args.run:  # in turn: simulated time is one thread's
-                    if not stop.is_set():
-                        _call(container, component, operation, failed, stop)
-                if not stop.is_set():
-                    clock.run_until(max(clock.now(), 10.0 if args.duration is None else args.duration))
-            else:
-                for component, operation in args.run:
-                    threading.Thread(target=_call, args=(container, component, operation, failed, stop),
-                                     name=f"run {{component}}.{{operation}}", daemon=True).start()
-                if args.duration is not None:
-                    stop.wait(args.duration)
-                else:
-                    while not stop.wait(3600):
-                        pass
-        except KeyboardInterrupt:
-            pass
-        stop.set()  # a --run operation failing from now on is the stop's doing, not reported
-        for line in failed:
-            print(f"{{parser.prog}}: {{line}}", file=sys.stderr, flush=True)
-        print(
-            f"{{CONTAINER}}: stopped at t={{clock.now():.3f}} s, "
-            f"faults: {{container.faults.counts['total']}}",
-            flush=True,
-        )
-    return 1 if failed else 0
-
+LAUNCHER = Launcher({py:str($pkg)}, CONTAINER)
+# The container assembled from the descriptor: assemble_container(clock, remote, remote_timeout).
+assemble_container = LAUNCHER.assemble
 
 if __name__ == "__main__":
-    sys.exit(main())
+    sys.exit(LAUNCHER.main())
 </xsl:text>
   </xsl:template>
 </xsl:stylesheet>

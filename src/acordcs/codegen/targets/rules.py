@@ -5,7 +5,8 @@ identifiers so that jFuzzyLogic reads it); ``rules/<PolicySet>.clp`` is the set'
 (:mod:`.clips`). Each starts with a header naming the policy set, its qualified name and id, and
 the model file.
 
-The one built-in target that is not an XSLT stylesheet, by design: each file is the engine the
+The one built-in target that is not an XSLT stylesheet (``config``, ``java``, ``python`` and
+``shell`` are), by design: each file is the engine the
 runtime builds for the set from its plan (:mod:`acordcs.runtime.plan`), written out by the engine
 package itself (the fuzzy engine's FCL writer; the CLIPS engine's program, with the constructs its
 compiler made). A stylesheet would have to compile rules to CLIPS, and lay out FCL, a second time.

@@ -57,6 +57,7 @@ def run_checks(ctx: Context) -> list[Diagnostic]:
         rules,
         structure,
         tags,
+        term_limits,
     )
 
     out: list[Diagnostic] = []

@@ -3,7 +3,9 @@ to check, and every other check would pass it in silence."""
 
 from __future__ import annotations
 
+import os
 from collections.abc import Iterator
+from urllib.parse import unquote
 
 from acordcs.diagnostics import Diagnostic, diagnostic
 from acordcs.model.checks import Context, check
@@ -43,6 +45,36 @@ def profile_applied(ctx: Context) -> Iterator[Diagnostic]:
         element=root.qualified_name() if root is not None else None,
         xmi_id=root.id if root is not None else None,
     )
+
+
+@check
+def profile_files(ctx: Context) -> Iterator[Diagnostic]:
+    """A profile applied by reference in an Eclipse UML2 model (Papyrus: ``appliedProfile
+    href="ACORDCS.profile.uml#..."``) whose file is not where the reference says: Papyrus then
+    cannot open the model's stereotypes. References to the tool's own libraries (``pathmap://``)
+    and to the web are not files here; other tools' exports (MagicDraw's ``.mdzip``, Modelio's
+    profile) name their project files, which an export is meant to be read without."""
+    model = ctx.uml.file
+    papyrus = ctx.uml.dialect == "eclipse-uml2" and ctx.uml.tool in (None, "papyrus")
+    if not papyrus or not model or model == "-" or not os.path.isfile(model):
+        return
+    folder = os.path.dirname(os.path.abspath(model))
+    for href, line in ctx.uml.profile_references:
+        target = href.partition("#")[0]
+        if not target or "://" in target or target.startswith("platform:"):
+            continue
+        path = unquote(target.removeprefix("file:"))
+        if not os.path.isfile(os.path.join(folder, path)):
+            where = os.path.normpath(path)
+            yield diagnostic(
+                "T321",
+                f"the model applies the profile in {target!r}, which is not there ({where} from "
+                "the model's folder); Papyrus will not show its stereotypes: put the profile file "
+                "there (acordcs-gen profile export DIR --tool papyrus writes ACORDCS.profile.uml) "
+                "or apply it again from where it is",
+                file=model,
+                line=line,
+            )
 
 
 def _profile_definition(ctx: Context) -> Element | None:

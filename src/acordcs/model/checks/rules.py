@@ -13,6 +13,7 @@ from acordcs.model.queries import (
     PolicyRule,
     PolicySetScope,
     Resolved,
+    Unchecked,
     Unresolved,
     policy_rules,
     rule_kind,
@@ -123,8 +124,12 @@ class _RuleChecker:
             subject=f"{_subject(prule)}:{name.text}",
         )
 
-    def variable(self, prule: PolicyRule, name: Name) -> Resolved | Diagnostic:
+    def variable(self, prule: PolicyRule, name: Name) -> Resolved | Diagnostic | None:
+        """What ``name`` denotes, or the diagnostic saying why it denotes nothing (None: it may
+        denote a member of an element whose stereotype is misspelt, reported as such: T302)."""
         found = self.scope.resolve(name, "attribute")
+        if isinstance(found, Unchecked):
+            return None
         if isinstance(found, Ambiguous):
             options = ", ".join(found.candidates)
             return self.problem(
@@ -161,7 +166,8 @@ class _RuleChecker:
             var = atom.var
             found = self.variable(prule, var)
             if not isinstance(found, Resolved):
-                yield found
+                if found is not None:
+                    yield found
                 continue
             attr = found.member
             info = self.terms.get(attr.id)
@@ -196,16 +202,16 @@ class _RuleChecker:
     def crisp(self, rule: Rule, prule: PolicyRule) -> Iterator[Diagnostic]:
         for name in rule.variables_read():
             found = self.variable(prule, name)
-            if not isinstance(found, Resolved):
+            if isinstance(found, Diagnostic):
                 yield found
         for action in rule.actions:
             if isinstance(action, Assign):
                 found = self.variable(prule, action.var)
-                if not isinstance(found, Resolved):
+                if isinstance(found, Diagnostic):
                     yield found
                 for name in names_in(action.value):
                     found = self.variable(prule, name)
-                    if not isinstance(found, Resolved):
+                    if isinstance(found, Diagnostic):
                         yield found
             elif isinstance(action, Call):
                 yield from self.call(action, prule)
@@ -223,7 +229,7 @@ class _RuleChecker:
             yield self.problem(
                 prule, "L406", f"operation {call.target.text!r}: {found.reason}", call.target
             )
-        else:
+        elif isinstance(found, Resolved):
             op = found.member
             expected = len(op.inputs)
             if expected != len(call.args):
@@ -238,5 +244,5 @@ class _RuleChecker:
         for arg in call.args:
             for name in names_in(arg):
                 found_var = self.variable(prule, name)
-                if not isinstance(found_var, Resolved):
+                if isinstance(found_var, Diagnostic):
                     yield found_var

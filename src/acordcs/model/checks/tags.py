@@ -6,7 +6,7 @@ import math
 from collections.abc import Iterator
 from itertools import pairwise
 
-from acordcs.diagnostics import Diagnostic
+from acordcs.diagnostics import Diagnostic, within_edits
 from acordcs.model.architecture import MONITOR, POLICY_SET, VARIABLE
 from acordcs.model.checks import Context, check
 from acordcs.model.queries import (
@@ -17,6 +17,9 @@ from acordcs.model.queries import (
     variable_range,
 )
 from acordcs.rules import RuleSyntaxError, TermDef
+
+MISSPELT = 2
+"""An unknown tag within this many edits of a tag of its stereotype is a misspelling of it (T320)."""
 
 _PARSERS = {
     "Real": parse_real,
@@ -33,6 +36,17 @@ def tag_values(ctx: Context) -> Iterator[Diagnostic]:
             line = role.tag_line(name)
             if declared is None:
                 names = [t.name for t in role.stereotype.tags]
+                close = [n for n in names if within_edits(name, n, MISSPELT)]
+                if close:  # a typo: what the modeller meant is left unset, so it is an error
+                    yield ctx.diag(
+                        "T320",
+                        f"<<{role.kind}>> has no tag {name!r} (did you mean {close[0]!r}?); "
+                        f"{close[0]!r} is left unset: rename the tag",
+                        role,
+                        line=line,
+                        subject=name,
+                    )
+                    continue
                 yield ctx.diag(
                     "T303",
                     f"<<{role.kind}>> has no tag {name!r}{suggestion(name, names)} (its tags: "

@@ -6,7 +6,7 @@ import logging
 import math
 import threading
 from collections import Counter
-from collections.abc import Callable, Iterator
+from collections.abc import Callable, Hashable, Iterator
 from contextlib import contextmanager
 
 from lxml import etree
@@ -20,7 +20,7 @@ from acordcs.runtime.context.delivery import (
 from acordcs.runtime.context.errors import ContextError, SubscriptionError
 from acordcs.runtime.context.index import SubscriptionIndex
 from acordcs.runtime.context.xmlparse import Limits, parse_document, to_bytes
-from acordcs.runtime.context.xpathcost import check_linear
+from acordcs.runtime.context.xpathcost import check_cost
 from acordcs.runtime.context.xpathexpr import compile_expression, recognise
 
 log = logging.getLogger("acordcs.runtime.context")
@@ -56,16 +56,27 @@ def check_publisher(publisher: object, what: str = "publisher") -> str:
 class ProviderCore:
     """Subscriptions, matching and dispatch; engines add ``publish``.
 
-    ``delivery_threads`` bounds how many callbacks can run at once (slow ones each hold a thread);
+    ``delivery_threads``: the pool of threads that run callbacks (slow ones each hold a thread);
+    ``threads_per_subscriber``: how many callbacks of one subscriber may run at once (more are
+    made beyond ``delivery_threads`` for subscribers kept waiting by others' blocked callbacks);
     ``inline``: no threads, callbacks run in the publishing thread (:class:`InlineDelivery`)."""
 
     def __init__(
-        self, limits: Limits | None = None, delivery_threads: int = 64, *, inline: bool = False
+        self,
+        limits: Limits | None = None,
+        delivery_threads: int = 64,
+        *,
+        inline: bool = False,
+        threads_per_subscriber: int = 2,
     ) -> None:
         self.limits = limits or Limits()
         self.inline = inline
         self._dispatcher: DeliveryDispatcher | InlineDelivery = (
-            InlineDelivery() if inline else DeliveryDispatcher(max_threads=delivery_threads)
+            InlineDelivery()
+            if inline
+            else DeliveryDispatcher(
+                max_threads=delivery_threads, per_subscriber=threads_per_subscriber
+            )
         )
         self._lock = threading.RLock()
         self._index = SubscriptionIndex(
@@ -97,14 +108,18 @@ class ProviderCore:
         on_change: bool = False,
         queue_size: int = 1024,
         on_suspend: Callable[[Subscription, str], object] | None = None,
+        subscriber: Hashable = None,
     ) -> Subscription:
         """Call ``callback(notification)`` for every document (of ``publisher``, if given) that ``xpath``
         selects something in. ``max_rate``: at most that many notifications per second, the latest wins.
         ``on_change``: only when the selection differs from the previous document of that publisher
         (including when it becomes empty: then ``nodes`` is empty). ``on_suspend(handle, reason)``:
         called (on a thread of its own) if the subscription is suspended for overrunning its time
-        budget. Unless ``Limits.trusted_subscribers``, an expression the index does not evaluate
-        itself must be of the linear forms (:mod:`.xpathcost`)."""
+        budget. ``subscriber``: who the callback belongs to (any hashable, e.g. a client's id;
+        default: the callback itself); one subscriber's callbacks run on at most
+        ``threads_per_subscriber`` threads at once. Unless ``Limits.trusted_subscribers``, an
+        expression the index does not walk along its trie of ``/a/b/c`` paths must pass the cost
+        check (:mod:`.xpathcost`)."""
         self._check_open()
         if not callable(callback):
             raise SubscriptionError(
@@ -143,9 +158,22 @@ class ProviderCore:
         if xpath is not None:
             compiled = compile_expression(xpath, self.limits.max_expression_chars)
             form = recognise(xpath)
-            if form is None and not self.limits.trusted_subscribers:
-                check_linear(xpath)
-        sub = Subscription(callback, xpath, publisher, max_rate, bool(on_change), queue_size)
+            # a /a/b/c path is walked once along the index's trie; every other expression runs
+            # as an XPath of its own (a fallback) or shared with the same path (``//a//b``)
+            linear = form is not None and form.child_steps is not None
+            if not linear and not self.limits.trusted_subscribers:
+                check_cost(xpath, self.limits.max_xpath_cost)
+        try:
+            hash(subscriber)
+        except TypeError:
+            raise SubscriptionError(
+                f"subscriber must be hashable, got {type(subscriber).__name__}",
+                element="subscription",
+                hint="name the subscriber with a str, int or tuple",
+            ) from None
+        sub = Subscription(
+            callback, xpath, publisher, max_rate, bool(on_change), queue_size, subscriber
+        )
         with self._lock:
             self._check_open()
             self._index.add(sub, publisher, form, compiled)
@@ -286,7 +314,7 @@ class ProviderCore:
             tell = self._on_suspend.pop(sub, None)
         sub.stats.suspended = True
         reason = (
-            f"its XPath took {elapsed * 1e3:.1f} ms on one document, over the "
+            f"its XPath took {elapsed * 1e3:.1f} ms of CPU on one document, over the "
             f"{self.limits.max_eval_seconds * 1e3:.1f} ms budget {self.limits.max_strikes} times "
             f"within {self.limits.strike_window:g} s"
         )

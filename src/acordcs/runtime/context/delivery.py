@@ -1,14 +1,14 @@
 """Notifications, subscription handles, and the :class:`DeliveryDispatcher` that delivers them.
 
-Every subscription has its own bounded :class:`Mailbox`; a pool of delivery threads runs the callbacks, at most
-one thread per subscription at a time (so each subscriber sees its notifications in order). When every
-thread is busy, e.g. inside a slow callback, the pool grows (up to ``max_threads``), so a slow or
-raising subscriber delays only itself, and publishers never wait for callbacks: when a mailbox is full
-its oldest notification is dropped, counted and logged. Threads beyond the first retire when idle.
-Threads track how many callbacks run *at once*, not how many subscriptions exist. A callback
-running longer than ``isolate_seconds`` (a subscriber blocking) has its thread set aside: it no
-longer counts against ``max_threads``, so subscribers that block cannot stop delivery to the others
-(at most one thread per subscription is ever set aside; it ends when its callback returns).
+Every subscription has its own bounded :class:`Mailbox`; a pool of delivery threads runs the
+callbacks, at most one thread per subscription at a time (so each subscriber sees its notifications
+in order). Publishers never wait for callbacks: when a mailbox is full its oldest notification is
+dropped, counted and logged. Threads track how many callbacks run *at once*, not how many
+subscriptions exist; threads beyond the first retire when idle. A subscriber (the owner of one or
+more subscriptions, by default their callback) runs at most ``per_subscriber`` callbacks at once,
+and subscribers take turns: a subscriber whose callbacks block holds that many threads, and a new
+thread is made for any other subscriber that has waited a few milliseconds while every thread was
+stuck, so blocked callbacks of one subscriber never starve another.
 """
 
 from __future__ import annotations
@@ -19,7 +19,7 @@ import logging
 import threading
 import time
 from collections import deque
-from collections.abc import Callable
+from collections.abc import Callable, Hashable
 from dataclasses import dataclass, field
 
 from lxml import etree
@@ -49,7 +49,6 @@ class SubscriptionStats:
     coalesced: int = 0  # max_rate: replaced by a newer one before delivery (latest wins)
     unchanged: int = 0  # on_change: suppressed because the selection was the same
     errors: int = 0  # the callback raised
-    isolated: int = 0  # the callback ran so long that its thread was set aside
     suspended: bool = False  # a fallback expression overran its time budget too often
     last_error: str | None = None
 
@@ -68,6 +67,16 @@ class Mailbox:
         self.next_allowed = 0.0  # max_rate: monotonic time of the next delivery
 
 
+def subscriber_of(callback: Callable[..., object]) -> Hashable:
+    """The default subscriber of ``callback``: the callback itself when hashable (bound methods
+    of one object compare equal), else its identity."""
+    try:
+        hash(callback)
+    except TypeError:
+        return ("callback", id(callback))
+    return callback
+
+
 @dataclass(eq=False)
 class Subscription:
     """The handle ``subscribe`` returns; pass it to ``unsubscribe``."""
@@ -78,9 +87,16 @@ class Subscription:
     max_rate: float | None = None
     on_change: bool = False
     queue_size: int = 1024
+    # Whose callback this is: its callbacks share a bounded number of delivery threads. Default:
+    # the callback itself (subscriptions sharing one callback, or one object's method, share).
+    subscriber: Hashable = None
     id: int = field(default_factory=lambda: next(_ids))
     stats: SubscriptionStats = field(default_factory=SubscriptionStats)
     mailbox: Mailbox = field(default_factory=Mailbox, init=False, repr=False)
+
+    def __post_init__(self) -> None:
+        if self.subscriber is None:
+            self.subscriber = subscriber_of(self.callback)
 
     def __repr__(self) -> str:
         where = f" publisher={self.publisher!r}" if self.publisher is not None else ""
@@ -94,13 +110,30 @@ class Subscription:
         return not self.mailbox.closed
 
 
-class DeliveryDispatcher:
-    """The delivery threads of one provider.
+class _Lane:
+    """One subscriber's share of the pool: its subscriptions with notifications to deliver, in the
+    order they became ready, and how many of its callbacks run now."""
 
-    One thread delivers while callbacks are quick (a document matching many subscriptions then costs one
-    thread wake-up, not one per subscription). A watchdog adds a thread when a subscription has waited
-    ``stall_seconds`` while every thread has been inside one callback for at least as long: that is
-    what keeps a slow callback from holding up the others.
+    __slots__ = ("listed", "queue", "running", "subscriber")
+
+    def __init__(self, subscriber: Hashable) -> None:
+        self.subscriber = subscriber
+        self.queue: deque[Subscription] = deque()
+        self.running = 0
+        self.listed = False  # in the dispatcher's ready queue
+
+
+class DeliveryDispatcher:
+    """The delivery threads of one provider, shared by every subscriber.
+
+    One thread delivers while callbacks are quick (a document matching many subscriptions then costs
+    one thread wake-up, not one per subscription). Subscribers (:attr:`Subscription.subscriber`)
+    take turns, and each runs at most ``per_subscriber`` callbacks at once: its other notifications
+    wait in its mailboxes and take no thread. A watchdog adds threads when a subscriber has waited
+    ``stall_seconds`` while every thread has been inside one callback for at least as long: one
+    for each waiting subscriber that has no callback running (whatever the count), else one more up
+    to ``max_threads``. So the blocked callbacks of one subscriber hold at most ``per_subscriber``
+    threads and keep another subscriber waiting about ``stall_seconds`` at most.
     """
 
     def __init__(
@@ -109,22 +142,23 @@ class DeliveryDispatcher:
         max_threads: int = 64,
         stall_seconds: float = 0.01,
         idle_seconds: float = 5.0,
-        isolate_seconds: float = 1.0,
+        per_subscriber: int = 2,
     ) -> None:
         if max_threads < 1:
             raise ValueError(f"max_threads must be at least 1, got {max_threads!r}")
+        if per_subscriber < 1:
+            raise ValueError(f"per_subscriber must be at least 1, got {per_subscriber!r}")
         self._name = name
         self._max = max_threads
+        self._per_subscriber = per_subscriber
         self._stall = stall_seconds
-        self._isolate_after = isolate_seconds
-        self._isolated: dict[threading.Thread, Subscription] = {}  # set aside, in a callback
-        self._current: dict[threading.Thread, Subscription] = {}  # whose callback each runs
         self._idle_seconds = idle_seconds
         self._lock = threading.Lock()
         self._work_cond = threading.Condition(self._lock)
         self._watch_cond = threading.Condition(self._lock)
-        self._ready: deque[tuple[float, Subscription]] = deque()  # (queued at, subscription)
+        self._ready: deque[tuple[float, _Lane]] = deque()  # (listed at, lane): their turn
         self._delayed: list[tuple[float, int, Subscription]] = []  # heap: max_rate waits
+        self._lanes: dict[Hashable, _Lane] = {}  # subscribers with something queued or running
         self._threads: set[threading.Thread] = set()
         self._in_callback: dict[threading.Thread, float] = {}  # thread -> when its callback began
         self._watchdog: threading.Thread | None = None
@@ -191,10 +225,28 @@ class DeliveryDispatcher:
         now = time.monotonic()
         if box.next_allowed > now:
             heapq.heappush(self._delayed, (box.next_allowed, sub.id, sub))
+            if wake:
+                self._wake()  # the watchdog or an idle thread keeps the time
         else:
-            self._ready.append((now, sub))
-        if not wake:
-            return
+            self._enqueue(sub, now, wake)
+
+    def _enqueue(self, sub: Subscription, now: float, wake: bool) -> None:
+        lane = self._lanes.get(sub.subscriber)
+        if lane is None:
+            lane = self._lanes[sub.subscriber] = _Lane(sub.subscriber)
+        lane.queue.append(sub)
+        if self._list(lane, now) and wake:
+            self._wake()
+
+    def _list(self, lane: _Lane, now: float) -> bool:
+        """Put ``lane`` in the ready queue if it has work and may run one more callback."""
+        if lane.listed or not lane.queue or lane.running >= self._per_subscriber:
+            return False
+        lane.listed = True
+        self._ready.append((now, lane))
+        return True
+
+    def _wake(self) -> None:
         if self._idle > self._wakeups:
             self._wakeups += 1
             self._work_cond.notify()
@@ -208,9 +260,12 @@ class DeliveryDispatcher:
                 self._watchdog.start()
             self._watch_cond.notify()
 
-    def _spawn(self) -> None:
+    def _spawn(self, first: Subscription | None = None) -> None:
+        """A new pool thread; ``first``: a subscription it delivers to before anything else
+        (already taken by :meth:`_take`)."""
         thread = threading.Thread(
             target=self._work,
+            args=(first,),
             name=f"acordcs-{self._name}-delivery-{next(self._count)}",
             daemon=True,
         )
@@ -219,17 +274,32 @@ class DeliveryDispatcher:
 
     def _promote_due(self, now: float) -> None:
         while self._delayed and self._delayed[0][0] <= now:
-            self._ready.append((now, heapq.heappop(self._delayed)[2]))
+            self._enqueue(heapq.heappop(self._delayed)[2], now, wake=False)
+
+    def _take(self, lane: _Lane, now: float) -> Subscription | None:
+        """The next subscription of ``lane`` with something to deliver, counted as running;
+        ``lane`` has left the ready queue and is listed again if it may run more."""
+        lane.listed = False
+        sub = None
+        while lane.queue:
+            candidate = lane.queue.popleft()
+            candidate.mailbox.scheduled = False
+            if candidate.mailbox.pending and not candidate.mailbox.closed:
+                sub = candidate
+                lane.running += 1
+                break
+        self._list(lane, now)  # at the back: subscribers take turns
+        if not lane.queue and not lane.running:
+            del self._lanes[lane.subscriber]
+        return sub
 
     def _next(self) -> Subscription | None:
         while not self._closed:
             now = time.monotonic()
             self._promote_due(now)
             while self._ready:
-                sub = self._ready.popleft()[1]
-                box = sub.mailbox
-                box.scheduled = False
-                if not box.closed and box.pending:
+                sub = self._take(self._ready.popleft()[1], now)
+                if sub is not None:
                     return sub
             timeout = self._delayed[0][0] - now if self._delayed else self._idle_seconds
             self._idle += 1
@@ -241,39 +311,52 @@ class DeliveryDispatcher:
                 return None  # idle long enough: retire (one thread stays)
         return None
 
+    def _finished(self, sub: Subscription) -> None:
+        """``sub``'s callback returned: its subscriber may run another one; ``sub`` is queued
+        again if it has more (this thread or another comes back for it)."""
+        lane = self._lanes[sub.subscriber]
+        lane.running -= 1
+        box = sub.mailbox
+        if box.pending and not box.closed:
+            box.scheduled = True
+            lane.queue.append(sub)
+        self._list(lane, time.monotonic())
+        if not lane.queue and not lane.running:
+            del self._lanes[sub.subscriber]
+
     # -- threads --------------------------------------------------------------------------------------
-    def _work(self) -> None:
+    def _work(self, first: Subscription | None) -> None:
+        me = threading.current_thread()
         with self._lock:
             try:
+                sub = first
                 while True:
-                    sub = self._next()
                     if sub is None:
-                        return
+                        sub = self._next()
+                        if sub is None:
+                            return
                     box = sub.mailbox
-                    note = box.pending.popleft()
-                    box.running = True
-                    if sub.max_rate:
-                        box.next_allowed = time.monotonic() + 1.0 / sub.max_rate
-                    me = threading.current_thread()
-                    self._in_callback[me] = time.monotonic()
-                    self._current[me] = sub
-                    self._lock.release()
-                    try:
-                        _deliver(sub, note)
-                    finally:
-                        self._lock.acquire()
-                        del self._in_callback[me]
-                        del self._current[me]
-                        box.running = False
-                    if self._isolated.pop(me, None) is not None:
-                        # set aside while it blocked: the pool has replaced this thread
-                        if box.pending and not box.closed:
-                            self._schedule(sub, wake=True)
-                        return
                     if box.pending and not box.closed:
-                        self._schedule(sub, wake=False)  # this thread comes back for it
+                        note = box.pending.popleft()
+                        box.running = True
+                        if sub.max_rate:
+                            box.next_allowed = time.monotonic() + 1.0 / sub.max_rate
+                        self._in_callback[me] = time.monotonic()
+                        self._lock.release()
+                        try:
+                            _deliver(sub, note)
+                        finally:
+                            self._lock.acquire()
+                            del self._in_callback[me]
+                            box.running = False
+                    self._finished(sub)
+                    sub = None
+                    if len(self._threads) > self._max:  # added for a blocked subscriber: done
+                        if self._ready:
+                            self._wake()
+                        return
             finally:
-                self._threads.discard(threading.current_thread())
+                self._threads.discard(me)
 
     def _watch(self) -> None:
         with self._lock:
@@ -286,11 +369,7 @@ class DeliveryDispatcher:
                     # (the GIL); every thread stuck in one callback for a while is what needs help
                     began = [self._in_callback.get(t) for t in self._threads]
                     stuck = all(b is not None and now - b >= self._stall for b in began)
-                    if waited >= self._stall and stuck and len(self._threads) >= self._max:
-                        self._set_aside(now)
-                    if waited >= self._stall and stuck and len(self._threads) < self._max:
-                        self._spawn()
-                        self._ready[0] = (now, self._ready[0][1])  # give the new thread its chance
+                    if waited >= self._stall and stuck and self._add_threads(now):
                         continue
                     if waited >= self._stall and self._idle:
                         self._work_cond.notify_all()  # a wake-up went astray: cheap to repeat
@@ -298,24 +377,27 @@ class DeliveryDispatcher:
                 else:
                     self._watch_cond.wait(self._delayed[0][0] - now if self._delayed else None)
 
-    def _set_aside(self, now: float) -> None:
-        """Take the threads whose callback has run over ``isolate_seconds`` out of the pool (under
-        the lock): each finishes its callback, then ends; the pool may replace it."""
-        for thread in list(self._threads):
-            began = self._in_callback.get(thread)
-            if began is None or now - began < self._isolate_after:
+    def _add_threads(self, now: float) -> bool:
+        """Every thread is stuck in a callback: each ready subscriber with no callback running gets
+        a thread of its own; if none, the pool gets one more thread while under ``max_threads``.
+        Returns whether a thread was added."""
+        added = False
+        kept: deque[tuple[float, _Lane]] = deque()
+        while self._ready:
+            listed, lane = self._ready.popleft()
+            if lane.running:
+                kept.append((listed, lane))
                 continue
-            sub = self._current[thread]
-            self._threads.discard(thread)
-            self._isolated[thread] = sub
-            sub.stats.isolated += 1
-            log.warning(
-                "%r: callback running for %.1f s; its delivery thread is set aside so that the "
-                "other subscriptions keep receiving (%d thread(s) set aside)",
-                sub,
-                now - began,
-                len(self._isolated),
-            )
+            sub = self._take(lane, now)  # may list the lane again, at the back of the queue
+            if sub is not None:
+                self._spawn(first=sub)
+                added = True
+        self._ready.extendleft(reversed(kept))
+        if not added and self._ready and len(self._threads) < self._max:
+            self._spawn()
+            self._ready[0] = (now, self._ready[0][1])  # give the new thread its chance
+            added = True
+        return added
 
 
 def _deliver(sub: Subscription, note: Notification) -> None:

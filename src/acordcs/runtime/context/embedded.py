@@ -17,9 +17,16 @@ class ContextProvider(ProviderCore):
     """
 
     def __init__(
-        self, limits: Limits | None = None, *, delivery_threads: int = 64, inline: bool = False
+        self,
+        limits: Limits | None = None,
+        *,
+        delivery_threads: int = 64,
+        inline: bool = False,
+        threads_per_subscriber: int = 2,
     ) -> None:
-        super().__init__(limits, delivery_threads, inline=inline)
+        super().__init__(
+            limits, delivery_threads, inline=inline, threads_per_subscriber=threads_per_subscriber
+        )
         self._seq: dict[str, int] = {}
 
     def publish(self, publisher: str, document: object) -> int:

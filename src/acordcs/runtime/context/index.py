@@ -14,6 +14,7 @@ returns when evaluating each subscription on its own.
 from __future__ import annotations
 
 import logging
+import threading
 import time
 from collections import deque
 from collections.abc import Callable
@@ -31,14 +32,28 @@ Entry = Any  # the index stores any hashable subscription object
 
 
 class Fallback:
-    """A subscription matched by its own compiled XPath: the expression, and when it overran."""
+    """A subscription matched by its own compiled XPath: the expression, and when it overran.
 
-    __slots__ = ("compiled", "strikes", "suspended")
+    An lxml ``XPath`` object evaluates one document at a time (it holds a lock while it runs), so
+    one compiled object shared by the publishing threads would make a publisher whose small
+    document matches wait for another publisher's large one. Each thread gets its own copy."""
+
+    __slots__ = ("compiled", "per_thread", "strikes", "suspended")
 
     def __init__(self, compiled: Callable[[etree._ElementTree], object]) -> None:
         self.compiled = compiled
+        self.per_thread = threading.local()
         self.strikes: deque[float] = deque()  # monotonic times of recent overruns
         self.suspended = False
+
+    def evaluator(self) -> Callable[[etree._ElementTree], object]:
+        """This thread's compiled expression (a copy of ``compiled`` when it is an lxml XPath)."""
+        own = getattr(self.per_thread, "compiled", None)
+        if own is None:
+            compiled = self.compiled
+            own = etree.XPath(compiled.path) if isinstance(compiled, etree.XPath) else compiled
+            self.per_thread.compiled = own
+        return own
 
 
 class _PublisherIndex:
@@ -259,21 +274,22 @@ class SubscriptionIndex:
         self, fallbacks: list[tuple[Entry, Fallback]], tree: etree._ElementTree
     ) -> list[tuple[list, list, object]]:
         """Evaluate :meth:`fallbacks` on ``tree``; needs no lock (lxml releases the GIL while it
-        evaluates, so other publishers go on meanwhile). An evaluation over
-        ``max_eval_seconds`` is a strike; ``max_strikes`` strikes within ``strike_window``
-        seconds suspend the subscription (:meth:`suspend`, then ``on_suspend``)."""
+        evaluates, so other publishers go on meanwhile). An evaluation using more than
+        ``max_eval_seconds`` of CPU time is a strike (CPU time: what the expression costs, not
+        how busy the host is); ``max_strikes`` strikes within ``strike_window`` seconds suspend
+        the subscription (:meth:`suspend`, then ``on_suspend``)."""
         results: list[tuple[list, list, object]] = []
         for sub, state in fallbacks:
             if state.suspended:
                 continue
-            started = time.perf_counter()
+            started = time.thread_time()
             try:
-                value = state.compiled(tree)
+                value = state.evaluator()(tree)
             except etree.XPathError as err:
                 log.warning("subscription %s: XPath evaluation failed: %s", sub, err)
                 continue
-            elapsed = time.perf_counter() - started
-            suspends = elapsed > self._max_eval and self._strike(state, started + elapsed)
+            elapsed = time.thread_time() - started
+            suspends = elapsed > self._max_eval and self._strike(state, time.monotonic())
             if suspends and self.on_suspend is not None:
                 self.on_suspend(sub, elapsed)
             if isinstance(value, list):

@@ -96,8 +96,11 @@ class MqttContextProvider(ProviderCore):
         max_publishers: int = 1000,
         max_seq_jump: int = 1_000_000,
         inline: bool = False,
+        threads_per_subscriber: int = 2,
     ) -> None:
-        super().__init__(limits, delivery_threads, inline=inline)
+        super().__init__(
+            limits, delivery_threads, inline=inline, threads_per_subscriber=threads_per_subscriber
+        )
         if max_publishers < 1 or max_seq_jump < 1:
             raise ContextError(
                 f"max_publishers and max_seq_jump must be >= 1, got {max_publishers}, {max_seq_jump}",

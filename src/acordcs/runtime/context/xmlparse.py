@@ -33,10 +33,13 @@ class Limits:
     # What evaluating string-values and relative paths from every node may cost on one document
     # (acordcs.runtime.context.xpathcost.document_cost): a costlier document is refused.
     max_cost: int = 4_000_000
-    # False: the subscriptions the index does not evaluate must be of the linear forms
-    # (xpathcost.check_linear); True only when every subscriber is trusted code.
+    # False: the subscriptions the index does not evaluate must pass the cost check
+    # (xpathcost.check_cost) and cost at most max_xpath_cost units (8 units: one pass over the
+    # document); True only when every subscriber is trusted code.
     trusted_subscribers: bool = False
-    # A fallback (non-indexed) subscription whose evaluation exceeds this many seconds gets a strike;
+    max_xpath_cost: int = 128
+    # A fallback (non-indexed) subscription whose evaluation uses more than this many seconds of
+    # CPU time (not wall time: a busy host does not make an expression costly) gets a strike;
     # after ``max_strikes`` strikes within ``strike_window`` seconds it is suspended, reported and its
     # subscriber told (lxml cannot interrupt an evaluation); older strikes are forgotten.
     max_eval_seconds: float = 0.05
@@ -51,6 +54,7 @@ class Limits:
             "max_expression_chars",
             "max_strikes",
             "max_cost",
+            "max_xpath_cost",
         ):
             if getattr(self, name) <= 0:
                 raise ValueError(f"Limits.{name} must be positive, got {getattr(self, name)!r}")

@@ -54,7 +54,15 @@ def run_batch(
         degrees.append(np.broadcast_to(d * e.weight if e.weight != 1.0 else d, (n,)))
     out = {}
     for plan in compiled.outputs:
-        result = _defuzz(plan, degrees, sem.accu, n)
+        dz = plan.defuzzifier
+        if getattr(dz, "needs_values", False):  # FUNCTION terms: their points row by row
+            alpha = _alpha(plan, degrees, sem.accu, n)
+            rows = [{k: float(a[i]) for k, a in xs.items()} for i in range(n)]
+            result = np.array(
+                [np.nan if (v := dz(tuple(alpha[i]), rows[i])) is None else v for i in range(n)]
+            )
+        else:
+            result = _defuzz(plan, degrees, sem.accu, n)
         missing = np.isnan(result)
         if missing.any():
             result[missing] = plan.variable.fallback(values.get(plan.name))
@@ -128,21 +136,41 @@ def _binary(op: str, a: np.ndarray, b: np.ndarray) -> np.ndarray:
         return a + b - a * b
     if op == "BDIF":
         return np.maximum(a + b - 1.0, 0.0)
-    return np.minimum(a + b, 1.0)
+    if op == "BSUM":
+        return np.minimum(a + b, 1.0)
+    if op == "DMIN":
+        return np.where(a == 1.0, b, np.where(b == 1.0, a, 0.0))
+    if op == "DMAX":
+        return np.where(a == 0.0, b, np.where(b == 0.0, a, 1.0))
+    if op == "NIPMIN":
+        return np.where(a + b > 1.0, np.minimum(a, b), 0.0)
+    if op == "NIPMAX":
+        return np.where(a + b < 1.0, np.maximum(a, b), 1.0)
+    if op == "HAMACHER":
+        with np.errstate(divide="ignore", invalid="ignore"):
+            return np.where((a == 0.0) & (b == 0.0), 0.0, a * b / (a + b - a * b))
+    return (a + b) / (1.0 + a * b)  # EINSTEIN
+
+
+def _alpha(plan: OutputPlan, degrees: list[np.ndarray], accu: str, n: int) -> np.ndarray:
+    """The folded degree of each term of a collapsed output, one row per input row."""
+    nterms = len(plan.variable.terms)
+    alpha = np.zeros((n, nterms))
+    for k in range(nterms):
+        acc = None
+        for r, kk in plan.sources:
+            if kk == k:
+                acc = degrees[r] if acc is None else _fold(accu, acc, degrees[r])
+        if acc is not None:
+            alpha[:, k] = acc
+    return alpha
 
 
 def _defuzz(plan: OutputPlan, degrees: list[np.ndarray], accu: str, n: int) -> np.ndarray:
     dz = plan.defuzzifier
     nterms = len(plan.variable.terms)
     if plan.collapsed:
-        alpha = np.zeros((n, nterms))
-        for k in range(nterms):
-            acc = None
-            for r, kk in plan.sources:
-                if kk == k:
-                    acc = degrees[r] if acc is None else _fold(accu, acc, degrees[r])
-            if acc is not None:
-                alpha[:, k] = acc
+        alpha = _alpha(plan, degrees, accu, n)
         if isinstance(dz, MaxMinCog):
             return np.concatenate([_maxmin(dz, alpha[i : i + _CHUNK]) for i in range(0, n, _CHUNK)])
         if isinstance(dz, SumProdCog):
@@ -183,7 +211,7 @@ def _singletons(dz: Singletons, alpha: np.ndarray) -> np.ndarray:
     if dz.method in ("COG", "COGS"):
         return _ratio(alpha @ xs, total)
     top = alpha.max(axis=1, keepdims=True)
-    at = alpha >= top - 1e-12 * np.maximum(1.0, top)
+    at = alpha >= top - 1e-12 * top  # relative: a set of height 1e-28 has a top too
     if dz.method == "LM":
         out = np.where(at, xs, np.inf).min(axis=1)
     elif dz.method == "RM":

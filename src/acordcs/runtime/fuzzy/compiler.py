@@ -114,7 +114,14 @@ def resolve_rule(
     def walk(node: object) -> tuple:
         if isinstance(node, Is):
             var = var_of(node.var)
-            return ("is", var.name, node.hedges, term_of(var, node.term))
+            term = term_of(var, node.term)
+            if var.terms[term].shape == "function":
+                raise fail(
+                    f"term {term!r} of {var.name!r} is a FUNCTION term, a point an output takes: "
+                    "a condition cannot test it",
+                    node.term,
+                )
+            return ("is", var.name, node.hedges, term)
         if isinstance(node, Not):
             return ("not", walk(node.operand))
         if isinstance(node, BoolOp):
@@ -210,6 +217,18 @@ def compile_ruleset(
     out_names = list(dict.fromkeys(v for e in entries for v, _ in e.consequents))
     out_index = {v: o for o, v in enumerate(out_names)}
     outputs = [replace(plan(name, variables[v], sem), sources=[]) for v in out_names]
+    # The inputs FUNCTION terms of the outputs read are inputs of the rule set too: set, checked.
+    for out in outputs:
+        for _, expr in getattr(out.defuzzifier, "functions", ()):
+            for v in expr.variables:
+                if v not in variables:
+                    raise RuleError(
+                        f"output {out.name!r}: a FUNCTION term reads {v!r}, which is not a "
+                        "declared variable; declare it as an input",
+                        ruleset=name,
+                    )
+                if v not in inputs:
+                    inputs.append(v)
     term_index = [{t: k for k, t in enumerate(o.variable.terms)} for o in outputs]
 
     em = _Emitter(sem)
@@ -283,7 +302,11 @@ def compile_ruleset(
             arg = "(" + ", ".join(folded) + ("," if len(folded) == 1 else "") + ")"
         else:
             arg = "(" + "".join(f"({k}, {dloc[r]}), " for r, k in out.sources) + ")"
-        em.emit(f"r = D{o}({arg})")
+        em.emit(
+            f"r = D{o}({arg}, V)"
+            if getattr(out.defuzzifier, "needs_values", False)
+            else f"r = D{o}({arg})"
+        )
         em.emit(f"if r is None: r = F{o}(V[{out.name!r}]); missed += ({out.name!r},)")
         em.emit(f"V[{out.name!r}] = r")
     em.emit("return missed")
@@ -310,6 +333,12 @@ def _binary(op: str, t: str, a: str, b: str) -> str:
         "ASUM": f"{t} = {a} + {b} - {a} * {b}",
         "BDIF": f"{t} = {a} + {b} - 1.0; {t} = {t} if {t} > 0.0 else 0.0",
         "BSUM": f"{t} = {a} + {b}; {t} = {t} if {t} < 1.0 else 1.0",
+        "DMIN": f"{t} = {b} if {a} == 1.0 else {a} if {b} == 1.0 else 0.0",
+        "DMAX": f"{t} = {b} if {a} == 0.0 else {a} if {b} == 0.0 else 1.0",
+        "NIPMIN": f"{t} = ({a} if {a} < {b} else {b}) if {a} + {b} > 1.0 else 0.0",
+        "NIPMAX": f"{t} = ({a} if {a} > {b} else {b}) if {a} + {b} < 1.0 else 1.0",
+        "HAMACHER": f"{t} = 0.0 if {a} == 0.0 and {b} == 0.0 else {a} * {b} / ({a} + {b} - {a} * {b})",
+        "EINSTEIN": f"{t} = ({a} + {b}) / (1.0 + {a} * {b})",
     }[op]
 
 

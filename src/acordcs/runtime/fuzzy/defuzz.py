@@ -4,7 +4,9 @@ The output's terms are cut at every breakpoint of every term (:class:`OutputShap
 interval every term is a straight line. An activated term is then ``min(level, line)`` (activation
 MIN) or ``level * line`` (PROD); their max, sum or bounded sum is piecewise linear again, with kinks
 only where a line meets a clip level or another line. Evaluating the aggregated set at those kinks
-and integrating each straight piece gives the centroid in closed form (no sampling error).
+and integrating each straight piece gives the centroid in closed form (no sampling error). An
+output whose terms overlap more than :data:`DEEP` deep is not cut (an interval of n lines costs n**3
+per firing): its activated terms are merged as whole polylines (:class:`Envelope`), O(N log n).
 
 Non-linear output terms (gaussian, bell, sigmoid) and PROBOR accumulation are not piecewise linear:
 they are sampled on :data:`acordcs.runtime.fuzzy.sampled.FALLBACK_SAMPLES` evenly spaced points over the range and integrated with
@@ -17,51 +19,104 @@ Each defuzzifier returns None when nothing was activated (the caller applies DEF
 from __future__ import annotations
 
 import itertools
+import logging
 import math
 from bisect import bisect_left, bisect_right
 
+from acordcs.runtime.fuzzy.envelope import (
+    Polyline,
+    bound_at_one,
+    clip,
+    merge_all,
+    merge_max,
+    merge_sum,
+    scale,
+    term_polyline,
+)
+from acordcs.runtime.fuzzy.envelope import (
+    pieces as polyline_pieces,
+)
 from acordcs.runtime.fuzzy.membership import Membership
 from acordcs.runtime.fuzzy.sampled import Sampled
 from acordcs.runtime.fuzzy.semantics import SUMS, Semantics, collapses
 from acordcs.runtime.rule_engine import RuleError
 
+log = logging.getLogger("acordcs.runtime.fuzzy")
+
+# The deepest overlap of output terms that is cut into intervals. Each interval costs the cube of
+# its lines on every firing (every crossing of every pair, each evaluated on every line), and the
+# batch form 2**depth pieces: beyond this the merge of whole polylines is cheaper.
+DEEP = 6
+
 
 class OutputShape:
-    """The terms of an output variable over its range ``[lo, hi]``, cut into linear intervals."""
+    """The terms of an output variable over its range ``[lo, hi]``, cut into linear intervals.
+
+    Singleton terms beside shaped ones have no width: they are left out of the cut and add nothing
+    to any method (jFuzzyLogic's sampled set misses them too). ``depth`` is the largest number of
+    terms over one interval; above :data:`DEEP` the output is not cut (its ``intervals`` stay
+    empty) and is defuzzified by merging whole polylines (:mod:`acordcs.runtime.fuzzy.envelope`).
+    """
 
     def __init__(self, lo: float, hi: float, terms: list[Membership]) -> None:
         self.lo, self.hi, self.terms = lo, hi, terms
-        self.linear = all(t.linear for t in terms)
-        self.singletons = bool(terms) and all(t.singleton for t in terms)
-        self.mixed = not self.singletons and any(t.singleton for t in terms)
+        shaped = [t for t in terms if not t.singleton]
+        self.linear = all(t.linear for t in shaped)
+        self.singletons = bool(terms) and not shaped
+        self.mixed = bool(shaped) and len(shaped) < len(terms)
         # intervals: (x0, x1, ((term, v0, v1), ...)) with v0/v1 the line's values at the ends
         self.intervals: list[tuple[float, float, tuple[tuple[int, float, float], ...]]] = []
-        if self.linear:
-            cuts = {lo, hi} | {x for t in terms for x in t.xs if lo < x < hi}
-            us = sorted(cuts)
-            found: list[list[tuple[int, float, float]]] = [[] for _ in range(len(us) - 1)]
-            for k, t in enumerate(terms):
-                # Outside its breakpoints a term is constant (its left or right value): a term
-                # that is 0 there only visits the intervals between them. Visiting every interval
-                # for every term made an output of n terms cost n**2 (250 terms: 0.1 s).
-                first = max(0, bisect_right(us, t.xs[0]) - 1) if t.left == 0 else 0
-                stop = bisect_left(us, t.xs[-1]) if t.right == 0 else len(found)
-                for i in range(first, min(stop, len(found))):
-                    v0, v1 = t.limits(us[i])[1], t.limits(us[i + 1])[0]
-                    if v0 or v1:
-                        found[i].append((k, v0, v1))
-            self.intervals = [
-                (x0, x1, tuple(lines))
-                for (x0, x1), lines in zip(itertools.pairwise(us), found, strict=True)
-            ]
+        self.depth = 0
+        if not (self.linear and shaped):
+            return
+        cuts = {lo, hi} | {x for t in shaped for x in t.xs if lo < x < hi}
+        us = sorted(cuts)
+        spans = []
+        count = [0] * len(us)
+        for k, t in enumerate(terms):
+            if t.singleton:
+                continue
+            # Outside its breakpoints a term is constant (its left or right value): a term
+            # that is 0 there only visits the intervals between them. Visiting every interval
+            # for every term made an output of n terms cost n**2 (250 terms: 0.1 s).
+            first = max(0, bisect_right(us, t.xs[0]) - 1) if t.left == 0 else 0
+            stop = min(bisect_left(us, t.xs[-1]) if t.right == 0 else len(us) - 1, len(us) - 1)
+            spans.append((k, t, first, stop))
+            if first < stop:
+                count[first] += 1
+                count[stop] -= 1
+        self.depth = max(itertools.accumulate(count), default=0)
+        if self.deep:
+            return
+        found: list[list[tuple[int, float, float]]] = [[] for _ in range(len(us) - 1)]
+        for k, t, first, stop in spans:
+            for i in range(first, stop):
+                v0, v1 = t.limits(us[i])[1], t.limits(us[i + 1])[0]
+                if v0 or v1:
+                    found[i].append((k, v0, v1))
+        self.intervals = [
+            (x0, x1, tuple(lines))
+            for (x0, x1), lines in zip(itertools.pairwise(us), found, strict=True)
+        ]
+
+    @property
+    def deep(self) -> bool:
+        """Whether the terms overlap more than :data:`DEEP` deep somewhere (not cut)."""
+        return self.depth > DEEP
+
+    def polylines(self) -> list[Polyline | None]:
+        """Each term as a polyline over the range (None for a singleton beside shaped terms)."""
+        return [None if t.singleton else term_polyline(t, self.lo, self.hi) for t in self.terms]
 
     def area_moment(self) -> tuple[list[float], list[float]]:
         """Exact area and first moment of each (unactivated) term over the range."""
         areas = [0.0] * len(self.terms)
         moments = [0.0] * len(self.terms)
-        for x0, x1, lines in self.intervals:
-            for k, v0, v1 in lines:
-                a, m = _piece(x0, v0, x1, v1)
+        for k, poly in enumerate(self.polylines()):
+            if poly is None:
+                continue
+            for xa, ya, xb, yb in polyline_pieces(poly):
+                a, m = _piece(xa, ya, xb, yb)
                 areas[k] += a
                 moments[k] += m
         return areas, moments
@@ -76,11 +131,15 @@ def _piece(xa: float, ya: float, xb: float, yb: float) -> tuple[float, float]:
 # ---------------------------------------------------------------------------------- choosing
 def make_defuzzifier(
     shape: OutputShape, sem: Semantics, method: str, *, where: str
-) -> Singletons | Sampled | MaxMinCog | SumProdCog | ExactGeneric:
+) -> Singletons | Sampled | MaxMinCog | SumProdCog | ExactGeneric | Envelope:
     """The defuzzifier for one output of one rule set; configuration errors name ``where``."""
     if shape.mixed:
-        raise RuleError(
-            f"{where}: an output cannot mix singleton terms with shaped terms; use one kind"
+        spikes = [k for k, t in enumerate(shape.terms) if t.singleton]
+        log.warning(
+            "%s: %d singleton term(s) beside shaped ones have no width, so no method sees them "
+            "(as in jFuzzyLogic); give them a width, or make every term of the output a singleton",
+            where,
+            len(spikes),
         )
     if shape.singletons:
         if method == "COA":
@@ -90,6 +149,8 @@ def make_defuzzifier(
         raise RuleError(f"{where}: METHOD COGS needs singleton terms; use COG for shaped terms")
     if sem.samples or not shape.linear or sem.accu == "PROBOR":
         return Sampled(shape, sem, method)
+    if shape.deep:
+        return Envelope(shape, sem, method)
     if method == "COG" and sem.act == "MIN" and sem.accu == "MAX":
         return MaxMinCog(shape)
     if method == "COG" and sem.act == "PROD" and sem.accu in SUMS:
@@ -288,6 +349,33 @@ class ExactGeneric:
         return new_us, new_vals
 
 
+class Envelope:
+    """Any exact combination on an output whose terms overlap deeply: the activated terms as whole
+    polylines, merged in a balanced tree (:mod:`acordcs.runtime.fuzzy.envelope`), O(N log n)
+    for n activated terms of N breakpoints."""
+
+    kind = "envelope"
+
+    def __init__(self, shape: OutputShape, sem: Semantics, method: str) -> None:
+        self.polys = shape.polylines()
+        self.act, self.accu, self.method = sem.act, sem.accu, method
+        self.collapsed = collapses(sem, False)
+
+    def __call__(self, data) -> float | None:
+        items = enumerate(data) if self.collapsed else data
+        polys, activate = self.polys, clip if self.act == "MIN" else scale
+        active = [activate(polys[k], lev) for k, lev in items if lev > 0.0 and polys[k] is not None]
+        if not active:
+            return None
+        if self.accu == "MAX":
+            aggregated = merge_all(active, merge_max)
+        else:
+            aggregated = merge_all(active, merge_sum)
+            if self.accu == "BSUM":
+                aggregated = bound_at_one(aggregated)
+        return apply_method(polyline_pieces(aggregated), self.method)
+
+
 def apply_method(pieces: list[tuple[float, float, float, float]], method: str) -> float | None:
     """COG, COA, LM, RM or MM of a piecewise-linear set given as straight pieces."""
     if method in ("COG", "COA"):
@@ -309,7 +397,7 @@ def apply_method(pieces: list[tuple[float, float, float, float]], method: str) -
     top = max((max(p[1], p[3]) for p in pieces), default=0.0)
     if top <= 0.0:
         return None
-    tol = 1e-12 * max(1.0, top)
+    tol = 1e-12 * top  # relative: a set of height 1e-28 still has one top
     at = [x for xa, ya, xb, yb in pieces for x, y in ((xa, ya), (xb, yb)) if y >= top - tol]
     if method == "LM":
         return min(at)
@@ -327,23 +415,39 @@ def apply_method(pieces: list[tuple[float, float, float, float]], method: str) -
 
 # ---------------------------------------------------------------------------------- singletons
 class Singletons:
-    """Singleton outputs: COGS (COG means the same), LM, RM, MM on the accumulated heights."""
+    """Singleton outputs: COGS (COG means the same), LM, RM, MM on the accumulated heights.
+
+    FUNCTION terms are singletons whose point is computed from the inputs (``values``, the
+    engine's current values) at each firing, clamped into the range; an activated one whose
+    value is not a finite number makes the output undefined for that firing (None: DEFAULT)."""
 
     collapsed = True
     kind = "singletons"
 
     def __init__(self, shape: OutputShape, method: str) -> None:
-        self.xs = [t.params[0] for t in shape.terms]
+        self.xs = [t.params[0] if t.shape == "singleton" else 0.0 for t in shape.terms]
+        self.functions = [(k, t.expr) for k, t in enumerate(shape.terms) if t.shape == "function"]
+        self.needs_values = bool(self.functions)
+        self.lo, self.hi = shape.lo, shape.hi
         self.method = method
 
-    def __call__(self, alpha) -> float | None:
+    def __call__(self, alpha, values=None) -> float | None:
         total = sum(alpha)
         if total <= 0.0:
             return None
+        xs = self.xs
+        if self.functions:
+            xs = list(xs)
+            for k, expr in self.functions:
+                if alpha[k] > 0.0:
+                    x = expr.evaluate(values or {})
+                    if not math.isfinite(x):
+                        return None
+                    xs[k] = self.lo if x < self.lo else self.hi if x > self.hi else x
         if self.method in ("COG", "COGS"):
-            return sum(a * x for a, x in zip(alpha, self.xs, strict=False)) / total
+            return sum(a * x for a, x in zip(alpha, xs, strict=False)) / total
         top = max(alpha)
-        at = [x for a, x in zip(alpha, self.xs, strict=False) if a >= top - 1e-12 * max(1.0, top)]
+        at = [x for a, x in zip(alpha, xs, strict=False) if a >= top - 1e-12 * top]
         if self.method == "LM":
             return min(at)
         if self.method == "RM":

@@ -33,7 +33,7 @@ from acordcs.runtime.fuzzy.compiler import (
     resolve_rule,
     unknown_variable_message,
 )
-from acordcs.runtime.fuzzy.semantics import Semantics, resolve
+from acordcs.runtime.fuzzy.semantics import Semantics, connect, resolve
 from acordcs.runtime.fuzzy.variable import LinguisticVariable, TermsSpec, build_variable
 from acordcs.runtime.rule_engine import RuleError
 
@@ -369,15 +369,7 @@ class FuzzyEngine:
 
 
 def _combine(op: str, a: float, b: float) -> float:
-    if op in ("MIN", "MAX"):
-        return min(a, b) if op == "MIN" else max(a, b)
-    if op == "PROD":
-        return a * b
-    if op == "ASUM":
-        return a + b - a * b
-    if op == "BDIF":
-        return max(0.0, a + b - 1.0)
-    return min(1.0, a + b)  # BSUM
+    return connect(op, a, b)
 
 
 def _degree(

@@ -24,9 +24,11 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from acordcs import vocabularies
+from acordcs.rules.tree import MAX_POINTS
 from acordcs.runtime.rule_engine import RuleError
 
-SHAPES = ("triangle", "trapezoid", "gaussian", "bell", "sigmoid", "points", "singleton")
+SHAPES = vocabularies.SHAPES  # the metamodel's MembershipShape
 _ARITY = {"triangle": 3, "trapezoid": 4, "gaussian": 2, "bell": 3, "sigmoid": 2, "singleton": 1}
 _EXP_LIMIT = 700.0  # math.exp overflows past ~709: a sigmoid that far out is exactly 0 or 1
 
@@ -49,6 +51,9 @@ class Membership:
     ys: tuple[float, ...] = ()
     left: float = 0.0
     right: float = 0.0
+    # A FUNCTION term (jFuzzyLogic's): a singleton at the value of this expression of the inputs
+    # (an acordcs.runtime.fuzzy.fcl_function.Expression), computed at every firing.
+    expr: object = None
 
     @property
     def linear(self) -> bool:
@@ -57,11 +62,14 @@ class Membership:
 
     @property
     def singleton(self) -> bool:
-        return self.shape == "singleton"
+        """A single point: a number, or a FUNCTION term (its point computed when firing)."""
+        return self.shape in ("singleton", "function")
 
     # ------------------------------------------------------------------------------ evaluation
     def __call__(self, x: float) -> float:
         shape, p = self.shape, self.params
+        if shape == "function":
+            raise RuleError("a FUNCTION term is an output's point: it has no degree to test")
         if self.xs:
             return _pwl_at(self.xs, self.ys, self.left, self.right, x)
         if shape == "gaussian":
@@ -94,6 +102,8 @@ class Membership:
         if shape == "sigmoid":
             z = -p[0] * (x - p[1])
             return np.where(z > _EXP_LIMIT, 0.0, 1.0 / (1.0 + np.exp(np.minimum(z, _EXP_LIMIT))))
+        if shape == "function":
+            return np.zeros_like(x)  # no width (see OutputShape)
         return np.where(x == p[0], 1.0, 0.0)
 
     def code(self, x: str, out: str) -> list[str]:
@@ -140,6 +150,8 @@ class Membership:
             return p[2] - 4.0 * p[0], p[2] + 4.0 * p[0]
         if self.shape == "sigmoid":
             return p[1] - 8.0 / abs(p[0]), p[1] + 8.0 / abs(p[0])
+        if self.shape == "function":
+            return math.nan, math.nan  # known only when firing
         return p[0], p[0]
 
     def fcl(self) -> str:
@@ -150,6 +162,8 @@ class Membership:
             return " ".join(f"({f(p[i])}, {f(p[i + 1])})" for i in range(0, len(p), 2))
         if self.shape == "singleton":
             return f(p[0])
+        if self.shape == "function":
+            return f"FUNCTION {self.expr.text}"  # type: ignore[attr-defined]
         keyword = {"triangle": "trian", "trapezoid": "trape", "gaussian": "gauss", "bell": "gbell"}
         return " ".join([keyword.get(self.shape, "sigm"), *(f(v) for v in p)])
 
@@ -255,12 +269,22 @@ def make_membership(shape: str, params: Iterable[float], *, where: str = "term")
     return Membership(shape, p)
 
 
+def function_membership(expr: object) -> Membership:
+    """A FUNCTION term: a singleton at ``expr``'s value (an ``fcl_function.Expression``)."""
+    return Membership("function", (), expr=expr)
+
+
 def _points(p: tuple[float, ...], where: str, shown: str) -> Membership:
     if len(p) % 2 or len(p) < 4:
         raise RuleError(
             f"{where}: a point list needs at least two (x, y) points, got {shown or 'none'}"
         )
     xs, ys = p[0::2], p[1::2]
+    if len(xs) > MAX_POINTS:
+        raise RuleError(
+            f"{where}: a point list of {len(xs):,} points; the fuzzy engine takes at most "
+            f"{MAX_POINTS} per term (its generated code has a branch per point); simplify the shape"
+        )
     for i in range(len(xs) - 1):
         if xs[i] > xs[i + 1]:
             raise RuleError(

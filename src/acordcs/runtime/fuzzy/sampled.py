@@ -28,9 +28,12 @@ class Sampled:
         self.weights = np.ones(n)
         if not sem.samples:
             self.weights[0] = self.weights[-1] = 0.5
-        self.table = np.array([t.evaluate(self.grid) for t in shape.terms]).reshape(
-            len(shape.terms), n
-        )
+        # a singleton beside shaped terms has no width: a row of zeros (see OutputShape)
+        rows = [
+            np.zeros(n) if shape.mixed and t.singleton else t.evaluate(self.grid)
+            for t in shape.terms
+        ]
+        self.table = np.array(rows).reshape(len(shape.terms), n)
         self.act, self.accu, self.method = sem.act, sem.accu, method
         self.collapsed = collapses(sem, False)
 
@@ -84,7 +87,7 @@ def sampled_method(
         frac = (half - cum[i - 1]) / span if span > 0 else 0.0
         return float(grid[i - 1] + frac * (grid[i] - grid[i - 1]))
     top = float(mu.max())
-    at = grid[mu >= top - 1e-12 * max(1.0, top)]
+    at = grid[mu >= top - 1e-12 * top]
     if method == "LM":
         return float(at[0])
     if method == "RM":

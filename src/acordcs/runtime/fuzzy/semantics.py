@@ -16,8 +16,17 @@ from dataclasses import dataclass, field, replace
 
 from acordcs.runtime.rule_engine import RuleError
 
-AND_OPS = {"MIN": "MAX", "PROD": "ASUM", "BDIF": "BSUM"}  # AND and the OR that goes with it
-OR_OPS = ("MAX", "ASUM", "BSUM")
+# AND and the OR that goes with it (its De Morgan dual), as jFuzzyLogic pairs them
+# (net.sourceforge.jFuzzyLogic.rule.RuleBlock.fclTree).
+AND_OPS = {
+    "MIN": "MAX",
+    "PROD": "ASUM",
+    "BDIF": "BSUM",
+    "DMIN": "DMAX",
+    "NIPMIN": "NIPMAX",
+    "HAMACHER": "EINSTEIN",
+}
+OR_OPS = tuple(AND_OPS.values())
 ACT_OPS = ("MIN", "PROD")
 ACCU_OPS = ("MAX", "BSUM", "NSUM", "PROBOR", "SUM")
 METHODS = ("COG", "COGS", "COA", "LM", "RM", "MM")
@@ -85,6 +94,37 @@ def resolve(semantics: str | Semantics) -> Semantics:
             "or a Semantics(...) with FCL operators"
         )
     return found
+
+
+def connect(op: str, a: float, b: float) -> float:
+    """The degree of ``a AND b`` or ``a OR b`` under FCL operator ``op``: the definitions of
+    jFuzzyLogic's RuleConnectionMethod* classes (the rule compiler and the batch call write the
+    same formulas as code; tests/runtime/test_fuzzy_connectives.py holds all three to them)."""
+    if op == "MIN":
+        return a if a < b else b
+    if op == "MAX":
+        return a if a > b else b
+    if op == "PROD":
+        return a * b
+    if op == "ASUM":  # probabilistic sum
+        return a + b - a * b
+    if op == "BDIF":  # bounded difference (Lukasiewicz)
+        return max(0.0, a + b - 1.0)
+    if op == "BSUM":  # bounded sum
+        return min(1.0, a + b)
+    if op == "DMIN":  # drastic product
+        return b if a == 1.0 else a if b == 1.0 else 0.0
+    if op == "DMAX":  # drastic sum
+        return b if a == 0.0 else a if b == 0.0 else 1.0
+    if op == "NIPMIN":  # nilpotent minimum
+        return min(a, b) if a + b > 1.0 else 0.0
+    if op == "NIPMAX":  # nilpotent maximum
+        return max(a, b) if a + b < 1.0 else 1.0
+    if op == "HAMACHER":  # Hamacher product
+        return 0.0 if a == 0.0 and b == 0.0 else a * b / (a + b - a * b)
+    if op == "EINSTEIN":  # Einstein sum
+        return (a + b) / (1.0 + a * b)
+    raise RuleError(f"unknown AND/OR operator {op!r}; use one of {', '.join([*AND_OPS, *OR_OPS])}")
 
 
 def collapses(sem: Semantics, singletons: bool) -> bool:

@@ -8,6 +8,7 @@ from collections.abc import Iterable, Mapping
 from dataclasses import dataclass, field
 
 from acordcs.rules import RuleSyntaxError, TermDef, parse_terms
+from acordcs.rules.tree import MAX_TERMS
 from acordcs.runtime.fuzzy.membership import Membership, fmt_number, make_membership
 from acordcs.runtime.fuzzy.semantics import METHODS
 from acordcs.runtime.rule_engine import RuleError
@@ -98,10 +99,22 @@ def _finite(value: object, what: str) -> float:
     return out
 
 
+def too_many_terms(where: str, count: int | None = None) -> str:
+    """The message for a variable beyond :data:`MAX_TERMS` (``count`` None: a reader that stops
+    at the first term too many)."""
+    has = f"{count:,} terms" if count is not None else f"more than {MAX_TERMS:,} terms"
+    return (
+        f"{where} has {has}; the fuzzy engine takes at most {MAX_TERMS:,} per variable "
+        "(every firing and the generated rule set grow with them); merge terms or split the variable"
+    )
+
+
 def _terms(terms: TermsSpec, where: str) -> dict[str, Membership]:
     if terms is None:
         return {}
     if isinstance(terms, Mapping):
+        if len(terms) > MAX_TERMS:
+            raise RuleError(too_many_terms(where, len(terms)))
         out = {}
         for term, mf in terms.items():
             if not isinstance(mf, Membership):
@@ -123,6 +136,8 @@ def _terms(terms: TermsSpec, where: str) -> dict[str, Membership]:
             ) from None
     else:
         defs = list(terms)
+    if len(defs) > MAX_TERMS:
+        raise RuleError(too_many_terms(where, len(defs)))
     out = {}
     for d in defs:
         term = d.name.text if hasattr(d.name, "text") else str(d.name)

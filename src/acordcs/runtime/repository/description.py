@@ -8,7 +8,8 @@
 
 ``entry`` names, inside the package, either a component factory (anything with ``type_name``), a
 component class (wrapped in ``acordcs.runtime.component.ComponentFactory``), or a function without
-arguments returning a factory.
+arguments returning a factory. A port's ``kind`` and ``role`` are the metamodel's (PortKind,
+PortRole): the paper's notification ports are of kind ``asynchronous``.
 """
 
 from __future__ import annotations
@@ -21,6 +22,7 @@ from lxml import etree
 
 from acordcs import safexml
 from acordcs.runtime.repository.errors import RepositoryError
+from acordcs.vocabularies import PORT_KINDS, PORT_ROLES
 
 _NAME = re.compile(r"[A-Za-z_][A-Za-z0-9_.\-]*")
 _TYPE = re.compile(r"[A-Za-z_][A-Za-z0-9_]*(?:\.[A-Za-z_][A-Za-z0-9_]*)*")
@@ -29,8 +31,6 @@ _SHA256 = re.compile(r"[0-9a-f]{64}")
 _ENTRY = re.compile(
     r"([A-Za-z_][A-Za-z0-9_]*(?:\.[A-Za-z_][A-Za-z0-9_]*)*):([A-Za-z_][A-Za-z0-9_]*)"
 )
-_PORT_KINDS = {"synchronous", "asynchronous", "stream", "notification"}
-_PORT_ROLES = {"provided", "required"}
 _MAX_BYTES = 64 * 1024
 
 
@@ -147,11 +147,12 @@ def parse_description(document: str | bytes, source: str = "<description>") -> C
                 child.get("kind", "synchronous"),
                 child.get("role", "provided"),
             )
-            if port.kind not in _PORT_KINDS or port.role not in _PORT_ROLES:
+            if port.kind not in PORT_KINDS or port.role not in PORT_ROLES:
                 raise _fail(
                     source,
                     f"port {port.name!r}: kind {port.kind!r} / role {port.role!r} unknown",
-                    f"kind in {sorted(_PORT_KINDS)}, role in {sorted(_PORT_ROLES)}",
+                    f"kind is one of {', '.join(PORT_KINDS)} (RM-ODP's request-reply, "
+                    f"notification and flow), role one of {', '.join(PORT_ROLES)}",
                     child,
                 )
             if any(p.name == port.name for p in ports):

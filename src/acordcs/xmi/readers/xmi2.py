@@ -112,6 +112,7 @@ class _Reader:
             "generalization": self._generalization,
             "ownedComment": self._comment,
             self.EXTENSION: self.stereotypes.extension,
+            "profileApplication": self._profile_application,
             **dict.fromkeys(_MEMBER_TAGS, self._packageable),
         }
         self._property_children = {
@@ -238,6 +239,12 @@ class _Reader:
                     xmi_id=el.get(self.XID),
                 )
             )
+
+    def _profile_application(self, el: etree._Element, owner: Element) -> None:
+        """Not model content; the profile it references is noted (the checks look for its file)."""
+        for child in el:
+            if child.tag == "appliedProfile" and child.get("href"):
+                self.model.profile_references.append((child.get("href"), child.sourceline or 0))
 
     def _members(self, el: etree._Element, owner: Element) -> None:
         # One dict lookup per child: a 4 MB export has some 40,000 of them.

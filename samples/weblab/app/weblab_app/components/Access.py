@@ -7,9 +7,8 @@ from __future__ import annotations
 
 import hmac
 
-from weblab_sim import world
-
 from weblab_app.base.Access import AccessBase
+from weblab_sim import world
 
 
 class Access(AccessBase):
@@ -22,7 +21,7 @@ class Access(AccessBase):
         """Reserve the experiment for ``user``: from now on only ``token`` authenticates them."""
         self.reservations[str(user)] = str(token)
 
-    def authenticate(self, user, token):
+    def authenticate(self, user: str, token: str) -> bool:
         """True for a user with a non-empty token (the reserved one, if the user holds a
         reservation) while there is room (``maxUsers``)."""
         lab = world.current(self.clock)
@@ -31,10 +30,10 @@ class Access(AccessBase):
         reserved = self.reservations.get(str(user))
         if reserved is not None and not hmac.compare_digest(reserved.encode(), token.encode()):
             return False
-        if str(user) not in lab.sessions and len(lab.sessions) >= int(self.get("maxUsers")):
+        if str(user) not in lab.sessions and len(lab.sessions) >= self.maxUsers:
             return False
         lab.sessions.add(str(user))
         return True
 
-    def countUsers(self):
+    def countUsers(self) -> int:
         return world.current(self.clock).users()

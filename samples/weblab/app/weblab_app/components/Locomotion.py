@@ -24,9 +24,8 @@ from __future__ import annotations
 
 import json
 
-from weblab_sim import steering, world
-
 from weblab_app.base.Locomotion import LocomotionBase
+from weblab_sim import steering, world
 
 TELEMETRY_PERIOD = 0.5  # s
 STATUS_PERIOD = 5.0  # s between live mode's status lines
@@ -46,17 +45,16 @@ class Locomotion(LocomotionBase):
             self._status.cancel()
             self._status = None
 
-    def move(self, speed, turn):
-        speed, turn = float(speed), float(turn)
+    def move(self, speed: float, turn: float) -> None:
         if speed > 0:
-            speed = min(speed, float(self.get("maxSpeed")))
+            speed = min(speed, self.maxSpeed)
             self._turn = turn  # the control's last turn (a recovery's backing up is not one)
         world.current(self.clock).drive(speed, steering.angular_velocity(speed, turn))
 
-    def stop(self):
+    def stop(self) -> None:
         world.current(self.clock).drive(0.0, 0.0)
 
-    def odometry(self):
+    def odometry(self) -> str:
         """JSON: x, y (mm), heading (degrees), distance travelled (mm), the turn (degrees) of
         the last forward move, progress along the stripe (mm) and whether the finish line is
         crossed."""
@@ -82,9 +80,9 @@ class Locomotion(LocomotionBase):
         print(
             f"WebLab t={self.clock.now():6.1f} s: distance {lab.robot.distance:6.0f} mm, "
             f"progress {lab.progress:5.0f} of {lab.path.length:.0f} mm; "
-            f"Control: cycleRate {float(prop('Control', 'cycleRate')):.2f}/s, "
-            f"angle {float(prop('Control', 'angle')):4.1f} deg; "
-            f"SpeedLimiting: maxSpeed {float(self.get('maxSpeed')):5.1f} mm/s; "
+            f"Control: cycleRate {prop('Control', 'cycleRate'):.2f}/s, "
+            f"angle {prop('Control', 'angle'):4.1f} deg; "
+            f"SpeedLimiting: maxSpeed {self.maxSpeed:5.1f} mm/s; "
             f"BandwidthLimiting: fps {prop('PanoramicCamera', 'fps')} "
             f"(users {prop('Usage', 'numUsers')}); "
             f"Recovering: recoveries {prop('Recovery', 'recoveries')}",

@@ -9,7 +9,8 @@ turn. The image processing takes the user's CPU time (the simulator's network pr
 time. The Navigator keeps the stripe's direction of travel (:class:`weblab_sim.course.Course`,
 from the headings the lab's telemetry pushes on ``NavTelemetryPort``): where the camera sees the
 stripe run both ways it steers the way it was going, and a stripe that runs back the way it came
-counts as no stripe; it never follows the stripe backwards. :meth:`run` authenticates and loops until the simulator says the finish line was crossed.
+counts as no stripe; it never follows the stripe backwards. :meth:`run` authenticates and loops
+until the simulator says the finish line was crossed.
 The cycles are recorded in ``cycles``: (start, end, turn or None) for the experiment's figures.
 
 Live mode: when the simulated lab is not in this process (the user's container run on its own,
@@ -24,13 +25,15 @@ from __future__ import annotations
 
 import json
 import os
+from typing import Any
 
 import serpent
+from weblab_app import model_types
+from weblab_app.base.Navigator import NavigatorBase
 from weblab_sim import detector, world
 from weblab_sim.course import Course
 
 from acordcs.runtime.errors import RemoteUnreachableError
-from weblab_app.base.Navigator import NavigatorBase
 
 USER = "navigator"
 TIME_CAP_ENV = "WEBLAB_TIME_CAP"  # seconds a live run drives at most
@@ -47,16 +50,16 @@ class Navigator(NavigatorBase):
         self.misses_in_row = 0
         self.losses = 0  # stripe-loss events: a cycle without stripe after one with it
         self.course = Course()  # the direction of travel, and the heading the telemetry gave
-        self.odometry: dict | None = None  # live mode: the WebLab's last odometry
+        self.odometry: dict[str, Any] | None = None  # live mode: the WebLab's last odometry
         self.frames = [0, 0]  # live mode: frames received as bytes, their total size
         # The last frame got and the turn found in it (None: no stripe), for a console to show.
         self.last_frame: bytes | None = None
         self.last_turn: float | None = None
 
-    def run(self):
+    def run(self) -> None:
         self._authenticate()
         if world.installed() is None and os.environ.get(SPEED_ENV):
-            self.set("forwardSpeed", float(os.environ[SPEED_ENV]))
+            self.forwardSpeed = float(os.environ[SPEED_ENV])
         start = self.clock.now()
         cap = os.environ.get(TIME_CAP_ENV)
         while self.step():
@@ -83,7 +86,7 @@ class Navigator(NavigatorBase):
                     raise
                 self.clock.sleep(0.5)
 
-    def step(self):
+    def step(self) -> bool:
         """One control cycle; False once the run is over (the finish line is crossed)."""
         start = self.clock.now()
         frame = self.port("NavVisionPort").call("grab")  # 1. get an image
@@ -109,16 +112,17 @@ class Navigator(NavigatorBase):
             self.misses_in_row += 1
             locomotion.call("stop")  # 2(i)
             self.cycles.append((start, self.clock.now(), None))
-            self.clock.sleep(float(self.get("retryDelay")))  # 2(ii)
+            self.clock.sleep(self.retryDelay)  # 2(ii)
         else:
             self.misses_in_row = 0
             # 3. the turn that centres the stripe; 4. constant speed and the turn
-            locomotion.call("move", float(self.get("forwardSpeed")), turn)
+            locomotion.call("move", self.forwardSpeed, turn)
             self.cycles.append((start, self.clock.now(), turn))
         if lab is not None:
             return not lab.done
-        self.odometry = json.loads(locomotion.call("odometry"))
-        return not self.odometry.get("finished", False)
+        odometry: dict[str, Any] = json.loads(locomotion.call("odometry"))
+        self.odometry = odometry
+        return not odometry.get("finished", False)
 
     def _report(self, what: str, start: float | None = None) -> None:
         """Live mode's lines: progress (``start`` None) or the run's summary."""
@@ -144,8 +148,12 @@ class Navigator(NavigatorBase):
             flush=True,
         )
 
-    def findStripe(self, frame):
+    # The model's findStripe returns a double; here no stripe is None, which the model's types
+    # cannot say (they have no optional value): hence the ignore of the narrower base.
+    def findStripe(self, frame: model_types.Image) -> float | None:  # type: ignore[override]
         """The turn (degrees, + left) towards the stripe in a JPEG frame; None if there is none."""
         if isinstance(frame, dict):  # bytes that crossed Pyro5 arrive serpent-encoded
             frame = serpent.tobytes(frame)
-        return detector.find_stripe(bytes(frame), float(self.get("lookAhead")), self.course.choose)
+        if not isinstance(frame, bytes | bytearray):
+            raise TypeError(f"a frame is JPEG bytes, not {type(frame).__name__}")
+        return detector.find_stripe(bytes(frame), self.lookAhead, self.course.choose)

@@ -9,9 +9,8 @@ would without rendering a picture nobody looks at. The rate is read at every fra
 
 from __future__ import annotations
 
-from weblab_sim import camera
-
 from weblab_app.base.PanoramicCamera import PanoramicCameraBase
+from weblab_sim import camera
 
 IDLE_CHECK = 1.0  # s between looks at the rate while it is 0
 
@@ -26,11 +25,11 @@ class PanoramicCamera(PanoramicCameraBase):
     def on_stop(self) -> None:
         self._timer.cancel()
 
-    def setFrameRate(self, rate):
-        self.set("fps", max(0, int(rate)))
+    def setFrameRate(self, rate: int) -> None:
+        self.fps = max(0, int(rate))  # a rule's arithmetic may give a float
 
     def _frame(self) -> None:
-        fps = float(self.get("fps"))
+        fps = self.fps
         if fps > 0:
             self.sent += 1
             self.port("CameraStreamPort").push(

@@ -17,9 +17,8 @@ from __future__ import annotations
 import json
 import math
 
-from weblab_sim import steering, world
-
 from weblab_app.base.Recovery import RecoveryBase
+from weblab_sim import steering, world
 
 BACKUP_SPEED = 100.0  # mm/s
 SPEED_CAP = 60.0  # mm/s
@@ -30,34 +29,37 @@ class Recovery(RecoveryBase):
     user_requests = 0
     actions = 0
 
-    def recover(self):
+    def recover(self) -> None:
         if world.current(self.clock).recovery_fails():
             raise RuntimeError("the recovery's motor driver did not answer (scripted fault)")
         loco = self.port("RecoveryLocomotionPort")
         odometry = json.loads(loco.call("odometry"))
         side = 1.0 if float(odometry.get("turn", 0.0)) >= 0 else -1.0
-        distance = float(self.get("backupDistance"))
+        distance = self.backupDistance
         # Backing up with bearing -b turns the nose by +2 sin(b) * distance / STEER_DISTANCE rad.
-        k = math.radians(float(self.get("turnAngle"))) * steering.STEER_DISTANCE_MM / (2 * distance)
+        k = math.radians(self.turnAngle) * steering.STEER_DISTANCE_MM / (2 * distance)
         bearing = math.degrees(math.asin(max(-1.0, min(1.0, k))))
         loco.call("move", -BACKUP_SPEED, -side * bearing)
         self.clock.sleep(distance / BACKUP_SPEED)
         loco.call("stop")
-        cap = min(float(self.container.get_property("Locomotion", "maxSpeed")), SPEED_CAP)
+        current = self.container.get_property("Locomotion", "maxSpeed")  # by name: untyped
+        if not isinstance(current, int | float):
+            raise TypeError(f"Locomotion.maxSpeed is {current!r}, not a number")
+        cap = min(float(current), SPEED_CAP)
         self.container.set_property("Locomotion", "maxSpeed", cap)
         self.actions += 1
         self._say(
             f"recover #{self.actions}: backed up {distance:.0f} mm, maxSpeed capped at {cap:.0f}"
         )
-        self.clock.sleep(float(self.get("waitTime")))
+        self.clock.sleep(self.waitTime)
 
-    def askUser(self):
+    def askUser(self) -> None:
         self.user_requests += 1
         lab = world.current(self.clock)
         self._say(f"askUser #{self.user_requests}: a person puts the robot back on the stripe")
         self.clock.sleep(world.HUMAN_DELAY)
         lab.place_on_stripe()
-        self.set("retries", 0)
+        self.retries = 0
 
     def _say(self, what: str) -> None:
         if world.current(self.clock).standalone:

@@ -5,20 +5,19 @@
 from __future__ import annotations
 
 import cv2
-from weblab_sim import camera, world
-
 from weblab_app.base.Vision import VisionBase
+from weblab_sim import camera, world
 
 
 class Vision(VisionBase):
-    def grab(self):
+    def grab(self) -> bytes:
         """A JPEG frame (bytes) at ``quality``, ``width`` x ``height``: taken when the request
         reaches the robot; the reply leaves after the server's grab time."""
         lab = world.current(self.clock)
         img = lab.grab_frame()
-        size = (int(self.get("width")), int(self.get("height")))
+        size = (self.width, self.height)
         if size != (img.shape[1], img.shape[0]):
             img = cv2.resize(img, size, interpolation=cv2.INTER_AREA)
-        data = camera.encode(img, int(self.get("quality")))
+        data = camera.encode(img, self.quality)
         self.clock.sleep(lab.profile.grab_time)
         return data

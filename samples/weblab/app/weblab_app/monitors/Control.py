@@ -10,18 +10,21 @@ robot up through the same port) are not the user's control and are ignored (``ca
 from __future__ import annotations
 
 from collections import deque
+from typing import Any
 
 from weblab_app.base.Control import ControlBase
+
+from acordcs.runtime.api import ObservedCall
 
 RATE_WINDOW = 5
 
 
 class Control(ControlBase):
-    def __init__(self, name, **kwargs):
+    def __init__(self, name: str, **kwargs: Any) -> None:
         super().__init__(name, **kwargs)
-        self._times = deque(maxlen=RATE_WINDOW + 1)
+        self._times: deque[float] = deque(maxlen=RATE_WINDOW + 1)
 
-    def on_call(self, call):
+    def on_call(self, call: ObservedCall) -> dict[str, float] | None:
         if call.origin is not None or call.error is not None:
             return None
         if call.operation == "move":

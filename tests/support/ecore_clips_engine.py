@@ -1,8 +1,10 @@
-"""Building a ClipsEngine from the ACORD-CS model (pyecore objects of ``acordcs.ecore``).
+"""An oracle: a ClipsEngine built straight from the pyecore model (``acordcs.ecore`` instances, as
+``acordcs.model.ecore_builder.to_ecore`` makes them), resolving a policy set's scope on its own.
 
-Every attribute of an element in scope becomes a typed variable ``Element.attribute`` with the
-model's default as its initial value; every operation becomes a declared operation whose
-parameters (those of direction ``in`` or ``inout``) fix its number of arguments.
+The runtime and the ``rules`` target build from the descriptor; tests hold them to this. Every
+attribute of an element in scope becomes a typed variable ``Element.attribute`` with the model's
+default as its initial value; every operation becomes a declared operation whose parameters (those
+of direction ``in`` or ``inout``) fix its number of arguments.
 """
 
 from __future__ import annotations

@@ -1,5 +1,5 @@
 """The elements a BOUML-style model is made of, in memory: packages, classes, attributes,
-operations, associations and dependencies, before :mod:`acordcs.xmi.writer.bouml` writes them."""
+operations, associations and dependencies, before :mod:`tools.bouml_writer.bouml` writes them."""
 
 from __future__ import annotations
 

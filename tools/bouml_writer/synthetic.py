@@ -9,7 +9,7 @@ classes with attributes, operations, comments, associations and generalizations,
 large model (about 4.5 MB for 2,000 classes).
 
 
-CLI: ``python -m acordcs.xmi.writer.synthetic --classes 2000 --out /tmp/syn.xmi [--seed 1]``.
+CLI: ``python -m tools.bouml_writer.synthetic --classes 2000 --out /tmp/syn.xmi [--seed 1]``.
 """
 
 from __future__ import annotations
@@ -19,8 +19,8 @@ import random
 import sys
 from pathlib import Path
 
-from acordcs.xmi.writer.bouml import BoumlWriter, ctx, ctx_var
-from acordcs.xmi.writer.elements import Cls, Pkg
+from tools.bouml_writer.bouml import BoumlWriter, ctx, ctx_var
+from tools.bouml_writer.elements import Cls, Pkg
 
 WORDS = (
     "account",

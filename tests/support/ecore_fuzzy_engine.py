@@ -1,10 +1,13 @@
-"""Loading a fuzzy policy set straight from an ACORD-CS model (pyecore, ``acordcs.ecore``).
+"""An oracle: a FuzzyEngine built straight from the pyecore model (``acordcs.ecore`` instances, as
+``acordcs.model.ecore_builder.to_ecore`` makes them), resolving a policy set's scope on its own.
 
-Scope of a policy set's rules (the README's section on modelling): the attributes of the monitors that feed the set,
-of the elements it adapts and, for an adapted component, of its ports. Every such attribute that is
-a linguistic variable (``Attribute.variable``, a CtxVariable) is declared as ``Element.attribute``;
-rules may write it unqualified where that is unambiguous. Each CtxPolicy becomes one rule set, named
-after the policy; the set's ``semantics`` tag chooses the inference semantics.
+The runtime builds its engines from the descriptor; this builds one from the other representation
+of the same model, so that tests can hold the two (and the FCL files of the ``rules`` target) to
+each other. Scope of a policy set's rules: the attributes of the monitors that feed the set, of the
+elements it adapts and, for an adapted component, of its ports. Every such attribute that is a
+linguistic variable (``Attribute.variable``, a CtxVariable) is declared as ``Element.attribute``;
+rules may write it unqualified where that is unambiguous. Each CtxPolicy becomes one rule set,
+named after the policy; the set's ``semantics`` tag chooses the inference semantics.
 
 ``policy_set`` arguments are CtxPolicySet objects of a pyecore model (typed ``Any``: pyecore's
 dynamic classes have no static types).

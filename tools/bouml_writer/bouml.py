@@ -9,13 +9,13 @@ the model with its ``profileApplication``, and every ACORDCS stereotype written 
 ``xmi:Extension`` block inside the element and as a root-level application after
 ``</uml:Model>``, with the same tag values.
 
-The in-memory elements are in :mod:`acordcs.xmi.writer.elements`; a large synthetic model in
-:mod:`acordcs.xmi.writer.synthetic`.
+The in-memory elements are in :mod:`tools.bouml_writer.elements`; a large synthetic model in
+:mod:`tools.bouml_writer.synthetic`.
 """
 
 from __future__ import annotations
 
-from acordcs.xmi.writer.elements import Assoc, Attr, Cls, End, Op, Pkg
+from tools.bouml_writer.elements import Assoc, Attr, Cls, End, Op, Pkg
 
 PROFILE = "ACORDCS"
 PROFILE_URI = "http:///schemas/ACORDCS/1"

@@ -1,0 +1,414 @@
+"""Running one container of a generated application: ``python -m <package>.<Container>``.
+
+A container module of the ``python`` target names its package and container and hands over to a
+:class:`Launcher`, which owns the rest: the command line, the clock, the container assembled from
+the package's ``descriptor.xml`` with the package's classes (``<package>.registry``), the
+operations without code that the model calls (:mod:`acordcs.runtime.drift`), serving, ``--run``,
+signals and the exit status::
+
+    LAUNCHER = Launcher("weblab_app", "UserSide")
+    assemble_container = LAUNCHER.assemble
+    if __name__ == "__main__":
+        sys.exit(LAUNCHER.main())
+
+Exit status (:data:`EXIT_STATUS`, also in ``--help`` and docs/build.md): 0 stopped without fault
+(or with faults and ``--faults-ok``); 1 a ``--run`` operation failed; 2 not started (a usage
+error, a descriptor that cannot be read or fails its schema, component or monitor classes that do
+not import, an assembly failure, an operation without code under ``--strict``, a port that cannot
+be served); 3 stopped after recording faults. ``--exit-file PATH`` records the status and the
+number of faults as one line ``EXIT_CODE FAULTS``.
+"""
+
+from __future__ import annotations
+
+import argparse
+import importlib
+import os
+import signal
+import sys
+import tempfile
+import threading
+import traceback
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass, field
+from pathlib import Path
+from types import FrameType, ModuleType
+from typing import TYPE_CHECKING
+
+from acordcs.errors import AcordError
+from acordcs.runtime.clock import Clock, RealClock, VirtualClock
+from acordcs.runtime.drift import operations_without_code
+from acordcs.runtime.errors import RuntimeFailure
+
+if TYPE_CHECKING:
+    from acordcs.descriptor import Application
+    from acordcs.runtime.assembly import RunningApplication
+    from acordcs.runtime.container import Container
+
+EXIT_OK = 0
+EXIT_RUN_FAILED = 1
+EXIT_NOT_STARTED = 2
+EXIT_FAULTS = 3
+
+EXIT_STATUS = f"""exit status:
+  {EXIT_OK}  stopped with no fault recorded (or with faults, given --faults-ok)
+  {EXIT_RUN_FAILED}  a --run operation failed
+  {EXIT_NOT_STARTED}  not started: a usage error, a descriptor that cannot be read or fails its
+     schema, classes that do not import, an assembly failure, an operation without code
+     under --strict, a port that cannot be served
+  {EXIT_FAULTS}  stopped after recording faults (the last line says how many)"""
+
+DEFAULT_DURATION = 10.0  # virtual seconds run when --duration is not given
+
+
+@dataclass
+class _Runs:
+    """The --run operations' outcome: the failures to report; ``stop`` is set by the first."""
+
+    failed: list[str] = field(default_factory=list)
+    stop: threading.Event = field(default_factory=threading.Event)
+
+
+class Launcher:
+    """Runs the container ``container`` of the generated package ``package`` (its module is
+    ``<package>.<container>``; its classes are in ``<package>.registry``, its descriptor in
+    ``<package>/descriptor.xml``)."""
+
+    def __init__(self, package: str, container: str) -> None:
+        self.package = package
+        self.container = container
+        self.prog = f"python -m {package}.{container}"
+
+    # ------------------------------------------------------------------------- assembling
+    def descriptor_path(self) -> Path:
+        """The package's ``descriptor.xml``."""
+        module = importlib.import_module(self.package)
+        return Path(module.__file__ or ".").with_name("descriptor.xml")
+
+    def descriptor(self) -> Application:
+        """The package's descriptor, read and validated; raises DescriptorError (file, line,
+        column) or OSError."""
+        from acordcs.descriptor import from_xml
+
+        path = self.descriptor_path()
+        return from_xml(path.read_bytes(), file=str(path))
+
+    def registry(self) -> ModuleType:
+        """``<package>.registry``: importing it imports the component and monitor classes."""
+        return importlib.import_module(f"{self.package}.registry")
+
+    def assemble(
+        self,
+        clock: Clock | None = None,
+        remote: Mapping[str, str] | None = None,
+        remote_timeout: float = 5.0,
+        *,
+        application: Application | None = None,
+    ) -> RunningApplication:
+        """The container assembled from the descriptor (``application``, default: read from the
+        package) with the package's classes; ``remote``: the URI of each other container its
+        connections reach (``PYRO:acordcs.container.<name>@host:port``)."""
+        running: RunningApplication = self.registry().assemble_application(
+            only=[self.container],
+            clock=clock,
+            remote=remote,
+            remote_timeout=remote_timeout,
+            application=application,
+        )
+        return running
+
+    # ----------------------------------------------------------------------- command line
+    def parser(self) -> argparse.ArgumentParser:
+        parser = argparse.ArgumentParser(
+            prog=self.prog,
+            description=f"Run container {self.container} of the application in package "
+            f"{self.package} (its descriptor.xml).",
+            epilog="ACORDCS_TOKEN: the application's token, the same in each of its processes; "
+            "--serve admits only callers presenting it, --remote presents it (required to serve "
+            "a host other than loopback).\n\n" + EXIT_STATUS,
+            formatter_class=argparse.RawDescriptionHelpFormatter,
+        )
+        add = parser.add_argument
+        add("--clock", choices=("virtual", "real"), default="virtual",
+            help="virtual: simulated time, as fast as it runs (default); real: wall time")  # fmt: skip
+        add("--seed", type=int, default=0, help="the virtual clock's seed (default 0)")
+        add("--duration", type=float, metavar="SECONDS",
+            help="how long to run (default: 10 virtual seconds; real: until interrupted)")  # fmt: skip
+        add("--serve", type=int, metavar="PORT",
+            help="serve the container to other processes at this TCP port (0: any)")  # fmt: skip
+        add("--host", help="the host to serve at (default: the container's host in the model)")
+        add("--remote", type=_remote, action="append", default=[], metavar="NAME=URI",
+            help="the URI of another container (repeat for each)")  # fmt: skip
+        add("--timeout", type=float, default=5.0, help="remote call timeout, s")
+        add("--run", type=_operation, action="append", default=[], metavar="COMPONENT.OPERATION",
+            help="call this operation of a component hosted here once the container serves, in "
+            "a worker thread (virtual clock: in turn, before the duration runs); its failure "
+            "stops the container, exit 1 (repeat for each)")  # fmt: skip
+        add("--strict", action="store_true",
+            help="do not start (exit 2) when an operation that the model calls has no code (the "
+            "warnings at start list them)")  # fmt: skip
+        add("--faults-ok", action="store_true",
+            help="exit 0, not 3, when faults were recorded (experiments that expect some)")  # fmt: skip
+        add("--exit-file", type=_exit_file, metavar="PATH",
+            help="at exit, write 'EXIT_CODE FAULTS' (one line, mode 0600) to PATH, replacing it "
+            "at once; an existing one is removed at start")  # fmt: skip
+        return parser
+
+    def main(self, argv: Sequence[str] | None = None) -> int:
+        """Run the container as the command line ``argv`` (default: ``sys.argv[1:]``) says; the
+        exit status (see the module's docstring)."""
+        argv = list(sys.argv[1:] if argv is None else argv)
+        parser = self.parser()
+        try:
+            args = parser.parse_args(argv)
+        except SystemExit as exc:
+            if exc.code not in (0, None):  # a usage error, which the exit file says if given
+                given = _exit_file_given(argv)
+                if given is not None:
+                    self._write_exit_file(given, EXIT_NOT_STARTED, 0)
+            raise
+        if args.exit_file is not None:
+            args.exit_file.unlink(missing_ok=True)  # a file there is this run's, once it stops
+        # What the exit file says if _run raises (a bug: the interpreter then exits 1 too).
+        code, faults = EXIT_RUN_FAILED, 0
+        try:
+            code, faults = self._run(args)
+        finally:
+            if args.exit_file is not None:
+                self._write_exit_file(args.exit_file, code, faults)
+        return code
+
+    # ---------------------------------------------------------------------------- running
+    def _say(self, message: str) -> None:
+        print(f"{self.prog}: {message}", file=sys.stderr, flush=True)
+
+    def _run(self, args: argparse.Namespace) -> tuple[int, int]:
+        """Start, run and stop the container: (exit status, faults recorded)."""
+        signal.signal(signal.SIGTERM, _interrupt)  # kill, bin/*-stop: stop as on Ctrl-C
+        try:
+            return self._start(args)
+        except KeyboardInterrupt:  # the run loop has its own: this one came while starting
+            self._say("interrupted while starting: not started")
+            return EXIT_NOT_STARTED, 0
+
+    def _start(self, args: argparse.Namespace) -> tuple[int, int]:
+        from acordcs.descriptor import DescriptorError
+
+        try:
+            application = self.descriptor()
+        except DescriptorError as err:
+            self._say(f"{err}")
+            self._say(
+                "the package's descriptor is refused: rebuild the package (acordcs-gen build)"
+            )
+            return EXIT_NOT_STARTED, 0
+        except OSError as err:
+            self._say(f"cannot read the descriptor: {err}")
+            return EXIT_NOT_STARTED, 0
+        found = next((c for c in application.containers if c.name == self.container), None)
+        if found is None:
+            self._say(
+                f"the descriptor has no container {self.container!r} (containers: "
+                f"{', '.join(c.name for c in application.containers) or 'none'}): rebuild the "
+                "package (acordcs-gen build)"
+            )
+            return EXIT_NOT_STARTED, 0
+        problem = self._import_problem()
+        if problem is not None:
+            self._say(problem)
+            return EXIT_NOT_STARTED, 0
+        clock: Clock = VirtualClock(args.seed) if args.clock == "virtual" else RealClock()
+        try:
+            app = self.assemble(clock, dict(args.remote), args.timeout, application=application)
+        except AcordError as err:
+            clock.close()
+            self._say(f"{err}")
+            others = [c.name for c in application.containers if c.name != self.container]
+            if others:
+                self._say(
+                    f"the other containers: {', '.join(others)}; give the address of each one "
+                    "this container reaches with --remote NAME=URI"
+                )
+            return EXIT_NOT_STARTED, 0
+        with app:
+            return self._started(app, args, found.host or "localhost")
+
+    def _import_problem(self) -> str | None:
+        """None when the package's classes import; else what failed, where (the last line of
+        the package's code on the way), and what to do."""
+        try:
+            self.registry()
+        except SyntaxError as err:
+            where = f"{err.filename}:{err.lineno}" + (f":{err.offset}" if err.offset else "")
+            return f"{where}: error: {err.msg}: fix the syntax there"
+        except Exception as err:
+            root = self.descriptor_path().parent
+            frames = [
+                f for f in traceback.extract_tb(err.__traceback__) if _under(f.filename, root)
+            ]
+            where = f"{frames[-1].filename}:{frames[-1].lineno}" if frames else str(root)
+            return (
+                f"{where}: error: importing the application's classes failed: "
+                f"{type(err).__name__}: {err}: fix the code there (components/ and monitors/ are "
+                "yours; a generated file that is missing or stale: acordcs-gen build)"
+            )
+        return None
+
+    def _started(
+        self, app: RunningApplication, args: argparse.Namespace, host: str
+    ) -> tuple[int, int]:
+        container = app.container(self.container)
+        unknown = _unknown_run(container, args.run)
+        if unknown is not None:
+            self._say(unknown)
+            return EXIT_NOT_STARTED, 0
+        missing = operations_without_code(app, self.container, args.run)
+        for item in missing:
+            print(item.message(), file=sys.stderr, flush=True)
+        if missing and args.strict:
+            self._say(
+                f"not started (--strict): {len(missing)} operation(s) that the model calls have "
+                "no code (listed above)"
+            )
+            return EXIT_NOT_STARTED, 0
+        server = None
+        if args.serve is not None:
+            try:
+                server = app.serve(self.container, host=args.host or host, port=args.serve)
+            except RuntimeFailure as err:
+                self._say(f"{err}")
+                return EXIT_NOT_STARTED, 0
+        runs = _Runs()
+        clock = app.clock
+        try:  # from the line saying it serves on, an interrupt stops it as a run's end does
+            if server is not None:
+                print(f"{self.container}: serving at {server.uri}", flush=True)
+            if isinstance(clock, VirtualClock):
+                for component, operation in args.run:  # in turn: simulated time is one thread's
+                    if not runs.stop.is_set():
+                        self._call(container, component, operation, runs)
+                if not runs.stop.is_set():
+                    until = DEFAULT_DURATION if args.duration is None else args.duration
+                    clock.run_until(max(clock.now(), until))
+            else:
+                for component, operation in args.run:
+                    threading.Thread(target=self._call, args=(container, component, operation, runs),
+                                     name=f"run {component}.{operation}", daemon=True).start()  # fmt: skip
+                if args.duration is not None:
+                    runs.stop.wait(args.duration)
+                else:
+                    while not runs.stop.wait(3600):
+                        pass
+        except KeyboardInterrupt:
+            pass
+        # Stopping: a second TERM or Ctrl-C is ignored (KILL is not).
+        for signum in (signal.SIGTERM, signal.SIGINT):
+            signal.signal(signum, signal.SIG_IGN)
+        runs.stop.set()  # a --run operation failing from now on is the stop's doing, not reported
+        for line in list(runs.failed):
+            self._say(line)
+        faults = container.faults.counts["total"]
+        print(f"{self.container}: stopped at t={clock.now():.3f} s, faults: {faults}", flush=True)
+        if runs.failed:
+            return EXIT_RUN_FAILED, faults
+        return (EXIT_FAULTS if faults and not args.faults_ok else EXIT_OK), faults
+
+    def _call(self, container: Container, component: str, operation: str, runs: _Runs) -> None:
+        """A --run operation, called through the container (its interceptors and monitors see
+        the call); a failure is reported in ``runs`` and stops the container."""
+        what = f"{component}.{operation}()"
+        try:
+            result = container.find(component).call(operation)
+        except Exception as err:  # reported (what, where, when), never a traceback
+            if not runs.stop.is_set():
+                runs.failed.append(f"--run {what} failed at t={container.clock.now():.3f} s: {err}")
+                runs.stop.set()
+            return
+        print(f"{self.container}: --run {what} returned {result!r:.200} at "
+              f"t={container.clock.now():.3f} s", flush=True)  # fmt: skip
+
+    def _write_exit_file(self, path: Path, code: int, faults: int) -> None:
+        """``EXIT_CODE FAULTS`` into ``path``, replacing it at once (a reader sees the old file or
+        the new one, never a part), mode 0600."""
+        try:
+            fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
+            try:
+                with os.fdopen(fd, "w", encoding="ascii") as out:
+                    out.write(f"{code} {faults}\n")
+                os.replace(tmp, path)
+            except BaseException:
+                os.unlink(tmp)
+                raise
+        except OSError as err:
+            self._say(f"cannot write the exit file {path}: {err}")
+
+
+def _remote(text: str) -> tuple[str, str]:
+    name, sep, uri = text.partition("=")
+    if not sep or not name or not uri:
+        raise argparse.ArgumentTypeError(f"{text!r} is not NAME=URI")
+    return name, uri
+
+
+def _operation(text: str) -> tuple[str, str]:
+    component, sep, operation = text.partition(".")
+    if not sep or not component or not operation:
+        raise argparse.ArgumentTypeError(f"{text!r} is not COMPONENT.OPERATION")
+    return component, operation
+
+
+def _exit_file(text: str) -> Path:
+    path = Path(text)
+    if not text or path.is_dir():
+        raise argparse.ArgumentTypeError(f"{text!r} is a directory, not a file to write")
+    if not path.parent.is_dir():
+        raise argparse.ArgumentTypeError(
+            f"{text!r}: its directory {str(path.parent)!r} does not exist (create it first)"
+        )
+    return path
+
+
+def _exit_file_given(argv: Sequence[str]) -> Path | None:
+    """The --exit-file of a command line argparse refused, if it names a file one can write."""
+    for i, arg in enumerate(argv):
+        text = argv[i + 1] if arg == "--exit-file" and i + 1 < len(argv) else None
+        if arg.startswith("--exit-file="):
+            text = arg.partition("=")[2]
+        if text is not None:
+            try:
+                return _exit_file(text)
+            except argparse.ArgumentTypeError:
+                return None
+    return None
+
+
+def _under(filename: str, root: Path) -> bool:
+    try:
+        return Path(filename).resolve().is_relative_to(root.resolve())
+    except OSError:
+        return False
+
+
+def _interrupt(signum: int, frame: FrameType | None) -> None:
+    raise KeyboardInterrupt
+
+
+def _unknown_run(container: Container, runs: list[tuple[str, str]]) -> str | None:
+    """What is wrong with the --run operations (None: each names an operation hosted here)."""
+    for component, operation in runs:
+        ops = container.operations_of(component)
+        if not ops:
+            hosted = ", ".join(c.name for c in container.components()) or "nothing"
+            return (
+                f"--run {component}.{operation}: container {container.name} hosts no component "
+                f"{component!r} (it hosts: {hosted})"
+            )
+        if operation not in ops:
+            return (
+                f"--run {component}.{operation}: component {component!r} has no operation "
+                f"{operation!r} (operations: {', '.join(sorted(ops))})"
+            )
+    return None
+
+
+__all__ = ["EXIT_STATUS", "Launcher"]
