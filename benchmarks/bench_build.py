@@ -1,7 +1,7 @@
 """Benchmark: ``acordcs-gen build --target all`` on a synthetic 2,000-class model, against lxml.
 
 The model: 2,000 classes, 500 of them components deployed on 20 containers, 100 monitors and 100
-policy sets (``acordcs.xmi.writer.synthetic``); its build writes about 2,400 files (the script
+policy sets (``tools.bouml_writer.synthetic``); its build writes about 2,400 files (the script
 prints how many). Times are whole processes (interpreter start included), printed in multiples
 of B, the time lxml takes to parse and re-serialize the model file. Every figure is a median of
 runs alternated with the others (the host's speed drifts between minutes, as

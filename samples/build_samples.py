@@ -142,6 +142,7 @@ def weblab() -> Pkg:
     )
     recovery.attr("retries", "int", default="0")
     recovery.attr("recoveries", "int", default="0")
+    recovery.attr("lostAt", "double", default="0")
     recovery.attr("backupDistance", "double", default="150")
     recovery.attr("turnAngle", "double", default="20")
     recovery.attr("waitTime", "double", default="3")
@@ -198,8 +199,9 @@ def weblab() -> Pkg:
     telemetry.comment = (
         "Subscribes to the context provider for the robot's telemetry: the documents the"
         " locomotion service publishes, <telemetry> with one child element per attribute."
+        " progress (mm) is how far along the stripe the lab has seen the robot get."
     )
-    for name in ("positionX", "positionY", "heading", "sonarRange", "batteryVoltage"):
+    for name in ("positionX", "positionY", "heading", "sonarRange", "batteryVoltage", "progress"):
         telemetry.attr(name, "double")
     usage = ctx(
         adapt.cls("Usage"), "CtxMonitor", acquisition="poll", frequency=1.0, operation="countUsers"
@@ -223,7 +225,8 @@ def weblab() -> Pkg:
     recovering = ctx(adapt.cls("Recovering"), "CtxPolicySet", engine="clips", trigger="event")
     recovering.comment = (
         "When the control sets speed 0: recover, at most 3 times, then ask the user."
-        " A speed above 0 means the recovery succeeded."
+        " The recovery succeeded when the robot moves again on the stripe, 100 mm or more"
+        " ahead of where it lost it."
     )
     bandwidth = ctx(
         adapt.cls("BandwidthLimiting"),
@@ -247,9 +250,15 @@ def weblab() -> Pkg:
                 # Count first, then decide: a crisp set runs to quiescence, so a rule that counted
                 # and a rule that tests the count would both fire on the third zero otherwise.
                 "count: if Control.speed == 0 then Recovery.retries = Recovery.retries + 1",
+                # Where the robot lost the stripe: how far along it the telemetry last saw it.
+                "lost: if Control.speed == 0 and Recovery.retries == 1 then"
+                " Recovery.lostAt = Telemetry.progress",
                 "retry: if Control.speed == 0 and Recovery.retries <= 3 then Recovery.recover()",
                 "giveUp: if Control.speed == 0 and Recovery.retries == 4 then Recovery.askUser()",
-                "recovered: if Control.speed > 0 and Recovery.retries > 0 then"
+                # Moving is not enough: a robot that found the stripe again but follows it
+                # backwards, or loses it again at the same place, has not recovered.
+                "recovered: if Control.speed > 0 and Recovery.retries > 0"
+                " and Telemetry.progress > Recovery.lostAt + 100 then"
                 " Recovery.recoveries = Recovery.recoveries + 1 and Recovery.retries = 0",
             )
         ),

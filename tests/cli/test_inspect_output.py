@@ -53,7 +53,7 @@ def test_inspect_json_weblab_acordcs_section() -> None:
     summary = {name: (s["engine"], s["rules"]) for name, s in sets.items()}
     assert summary == {
         "SpeedLimiting": ("fuzzy", 12),
-        "Recovering": ("clips", 4),
+        "Recovering": ("clips", 5),
         "BandwidthLimiting": ("fuzzy", 9),
     }
     assert sets["SpeedLimiting"]["policies"] == ["StraightRules", "TurnRules"]

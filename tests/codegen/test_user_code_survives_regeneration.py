@@ -135,7 +135,11 @@ def test_user_monitor_code_runs_survives_and_is_reported_when_its_monitor_goes(t
         lab.publish_context("Locomotion", '<telemetry volts="11.8"/>')
         assert lab.monitor("Telemetry").attributes["batteryVoltage"] == 11.8
     # the monitor is renamed in the model: the user's file stays, is reported, is not imported
-    renamed = weblab_variant(tmp_path, ('name="Telemetry" ', 'name="Odometry" '))
+    renamed = weblab_variant(
+        tmp_path,
+        ('name="Telemetry" ', 'name="Odometry" '),
+        ("Telemetry.progress", "Odometry.progress", 4),
+    )
     result = build(renamed, out, "-t", "python")
     assert result.code == 0, result.both
     assert f"deleted {out}/weblab_app/base/Telemetry.py" in result.out

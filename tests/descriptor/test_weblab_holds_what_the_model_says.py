@@ -33,7 +33,7 @@ def test_counts(weblab):
     assert len(weblab.connections) == 6
     assert len(weblab.monitors) == 3
     rules = {ps.name: len(ps.rules()) for ps in weblab.policy_sets}
-    assert rules == {"SpeedLimiting": 12, "Recovering": 4, "BandwidthLimiting": 9}
+    assert rules == {"SpeedLimiting": 12, "Recovering": 5, "BandwidthLimiting": 9}
 
 
 def test_hosts_and_endpoints(weblab):

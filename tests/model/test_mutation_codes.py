@@ -248,9 +248,10 @@ MUTATIONS = [
     Mutation(
         "monitor-feeds-nothing",
         lambda t: remove_association(t, "BOUML_0x20382_0", "BOUML_ASSOC_0x20382_0"),
-        {"A505"},
-        {"Telemetry"},
-        ["'Telemetry' feeds no policy set"],
+        # Recovering's rules read Telemetry.progress, out of the set's scope once it is not fed
+        {"A505", "L402"},
+        {"Telemetry", "RecoveryRules"},
+        ["'Telemetry' feeds no policy set", "variable 'Telemetry.progress'"],
     ),
     Mutation(
         "stereotype-on-wrong-metaclass",

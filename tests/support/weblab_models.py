@@ -136,8 +136,14 @@ def broken_component(root: Pkg) -> None:
 
 
 def without_telemetry(root: Pkg) -> None:
-    """The Telemetry monitor removed (it fed Recovering, which reads nothing of it)."""
+    """The Telemetry monitor removed, and with it what Recovering's rules read of it (the robot's
+    progress along the stripe): the lost place is no longer recorded, and a recovery succeeds
+    when the robot moves again."""
     adapt, deploy = package(root, "Adaptation"), package(root, "Deployment")
+    rules = element(root, "RecoveryRules").tags
+    lines = [line for line in rules["Rule"].split("\n") if not line.startswith("lost:")]
+    rules["Rule"] = "\n".join(lines).replace(" and Telemetry.progress > Recovery.lostAt + 100", "")
+    assert "Telemetry" not in rules["Rule"]
     telemetry = element(root, "Telemetry")
     adapt.classes.remove(telemetry)
     for pkg in (adapt, deploy):

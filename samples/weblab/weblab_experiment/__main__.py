@@ -1,10 +1,12 @@
 """``python -m weblab_experiment``: the WebLab experiment (what ``make demo`` runs after validating
-and building the application): every condition on every network profile for every seed, the
-paper's Table 1 beside ours, the claims checked, results.json, results.csv, plots and report.html.
+and building the application): every condition on every network profile for every seed, on the
+default path (``--paths`` adds the sharp one), the fixed speeds of a sweep besides the named
+conditions, the paper's Table 1 beside ours, the claims checked, results.json, results.csv,
+plots and report.html.
 
-Exit 0 when every run finished and every claim holds, 1 when a claim does not hold or a run failed
-(the report says which), 2 for bad arguments or an application that is not built (with the
-command that builds it).
+Exit 0 when every run finished and every claim holds, 1 when a claim does not hold or a run did
+not finish (it failed, or hit the time cap: the report lists them), 2 for bad arguments or an
+application that is not built (with the command that builds it).
 """
 
 from __future__ import annotations
@@ -14,49 +16,110 @@ import os
 import sys
 from pathlib import Path
 
-from weblab_experiment.grid import CONDITIONS, PROFILES, run_all, tasks
+from weblab_sim.experiment import FIXED_RANGE, TIME_CAP, fixed_speed
+
+from weblab_experiment import printed
+from weblab_experiment.grid import CONDITIONS, PATHS, PROFILES, SWEEP, fixed_name, run_all, tasks
 from weblab_experiment.report import write_all
-from weblab_experiment.summary import claims, summarise, text_table
+from weblab_experiment.summary import claims, summarise
 
 
-def _names(text: str, known: tuple[str, ...], what: str) -> tuple[str, ...]:
+def _names(text: str, known: tuple[str, ...], what: str, fixed: bool = False) -> tuple[str, ...]:
+    """Comma-separated names of ``known`` (or "all"), in the order given, each once; with
+    ``fixed``, also ``fixed_<speed>``."""
     if text == "all":
         return known
-    names = tuple(n.strip() for n in text.split(",") if n.strip())
-    unknown = [n for n in names if n not in known]
+    names = tuple(dict.fromkeys(n.strip() for n in text.split(",") if n.strip()))
+    unknown = [n for n in names if n not in known and not (fixed and fixed_speed(n) is not None)]
     if unknown or not names:
+        more = f", fixed_<speed> ({FIXED_RANGE[0]:g} to {FIXED_RANGE[1]:g} mm/s)" if fixed else ""
         raise argparse.ArgumentTypeError(
             f"unknown {what} {', '.join(unknown) or '(none given)'}; the {what}s are "
-            f"{', '.join(known)} (or all)"
+            f"{', '.join(known)}{more} (or all)"
         )
     return names
 
 
-def main(argv: list[str] | None = None) -> int:
+def _speeds(text: str) -> tuple[float, ...]:
+    if text == "none":
+        return ()
+    try:
+        speeds = tuple(dict.fromkeys(float(v) for v in text.split(",") if v.strip()))
+    except ValueError:
+        speeds = ()
+    if not speeds or not all(FIXED_RANGE[0] <= v <= FIXED_RANGE[1] for v in speeds):
+        raise argparse.ArgumentTypeError(
+            f"fixed speeds must be comma-separated numbers from {FIXED_RANGE[0]:g} to "
+            f"{FIXED_RANGE[1]:g} (mm/s), or none; not {text!r}"
+        )
+    return speeds
+
+
+def _parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(
         prog="python -m weblab_experiment", description=__doc__.split("\n\n")[0]
     )
     parser.add_argument("--seeds", type=int, default=10, help="seeds per cell (default 10)")
     parser.add_argument(
+        "--first-seed", type=int, default=0, help="the first seed (default 0): seeds N, N+1, ..."
+    )
+    parser.add_argument(
         "--profiles",
         type=lambda t: _names(t, PROFILES, "profile"),
         default=PROFILES,
-        help="comma-separated network profiles (default all)",
+        help=f"comma-separated network profiles ({', '.join(PROFILES)}; default all)",
     )
     parser.add_argument(
         "--conditions",
-        type=lambda t: _names(t, CONDITIONS, "condition"),
-        default=CONDITIONS,
-        help="comma-separated conditions (default all)",
+        type=lambda t: _names(t, CONDITIONS, "condition", fixed=True),
+        default=None,
+        help=f"comma-separated conditions ({', '.join(CONDITIONS)}, fixed_<speed>; default all "
+        "of them and the sweep's fixed speeds)",
+    )
+    parser.add_argument(
+        "--fixed-speeds",
+        type=_speeds,
+        default=None,
+        help="the sweep's fixed speeds, comma-separated mm/s, or none (default "
+        f"{','.join(f'{v:g}' for v in SWEEP)} when --conditions is not given, else none)",
+    )
+    parser.add_argument(
+        "--paths",
+        type=lambda t: _names(t, PATHS, "path"),
+        default=("default",),
+        help=f"comma-separated paths ({', '.join(PATHS)}, or all; default default)",
+    )
+    parser.add_argument(
+        "--time-cap",
+        type=float,
+        default=TIME_CAP,
+        help=f"simulated seconds after which a run has failed (default {TIME_CAP:g})",
     )
     parser.add_argument("--jobs", type=int, default=os.cpu_count() or 1, help="processes")
     parser.add_argument(
         "--out", type=Path, default=Path("build/weblab-demo"), help="where the report goes"
     )
     parser.add_argument("--no-progress", action="store_true", help="no progress bar")
+    return parser
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = _parser()
     args = parser.parse_args(argv)
-    if args.seeds < 1 or args.jobs < 1:
-        parser.error("--seeds and --jobs must be at least 1")
+    if args.seeds < 1 or args.jobs < 1 or args.first_seed < 0 or not args.time_cap > 0:
+        parser.error(
+            "--seeds and --jobs must be at least 1, --first-seed at least 0, --time-cap above 0"
+        )
+    # canonical order: the claims read residential -> campus -> LAN as rising network speed
+    profiles = tuple(p for p in PROFILES if p in args.profiles)
+    speeds = (
+        args.fixed_speeds
+        if args.fixed_speeds is not None
+        else (SWEEP if args.conditions is None else ())
+    )
+    conditions = tuple(
+        dict.fromkeys([*(args.conditions or CONDITIONS), *(fixed_name(v) for v in speeds)])
+    )
 
     from weblab_sim.experiment import APP_DIR
 
@@ -68,44 +131,50 @@ def main(argv: list[str] | None = None) -> int:
             file=sys.stderr,
         )
         return 2
-    todo = tasks(args.conditions, args.profiles, args.seeds)
+    todo = tasks(conditions, profiles, args.seeds, args.first_seed, args.paths, args.time_cap)
+    last = args.first_seed + args.seeds - 1
     print(
-        f"WebLab experiment: {len(todo)} runs ({len(args.conditions)} conditions x "
-        f"{len(args.profiles)} profiles x {args.seeds} seeds) on {args.jobs} processes",
+        f"WebLab experiment: {len(todo)} runs ({len(conditions)} conditions x {len(profiles)} "
+        f"profiles x {len(args.paths)} path{'s' if len(args.paths) != 1 else ''} x {args.seeds} "
+        f"seeds, {args.first_seed} to {last}) on {args.jobs} processes",
         flush=True,
     )
     outcomes, wall = run_all(todo, jobs=args.jobs, progress=not args.no_progress)
     table = summarise(outcomes)
-    found = claims(table, args.profiles)
+    found = claims(table, outcomes, profiles)
     simulated = sum(o.metrics.get("sim_s", 0.0) for o in outcomes if o.error is None)
     meta = {
         "runs": len(todo),
         "seeds": args.seeds,
-        "profiles": list(args.profiles),
-        "conditions": list(args.conditions),
+        "first_seed": args.first_seed,
+        "profiles": list(profiles),
+        "conditions": list(conditions),
+        "paths": list(args.paths),
+        "time_cap_s": args.time_cap,
         "jobs": args.jobs,
         "wall_s": wall,
         "simulated_s": simulated,
         "sim_per_wall": simulated / wall if wall > 0 else 0.0,
     }
-    files = write_all(args.out, outcomes, table, found, args.profiles, meta)
-    failed = [o for o in outcomes if o.error is not None]
+    files = write_all(args.out, outcomes, table, found, profiles, meta)
+    unfinished = [o for o in outcomes if o.error is not None or not o.metrics["finished"]]
 
     print()
-    print(text_table(table, args.profiles))
-    print()
-    for claim in found:
-        print(f"{'holds' if claim.holds else 'DOES NOT HOLD'}: {claim.text} ({claim.detail})")
-    for o in failed:
-        last = o.error.strip().splitlines()[-1] if o.error else ""
-        print(f"FAILED RUN: {o.task.condition} {o.task.profile} seed {o.task.seed}: {last}")
+    print(printed.report(table, profiles, found))
+    for o in unfinished:
+        what = o.error.strip().splitlines()[-1] if o.error else f"hit the {o.task.time_cap:g} s cap"
+        print(
+            f"DID NOT FINISH: path {o.task.path}, {o.task.condition}, {o.task.profile}, "
+            f"seed {o.task.seed}: {what}"
+        )
     print()
     print(
         f"{simulated:.0f} simulated s in {wall:.1f} wall s on {args.jobs} processes = "
-        f"{meta['sim_per_wall']:.0f} simulated s per wall s"
+        f"{meta['sim_per_wall']:.0f} simulated s per wall s "
+        f"(load average {os.getloadavg()[0]:.1f})"
     )
     print(f"report: {files['report']} (data: {files['json'].name}, {files['csv'].name}, plots)")
-    return 0 if not failed and all(c.holds for c in found) else 1
+    return 0 if not unfinished and all(c.holds for c in found) else 1
 
 
 if __name__ == "__main__":

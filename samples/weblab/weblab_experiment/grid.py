@@ -1,11 +1,11 @@
-"""The experiment's runs: every condition on every network profile for every seed, independent of
-each other, spread over the machine's cores, with a progress bar.
+"""The experiment's runs: every condition on every network profile and path for every seed,
+independent of each other, spread over the machine's cores, with a progress bar.
 
 Each run is :func:`weblab_sim.experiment.run` in a worker process (the simulation is pure Python
-and numpy: processes, not threads, use both cores). The first seed of each (condition, profile)
-also returns its time series (trajectory, speed, speed limit, frame rate) for the plots. A run
-that raises is recorded with its error and counted, not fatal: the table says how many runs each
-cell has.
+and numpy: processes, not threads, use both cores). The first seed of each (path, condition,
+profile) also returns its time series (trajectory, speed, speed limit, frame rate) for the plots.
+A run that raises is recorded with its error and counted, not fatal: the table says how many runs
+each cell has, and the report lists the failed runs.
 """
 
 from __future__ import annotations
@@ -19,16 +19,19 @@ from dataclasses import dataclass, field
 from typing import Any
 
 from tqdm import tqdm
+from weblab_sim import experiment, floor, network
 
-PROFILES = ("residential", "campus", "LAN")
-CONDITIONS = (
-    "adaptive",
-    "fixed_slow",
-    "fixed_lan",
-    "no_speed_policy",
-    "no_recovery_policy",
-    "no_bandwidth_policy",
-)
+PROFILES = tuple(network.PROFILES)
+PATHS = tuple(floor.PATHS)
+CONDITIONS = tuple(experiment.CONDITIONS)
+"""The named conditions, in table order."""
+SWEEP = (40.0, 60.0, 80.0, 100.0)
+"""The fixed speeds (mm/s) of the sensitivity sweep, besides those of fixed_50 and fixed_150."""
+
+
+def fixed_name(speed: float) -> str:
+    """The condition that drives at a fixed ``speed`` (mm/s) with every policy off."""
+    return f"{experiment.FIXED}{speed:g}"
 
 
 @dataclass(frozen=True)
@@ -37,6 +40,8 @@ class Task:
     profile: str
     seed: int
     series: bool
+    path: str = "default"
+    time_cap: float = experiment.TIME_CAP
 
 
 @dataclass
@@ -47,11 +52,17 @@ class Outcome:
 
 
 def tasks(
-    conditions: Iterable[str], profiles: Iterable[str], seeds: int, first_seed: int = 0
+    conditions: Iterable[str],
+    profiles: Iterable[str],
+    seeds: int,
+    first_seed: int = 0,
+    paths: Iterable[str] = ("default",),
+    time_cap: float = experiment.TIME_CAP,
 ) -> list[Task]:
-    """One task per (condition, profile, seed); the first seed of each pair keeps its series."""
+    """One task per (path, condition, profile, seed); the first seed of each keeps its series."""
     return [
-        Task(condition, profile, seed, seed == first_seed)
+        Task(condition, profile, seed, seed == first_seed, path, time_cap)
+        for path in paths
         for condition in conditions
         for profile in profiles
         for seed in range(first_seed, first_seed + seeds)
@@ -62,7 +73,14 @@ def _run(task: Task) -> Outcome:
     from weblab_sim.experiment import run  # in the worker: its own simulator and application
 
     try:
-        metrics = run(task.profile, task.seed, task.condition, series=task.series)
+        metrics = run(
+            task.profile,
+            task.seed,
+            task.condition,
+            series=task.series,
+            path=task.path,
+            time_cap=task.time_cap,
+        )
     except Exception:  # a run's failure is a result, reported in the table
         return Outcome(task, error=traceback.format_exc(limit=8))
     return Outcome(task, metrics)
@@ -83,9 +101,11 @@ def run_all(
                 done[task] = _run(task)
                 bar.update()
         else:
-            # the longest runs first (series runs and the slow fixed speed), so the last ones
-            # to finish are short and both cores stay busy to the end
-            order = sorted(todo, key=lambda t: (not t.series, t.condition != "fixed_slow"))
+            # the longest runs first (series runs, then the slowest fixed speeds), so the last
+            # ones to finish are short and both cores stay busy to the end
+            order = sorted(
+                todo, key=lambda t: (not t.series, experiment.fixed_speed(t.condition) or 1e9)
+            )
             with ProcessPoolExecutor(max_workers=jobs) as pool:
                 futures = {pool.submit(_run, task): task for task in order}
                 for future in as_completed(futures):

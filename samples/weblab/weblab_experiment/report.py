@@ -1,5 +1,5 @@
-"""The experiment's files: results.json, results.csv, the plots and report.html (Jinja2, with
-autoescaping: run errors and names reach the page as text)."""
+"""The experiment's files: results.json, results.csv, the plots (PNG, SVG, PDF) and report.html
+(Jinja2, with autoescaping: run errors and names reach the page as text)."""
 
 from __future__ import annotations
 
@@ -9,41 +9,94 @@ from importlib import resources
 from pathlib import Path
 from typing import Any
 
-from jinja2 import Environment, FileSystemLoader, select_autoescape
+from jinja2 import Environment, FileSystemLoader, StrictUndefined, select_autoescape
+from weblab_sim import experiment
 
+from weblab_experiment import display, tuning
+from weblab_experiment.differences import THRESHOLD, gaps
 from weblab_experiment.grid import Outcome
-from weblab_experiment.plots import all_plots
-from weblab_experiment.summary import METRICS, PAPER, Claim, Stat, as_json, csv_rows
-
-DIFFERENCES = (
-    "the speeds are lower than the paper's because the model's speed rules (12 rules over the cycle "
-    "rate and the trajectory angle) also slow the robot down on turns, and our path has five of "
-    "them; recoveries are fewer because the simulated stripe detection loses the stripe less often "
-    "than the real camera did; the link figures (round-trip time, bandwidth, grab and processing "
-    "times) were tuned so that the cycle rates match Table 1's, while the path, the camera and the "
-    "rules were fixed beforehand (samples/weblab/README.md)."
+from weblab_experiment.plots import FORMATS, all_plots
+from weblab_experiment.summary import (
+    METRICS,
+    PAPER,
+    Claim,
+    Table,
+    fixed_conditions,
+    sweep_verdicts,
 )
 
 
-HEADERS = {
-    "cycles_per_s": "cycles/s",
-    "speed_mm_s": "speed mm/s",
-    "time_s": "time s",
-    "recoveries": "recov.",
-    "stripe_losses": "losses",
-    "user_requests": "user req.",
-    "fps": "fps",
-    "mm_per_cycle": "mm/cycle",
-    "finished": "finished",
-    "faults": "faults",
-}
-"""Column headers of the conditions table (results.json keeps the plain metric names)."""
+def unfinished(outcomes: list[Outcome]) -> list[dict[str, Any]]:
+    """The runs that did not reach the finish line: those that failed (raised) and those that hit
+    the time cap, each with what happened."""
+    out = []
+    for o in outcomes:
+        if o.error is not None:
+            what = "failed: " + o.error.strip().splitlines()[-1]
+        elif not o.metrics["finished"]:
+            m = o.metrics
+            what = (
+                f"hit the time cap at {m['time_s']:g} s, {m['progress_mm']:.0f} mm along the "
+                f"stripe, after {m['recovery_actions']} recovery actions and "
+                f"{m['user_requests']} user requests"
+            )
+        else:
+            continue
+        out.append(
+            {
+                "path": o.task.path,
+                "condition": o.task.condition,
+                "profile": o.task.profile,
+                "seed": o.task.seed,
+                "what": what,
+            }
+        )
+    return out
+
+
+def as_json(
+    table: Table, outcomes: list[Outcome], found: list[Claim], meta: dict[str, Any]
+) -> dict[str, Any]:
+    """results.json: per path, condition and profile each metric's mean, sample SD and n; the
+    claims; the runs that did not finish; how the experiment ran (``meta``)."""
+    return {
+        "meta": meta,
+        "paper_table_1": PAPER,
+        "results": {
+            path: {
+                c: {
+                    p: {m: {"mean": s.mean, "sd": s.sd, "n": s.n} for m, s in cell.items()}
+                    for p, cell in by_profile.items()
+                }
+                for c, by_profile in by_condition.items()
+            }
+            for path, by_condition in table.items()
+        },
+        "claims": [
+            {"path": c.path, "claim": c.text, "holds": c.holds, "figures": c.detail} for c in found
+        ],
+        "unfinished_runs": unfinished(outcomes),
+    }
+
+
+def csv_rows(table: Table) -> list[list[object]]:
+    """results.csv: one row per (path, condition, profile, metric)."""
+    rows: list[list[object]] = [["path", "condition", "profile", "metric", "mean", "sd", "n"]]
+    for path, by_condition in table.items():
+        for condition, by_profile in by_condition.items():
+            for profile, cell in by_profile.items():
+                for metric in METRICS:
+                    s = cell[metric]
+                    rows.append(
+                        [path, condition, profile, metric, f"{s.mean:.6g}", f"{s.sd:.6g}", s.n]
+                    )
+    return rows
 
 
 def write_all(
     out: Path,
     outcomes: list[Outcome],
-    table: dict[str, dict[str, dict[str, Stat]]],
+    table: Table,
     found: list[Claim],
     profiles: tuple[str, ...],
     meta: dict[str, Any],
@@ -60,18 +113,42 @@ def write_all(
     env = Environment(
         loader=FileSystemLoader(str(resources.files("weblab_experiment") / "templates")),
         autoescape=select_autoescape(["html", "j2"]),
+        undefined=StrictUndefined,  # a missing cell is an error here, not a blank in the page
     )
+    paths = {
+        path: {
+            "adaptive": by_condition.get("adaptive", {}),
+            "conditions": by_condition,
+            "gaps": gaps(by_condition, path, profiles),
+            "fixed": fixed_conditions(by_condition),
+            "verdicts": sweep_verdicts(by_condition, profiles)
+            if "adaptive" in by_condition
+            else {},
+            "claims": [c for c in found if c.path == path],
+            "plots": [p for p in plots if p.stem.endswith(f"-{path}")],
+        }
+        for path, by_condition in table.items()
+    }
     page = env.get_template("report.html.j2").render(
         meta=meta,
-        claims=found,
         profiles=profiles,
-        table=table,
+        paths=paths,
         paper_table=PAPER,
-        metrics=METRICS,
-        plots=plots,
-        failed=data["failed_runs"],
-        differences=DIFFERENCES,
-        headers=HEADERS,
+        unfinished=data["unfinished_runs"],
+        tuning=tuning.rows(),
+        threshold=THRESHOLD,
+        formats=FORMATS,
+        show=display,
+        table_metrics=display.TABLE_METRICS,
+        table_1=display.TABLE_1,
+        headers=display.HEADERS,
+        all_hold=all(c.holds for c in found),
+        rules={
+            "time_cap": meta.get("time_cap_s", experiment.TIME_CAP),
+            "patience": experiment.PATIENCE,
+            "repeats": experiment.REPEATS,
+            "adaptive_speed": experiment.ADAPTIVE_SPEED,
+        },
     )
     report = out / "report.html"
     report.write_text(page, encoding="utf-8")

@@ -42,16 +42,21 @@ PANORAMA_FRAME_BYTES = 25_000
 
 
 def render(
-    x: float, y: float, heading: float, noise: np.random.Generator | None = None
+    x: float,
+    y: float,
+    heading: float,
+    noise: np.random.Generator | None = None,
+    path: str = floor.DEFAULT_PATH,
 ) -> np.ndarray:
-    """The on-board image (BGR uint8, 120 x 160) with the robot at (x, y) mm, heading in radians."""
+    """The on-board image (BGR uint8, 120 x 160) with the robot at (x, y) mm, heading in radians,
+    on the floor with the stripe ``path`` (:data:`weblab_sim.floor.PATHS`)."""
     c, s = math.cos(heading), math.sin(heading)
     wx = x + FOOTPRINT[:, 0] * c - FOOTPRINT[:, 1] * s
     wy = y + FOOTPRINT[:, 0] * s + FOOTPRINT[:, 1] * c
     src = np.stack(floor.to_px(wx, wy), axis=1).astype(np.float32)
     h = cv2.getPerspectiveTransform(src, IMAGE_CORNERS)
     img = cv2.warpPerspective(
-        floor.floor_image(),
+        floor.floor_image(path),
         h,
         (IMAGE_W, IMAGE_H),
         flags=cv2.INTER_LINEAR,

@@ -5,6 +5,8 @@ along the stripe to steer at (steering at a line fitted to the whole blob fails 
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
+from dataclasses import dataclass
 
 import cv2
 import numpy as np
@@ -48,8 +50,21 @@ def stripe_mask(img: np.ndarray) -> np.ndarray:
     return cv2.inRange(hsv, HSV_LOW, HSV_HIGH)
 
 
-def target_point(img: np.ndarray, look_ahead: float = 300.0) -> tuple[float, float] | None:
-    """The robot-frame point (x forward, y left; mm) to steer at, or None when no stripe is seen."""
+@dataclass(frozen=True)
+class Sighting:
+    """What a frame shows of the stripe, as robot-frame points (x forward, y left; mm) about the
+    look-ahead distance away: ``target``, the point to steer at (the crossing of that distance
+    farthest along the stripe from where it enters the view), and ``crossings``, one point per
+    place where the stripe crosses that distance, farthest from the entry first. A stripe seen
+    across the view, as after a recovery, crosses it twice: one point in each direction along it
+    (``target`` is then their middle when they are equally far from the entry)."""
+
+    target: tuple[float, float]
+    crossings: tuple[tuple[float, float], ...]
+
+
+def sight(img: np.ndarray, look_ahead: float = 300.0) -> Sighting | None:
+    """The stripe in a BGR image, or None when no stripe is seen."""
     grid = cv2.warpPerspective(stripe_mask(img), _IMAGE_TO_GRID, (_GW, _GH)) > 127
     grid &= _VISIBLE
     count, labels, stats, _ = cv2.connectedComponentsWithStats(grid.astype(np.uint8), 8)
@@ -63,22 +78,52 @@ def target_point(img: np.ndarray, look_ahead: float = 300.0) -> tuple[float, flo
     x, y = _X[blob], _Y[blob]
     entry = int(np.argmin(r))  # where the stripe enters the view
     ring = np.abs(r - look_ahead) <= RING_MM
-    if not ring.any():
+    crossing = bool(ring.any())
+    if not crossing:
         # The whole visible stripe is nearer (it ends or turns away) or farther: its far or near end.
         ring = r >= np.max(r) - RING_MM if r.max() < look_ahead else r <= np.min(r) + RING_MM
     # The ring may cross the stripe twice (a sharp corner): take the crossing farthest from the
     # entry point, which is the one farther along the stripe.
     far = np.hypot(x - x[entry], y - y[entry])
     pick = ring & (far >= np.max(far[ring]) - 2 * RING_MM)
-    return float(np.mean(x[pick])), float(np.mean(y[pick]))
+    target = (float(np.mean(x[pick])), float(np.mean(y[pick])))
+    if not crossing:
+        return Sighting(target, (target,))
+    pieces = np.zeros(grid.shape, np.uint8)
+    pieces[blob] = ring
+    n, piece = cv2.connectedComponents(pieces, connectivity=8)
+    at = piece[blob]
+    order = sorted(range(1, n), key=lambda k: -float(np.max(far[at == k])))
+    crossings = tuple((float(np.mean(x[at == k])), float(np.mean(y[at == k]))) for k in order)
+    return Sighting(target, crossings)
 
 
-def find_stripe(data: bytes, look_ahead: float = 300.0) -> float | None:
-    """The turn (degrees, + left) towards the stripe in a JPEG frame, or None when there is none."""
-    img = camera.decode(data)
-    if img is None:
-        return None
-    point = target_point(img, look_ahead)
-    if point is None:
-        return None
+def target_point(img: np.ndarray, look_ahead: float = 300.0) -> tuple[float, float] | None:
+    """The robot-frame point (x forward, y left; mm) to steer at, or None when no stripe is seen."""
+    seen = sight(img, look_ahead)
+    return seen.target if seen is not None else None
+
+
+def bearing(point: tuple[float, float]) -> float:
+    """The turn (degrees, + left) towards a robot-frame point."""
     return math.degrees(math.atan2(point[1], point[0]))
+
+
+def sight_frame(data: bytes, look_ahead: float = 300.0) -> Sighting | None:
+    """:func:`sight` of a JPEG frame (None also when the bytes are not an image)."""
+    img = camera.decode(data)
+    return sight(img, look_ahead) if img is not None else None
+
+
+def find_stripe(
+    data: bytes,
+    look_ahead: float = 300.0,
+    choose: Callable[[Sighting | None], float | None] | None = None,
+) -> float | None:
+    """The turn (degrees, + left) towards the stripe in a JPEG frame, or None when there is none.
+    ``choose`` picks the turn from the :class:`Sighting` (the Navigator's
+    :meth:`weblab_sim.course.Course.choose`); without it, the turn towards ``target``."""
+    seen = sight_frame(data, look_ahead)
+    if choose is not None:
+        return choose(seen)
+    return bearing(seen.target) if seen is not None else None

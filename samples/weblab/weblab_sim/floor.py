@@ -1,11 +1,18 @@
 """The lab's floor: a 4 x 3 m raster at 5 mm/px with a coloured stripe path and a finish line.
 
-Fixed beforehand (not tuned to the paper): six straight segments, 6.4 m in all (the stripe runs
-on 350 mm past the finish line), turning by
-+75, +80, +45, -100 and -70 degrees; a 50 mm orange stripe on a grey, faintly textured floor. The
-texture has its own fixed seed (:data:`TEXTURE_SEED`), so every run sees the same floor; a run's
-seed changes only what happens on it. World coordinates are millimetres, x east, y north, origin
-at the floor's south-west corner; raster row 0 is the north edge.
+Two paths (:data:`PATHS`), each six straight segments from the same start (the stripe runs on
+350 mm past the finish line); a 50 mm orange stripe on a grey, faintly textured floor:
+
+- ``default``, fixed beforehand (not tuned to the paper): 6.4 m, turning by +75, +80, +45, -100
+  and -70 degrees; the experiment's Table 1 runs on it;
+- ``sharp``, for robustness (designed after the default path's results were known, to be harder):
+  6.6 m, turning by +115, -115, +110, +70 and +45 degrees, three of them sharper than any turn of
+  the default path; segments that are not neighbours are at least 810 mm apart, so the camera
+  (750 mm ahead, 960 mm wide) never sees two of them at once.
+
+The texture has its own fixed seed (:data:`TEXTURE_SEED`), so every run sees the same floor; a
+run's seed changes only what happens on it. World coordinates are millimetres, x east, y north,
+origin at the floor's south-west corner; raster row 0 is the north edge.
 """
 
 from __future__ import annotations
@@ -27,14 +34,25 @@ TEXTURE_SEED = 2011  # the floor is part of the set-up, the same in every run
 START = (500.0, 450.0)
 START_HEADING = 0.0  # radians
 # Segment lengths (mm) and the turn (degrees, + left) before each segment but the first.
-SEGMENTS: tuple[tuple[float, float], ...] = (
-    (2300.0, 0.0),
-    (900.0, 75.0),
-    (1300.0, 80.0),
-    (700.0, 45.0),
-    (750.0, -100.0),
-    (450.0, -70.0),
-)
+PATHS: dict[str, tuple[tuple[float, float], ...]] = {
+    "default": (
+        (2300.0, 0.0),
+        (900.0, 75.0),
+        (1300.0, 80.0),
+        (700.0, 45.0),
+        (750.0, -100.0),
+        (450.0, -70.0),
+    ),
+    "sharp": (
+        (1800.0, 0.0),
+        (1000.0, 115.0),
+        (1200.0, -115.0),
+        (900.0, 110.0),
+        (1200.0, 70.0),
+        (500.0, 45.0),
+    ),
+}
+DEFAULT_PATH = "default"
 RUN_OUT_MM = 350.0  # the stripe goes on past the finish line, so the camera sees it to the end
 FINISH_HALF_WIDTH_MM = 300.0
 
@@ -98,11 +116,14 @@ class Path:
         return out
 
 
-def make_path() -> Path:
+def make_path(name: str = DEFAULT_PATH) -> Path:
+    """The stripe's centre line of the path ``name`` (one of :data:`PATHS`)."""
+    if name not in PATHS:
+        raise ValueError(f"no path {name!r} (paths: {', '.join(PATHS)})")
     x, y = START
     heading = math.degrees(START_HEADING)
     points = [(x, y)]
-    for length, turn in SEGMENTS:
+    for length, turn in PATHS[name]:
         heading += turn
         x += length * math.cos(math.radians(heading))
         y += length * math.sin(math.radians(heading))
@@ -115,16 +136,17 @@ def to_px(x: float, y: float) -> tuple[float, float]:
     return x / MM_PER_PX, (HEIGHT_MM - y) / MM_PER_PX
 
 
-@lru_cache(maxsize=1)
-def floor_image() -> np.ndarray:
-    """The floor raster (BGR uint8, 600 x 800), built once per process: it never changes."""
+@lru_cache(maxsize=len(PATHS))
+def floor_image(name: str = DEFAULT_PATH) -> np.ndarray:
+    """The floor raster with the path ``name`` (BGR uint8, 600 x 800), built once per process and
+    path: it never changes."""
     h, w = int(HEIGHT_MM / MM_PER_PX), int(WIDTH_MM / MM_PER_PX)
     rng = np.random.default_rng(TEXTURE_SEED)
     noise = rng.normal(0.0, 12.0, size=(h // 2, w // 2)).astype(np.float32)
     noise = cv2.resize(cv2.GaussianBlur(noise, (3, 3), 0), (w, h))
     grey = np.clip(FLOOR_GREY + noise, 0, 255).astype(np.uint8)
     img = cv2.merge([grey, grey, grey])
-    path = make_path()
+    path = make_path(name)
     a, b = path.points[-2], path.points[-1]
     run_out = b + (b - a) / np.linalg.norm(b - a) * RUN_OUT_MM
     drawn = np.vstack([path.points, run_out])

@@ -40,6 +40,7 @@ class Sample:
     heading: float
     distance: float
     speed: float  # the commanded forward speed, mm/s
+    progress: float = 0.0  # how far along the stripe the robot has got, mm
 
 
 @dataclass
@@ -54,10 +55,15 @@ class Script:
 
 
 class World:
-    """One run's lab. ``profile``: the user's network (its grab and CPU times are used here)."""
+    """One run's lab. ``profile``: the user's network (its grab and CPU times are used here);
+    ``path``: the stripe on the floor (:data:`weblab_sim.floor.PATHS`)."""
 
     def __init__(
-        self, clock: Clock, net: Profile | None = None, script: Script | None = None
+        self,
+        clock: Clock,
+        net: Profile | None = None,
+        script: Script | None = None,
+        path: str = floor.DEFAULT_PATH,
     ) -> None:
         self.clock = clock
         self.standalone = False  # True for the default world of a container run on its own
@@ -66,14 +72,16 @@ class World:
         self._lock = threading.RLock()
         self.profile = net or profile("LAN")
         self.script = copy.deepcopy(script) if script is not None else Script()  # consumed
-        self.path = floor.make_path()
+        self.path_name = path
+        self.path = floor.make_path(path)
         rng = clock.rng("start")
         x, y = floor.START
         y += float(rng.uniform(-15.0, 15.0))
         heading = floor.START_HEADING + math.radians(float(rng.uniform(-3.0, 3.0)))
         self.robot = Robot(x, y, heading)
         self.samples: list[Sample] = []
-        self._arrays: tuple[np.ndarray, np.ndarray] | None = None  # samples' times, distances
+        # the samples' times, distances and progress, as arrays (rebuilt when samples were added)
+        self._arrays: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None
         self.commanded = 0.0
         self.progress = 0.0  # arc length along the stripe reached so far, mm
         self.done = False
@@ -102,7 +110,7 @@ class World:
 
     def grab_frame(self) -> np.ndarray:
         """The on-board camera's frame now."""
-        return camera.render(*self.pose(), noise=self.clock.rng("camera"))
+        return camera.render(*self.pose(), noise=self.clock.rng("camera"), path=self.path_name)
 
     def place_on_stripe(self) -> None:
         """A person puts the robot back on the stripe, a little past the farthest point it reached,
@@ -119,7 +127,8 @@ class World:
 
     # --------------------------------------------------------------------------- sensors
     def telemetry(self) -> dict[str, float]:
-        """Position, heading, sonar ranges and battery voltage now (the Telemetry monitor's fields)."""
+        """Position, heading, sonar ranges, battery voltage and progress along the stripe now (the
+        Telemetry monitor's fields)."""
         with self._lock:
             now = self.clock.now()
             x, y, heading = self.robot.pose(now)
@@ -132,6 +141,7 @@ class World:
             "heading": math.degrees(heading),
             "sonarRange": min(ranges),
             "batteryVoltage": volts + noise,
+            "progress": self.progress,
         }
 
     def telemetry_reading(self) -> dict[str, object]:
@@ -170,7 +180,9 @@ class World:
         # not count as reached.
         if dist < 150.0 and s <= self.progress + 400.0:
             self.progress = max(self.progress, s)
-        self.samples.append(Sample(now, x, y, heading, self.robot.distance, self.commanded))
+        self.samples.append(
+            Sample(now, x, y, heading, self.robot.distance, self.commanded, self.progress)
+        )
         if not self.done and self.path.crossed_finish(x, y):
             self.done = True
             self.finish_time = now
@@ -179,12 +191,24 @@ class World:
         """Distance travelled by time ``t`` (interpolated between samples)."""
         if not self.samples:
             return 0.0
+        times, distances, _ = self._sampled()
+        return float(np.interp(t, times, distances))
+
+    def progress_at(self, t: float) -> float:
+        """How far along the stripe the robot had got by time ``t`` (the last sample before)."""
+        if not self.samples:
+            return 0.0
+        times, _, progress = self._sampled()
+        return float(progress[max(0, int(np.searchsorted(times, t, side="right")) - 1)])
+
+    def _sampled(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         if self._arrays is None or len(self._arrays[0]) != len(self.samples):
             self._arrays = (
                 np.array([s.t for s in self.samples]),
                 np.array([s.distance for s in self.samples]),
+                np.array([s.progress for s in self.samples]),
             )
-        return float(np.interp(t, *self._arrays))
+        return self._arrays
 
     def close(self) -> None:
         self._timer.cancel()

@@ -49,3 +49,19 @@ def test_at_a_left_corner_the_target_is_on_the_new_segment() -> None:
     corner = floor.make_path().points[1]
     turn = turn_at(corner[0] - 150.0, corner[1])
     assert turn is not None and turn > 20.0
+
+
+def test_a_stripe_seen_across_the_view_gives_a_crossing_each_way() -> None:
+    # Facing north 250 mm south of the first segment (which runs east): the 300 mm ring meets the
+    # stripe about 166 mm to the right and to the left (oracle: sqrt(300^2 - 250^2)).
+    seen = detector.sight(camera.render(X0 + 600.0, Y0 - 250.0, math.radians(90.0)))
+    assert seen is not None and len(seen.crossings) == 2
+    bearings = sorted(detector.bearing(p) for p in seen.crossings)
+    expected = math.degrees(math.atan2(math.sqrt(300.0**2 - 250.0**2), 250.0))
+    assert bearings[0] == pytest.approx(-expected, abs=5.0)
+    assert bearings[1] == pytest.approx(expected, abs=5.0)
+
+
+def test_a_stripe_ahead_crosses_once_and_is_the_target() -> None:
+    seen = detector.sight(camera.render(X0, Y0, 0.0))
+    assert seen is not None and seen.crossings == (seen.target,)

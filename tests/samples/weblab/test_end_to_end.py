@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 import pytest
-from weblab_sim import experiment
+from weblab_sim import camera, detector, experiment
 from weblab_sim.world import Script
 
 METRICS = (
@@ -44,7 +44,7 @@ def test_runs_repeat_for_a_seed_and_differ_between_seeds(weblab_app: None) -> No
 
 
 def test_fixed_conditions_switch_the_policies_off(weblab_app: None) -> None:
-    m = experiment.run("residential", 0, "fixed_slow", time_cap=10.0, series=True)
+    m = experiment.run("residential", 0, "fixed_50", time_cap=10.0, series=True)
     assert {v for _, v in m["series"]["max_speed"]} == {200.0}  # the model's default, unadapted
     assert {v for _, v in m["series"]["fps"]} == {12.0}
     assert m["speed_mm_s"] < 55.0
@@ -53,7 +53,7 @@ def test_fixed_conditions_switch_the_policies_off(weblab_app: None) -> None:
 
 
 def test_a_lost_stripe_without_the_recovery_policy_needs_the_user(weblab_app: None) -> None:
-    m = experiment.run("residential", 0, "fixed_lan", time_cap=60.0)
+    m = experiment.run("residential", 0, "fixed_150", time_cap=60.0)
     assert m["stripe_losses"] >= 1 and m["user_requests"] >= 1 and m["recoveries"] == 0
 
 
@@ -83,5 +83,32 @@ def test_a_failing_recovery_action_is_a_counted_fault_and_the_run_goes_on(
 
 
 def test_an_unknown_condition_is_refused_with_the_known_ones() -> None:
-    with pytest.raises(ValueError, match="fixed_slow"):
+    with pytest.raises(ValueError, match="fixed_50"):
         experiment.run("LAN", 0, "turbo")
+
+
+@pytest.mark.slow
+def test_a_run_that_lost_the_stripe_at_a_corner_ends_instead_of_recovering_in_a_loop(
+    weblab_app: None,
+) -> None:
+    # Without the speed policy this robot overshoots the first corner on the residential link,
+    # and used to follow the stripe back to its start, "recovering" there until the 400 s cap
+    # (34 recoveries). Now it keeps its direction of travel and a recovery must get it ahead.
+    m = experiment.run("residential", 1009, "no_speed_policy")
+    assert m["finished"] == 1 and m["time_s"] < 200.0
+    assert m["recoveries"] <= m["recovery_actions"] <= 6
+
+
+def test_the_sharp_path_and_any_fixed_speed_are_conditions_of_a_run(weblab_app: None) -> None:
+    m = experiment.run("LAN", 0, "fixed_65", time_cap=12.0, path="sharp", series=True)
+    assert {v for _, v in m["series"]["max_speed"]} == {200.0}  # every policy off
+    assert 60.0 < m["speed_mm_s"] < 67.0
+    with experiment.rig("LAN", 0, path="sharp") as rig:
+        assert [round(t) for t in rig.lab.path.turns()] == [115, -115, 110, 70, 45]
+        corner = rig.lab.path.points[1]  # the camera sees the sharp path's stripe, not the other
+        rig.lab.robot.place(0.0, corner[0] - 200.0, corner[1], 0.0)
+        assert detector.find_stripe(camera.encode(rig.lab.grab_frame(), 75)) > 20.0
+    with pytest.raises(ValueError, match="fixed_<speed>"):
+        experiment.run("LAN", 0, "fixed_5000")
+    with pytest.raises(ValueError, match="paths: default, sharp"):
+        experiment.run("LAN", 0, path="zigzag")

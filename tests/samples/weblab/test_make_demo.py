@@ -1,6 +1,7 @@
 """``make demo`` tells the truth: the README's transcript is what the demo's commands print (but
 for the progress bar and the wall-clock figures), the experiment's claims hold, it writes the report
-files, and report.html shows the claims, the tables and every plot in a real browser."""
+files, and report.html shows the claims, the tables, the tuning table and every plot in a real
+browser; any subset of the experiment is reported, and a run that hits the time cap fails it."""
 
 from __future__ import annotations
 
@@ -12,6 +13,9 @@ import sys
 from pathlib import Path
 
 import pytest
+from weblab_experiment import tuning
+from weblab_experiment.grid import CONDITIONS, SWEEP, fixed_name
+from weblab_experiment.summary import METRICS
 
 from tests.support.browser import headless_chromium
 from tests.support.toolchain import ROOT, run_main
@@ -80,31 +84,92 @@ def test_the_claims_hold_and_the_data_files_say_so(demo):
     _, out = demo
     data = json.loads((out / "results.json").read_text(encoding="utf-8"))
     assert data["claims"] and all(c["holds"] for c in data["claims"]), data["claims"]
-    assert data["failed_runs"] == []
-    adaptive = data["results"]["adaptive"]
+    assert data["unfinished_runs"] == []
+    assert data["meta"]["conditions"] == [*CONDITIONS, *(fixed_name(v) for v in SWEEP)]
+    adaptive = data["results"]["default"]["adaptive"]
     assert set(adaptive) == {"residential", "campus", "LAN"}
     for metric in ("cycles_per_s", "speed_mm_s", "time_s", "recoveries", "fps"):
-        assert set(adaptive["LAN"][metric]) == {"mean", "spread", "n"}
+        assert set(adaptive["LAN"][metric]) == {"mean", "sd", "n"}
         assert adaptive["LAN"][metric]["n"] == 10
     rows = (out / "results.csv").read_text(encoding="utf-8").splitlines()
-    assert rows[0] == "condition,profile,metric,mean,spread,n"
-    assert len(rows) == 1 + 6 * 3 * 10  # conditions x profiles x metrics
+    assert rows[0] == "path,condition,profile,metric,mean,sd,n"
+    assert len(rows) == 1 + len(data["meta"]["conditions"]) * 3 * len(METRICS)
 
 
-def test_the_report_shows_claims_tables_and_plots_in_a_browser(demo):
+def test_the_report_shows_claims_tables_tuning_and_plots_in_a_browser(demo):
     _, out = demo
     with headless_chromium(1200, 900) as browser:
         browser.get((out / "report.html").as_uri())
-        claims = browser.find_elements("css selector", "#claims li")
-        assert len(claims) == 7 and all(c.text.startswith("holds") for c in claims)
-        assert len(browser.find_elements("css selector", "#table1 tbody tr")) == 6
-        assert len(browser.find_elements("css selector", "#conditions tbody tr")) == 18
+        claims = browser.find_elements("css selector", "#claims-default li")
+        assert len(claims) == 9 and all(c.text.startswith("holds") for c in claims)
+        assert len(browser.find_elements("css selector", "#table1-default tbody tr")) == 6
+        assert len(browser.find_elements("css selector", "#conditions-default tbody tr")) == 30
+        assert len(browser.find_elements("css selector", "#sweep-default tbody tr")) == 6
+        shown = [
+            [td.text for td in tr.find_elements("css selector", "td")]
+            for tr in browser.find_elements("css selector", "#tuning-table tbody tr")
+        ]
+        assert shown == [[r.parameter, r.value, r.basis, r.why] for r in tuning.rows()]
         images = browser.find_elements("css selector", "img")
-        assert len(images) == 4
+        assert len(images) == 5
         for image in images:  # each plot loaded and drawn, not a broken image
             assert browser.execute_script("return arguments[0].naturalWidth", image) > 400
+            for link in image.find_elements("xpath", "../figcaption/a"):
+                assert Path(link.get_attribute("href").removeprefix("file://")).stat().st_size
+        text = browser.find_element("tag name", "body").text
+        assert not re.search(r"± 0(\.0+)?(?![\d.])", text), "an SD of 0 is shown"
+        assert "UndefinedError" not in text
         browser.save_screenshot(str(out / "report-screenshot.png"))
     assert (out / "report-screenshot.png").stat().st_size > 10_000
+
+
+def experiment(tmp_path: Path, *args: str) -> tuple[subprocess.CompletedProcess, Path]:
+    out = tmp_path / "out"
+    done = subprocess.run(
+        [sys.executable, "-m", "weblab_experiment", "--no-progress", "--out", str(out), *args],
+        cwd=SAMPLE_DIR,
+        capture_output=True,
+        text=True,
+        timeout=600,
+    )
+    assert "Traceback" not in done.stderr, done.stderr
+    return done, out
+
+
+def test_any_subset_of_conditions_and_profiles_from_any_first_seed_is_reported(
+    tmp_path, weblab_app
+):
+    done, out = experiment(
+        tmp_path, "--seeds", "1", "--first-seed", "3", "--profiles", "LAN",
+        "--conditions", "fixed_50", "--jobs", "1",
+    )  # fmt: skip
+    assert done.returncode == 0, done.stdout + done.stderr
+    assert "1 runs (1 conditions x 1 profiles x 1 path x 1 seeds, 3 to 3)" in done.stdout
+    data = json.loads((out / "results.json").read_text(encoding="utf-8"))
+    assert data["meta"]["first_seed"] == 3 and list(data["results"]["default"]) == ["fixed_50"]
+    with headless_chromium(1000, 800) as browser:
+        browser.get((out / "report.html").as_uri())
+        assert browser.find_elements("css selector", "#conditions-default tbody tr")
+        assert not browser.find_elements("css selector", "#table1-default")  # no adaptive runs
+
+
+def test_a_run_that_hits_the_time_cap_is_a_failure_listed_counted_and_exit_1(tmp_path, weblab_app):
+    done, out = experiment(
+        tmp_path, "--seeds", "1", "--profiles", "LAN", "--conditions", "adaptive",
+        "--time-cap", "5", "--jobs", "1",
+    )  # fmt: skip
+    assert done.returncode == 1, done.stdout + done.stderr
+    assert (
+        "DOES NOT HOLD: default: every run of every condition finishes within the 5 s cap "
+        "(0 of 1 runs finished; 1 hit the cap, 0 failed: adaptive LAN seed 0)"
+    ) in done.stdout
+    assert "DID NOT FINISH: path default, adaptive, LAN, seed 0: hit the 5 s cap" in done.stdout
+    data = json.loads((out / "results.json").read_text(encoding="utf-8"))
+    assert [(r["condition"], r["seed"]) for r in data["unfinished_runs"]] == [("adaptive", 0)]
+    with headless_chromium(1000, 800) as browser:
+        browser.get((out / "report.html").as_uri())
+        listed = browser.find_elements("css selector", "#unfinished-runs li")
+        assert [li.text.split(":")[0] for li in listed] == ["path default, adaptive, LAN, seed 0"]
 
 
 def test_a_demo_without_the_built_application_says_how_to_build_it(tmp_path):

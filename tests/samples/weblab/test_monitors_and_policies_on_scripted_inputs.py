@@ -2,7 +2,8 @@
 ``weblab.xmi`` with the WebLab's own code (its user classes), both containers in one process: the
 Navigator's port calls at a scripted rate feed the Control monitor, whose cycle rate and angle the
 SpeedLimiting policy turns into the speed limit of Table 1; stops make the Recovering policy
-recover three times, then ask the user; the Usage monitor's poll and the BandwidthLimiting policy
+recover three times, then ask the user, and a recovery counts only once the telemetry shows the
+robot ahead of where it lost the stripe; the Usage monitor's poll and the BandwidthLimiting policy
 set the panoramic camera's frame rate from the cycle rate and the number of users."""
 
 from __future__ import annotations
@@ -87,7 +88,32 @@ def test_recovering_retries_three_times_then_asks_the_user(lab):
         steps.append((recovery.actions, recovery.user_requests))
     # three recoveries, then the user, whose help starts the count again: a recovery again
     assert steps == [(1, 0), (2, 0), (3, 0), (3, 1), (4, 1)]
-    move_at(app, clock, 1.0, 5.0, moves=2)  # moving again: the episode ends, counted once
+    assert weblab.get_property("Recovery", "retries") == 1
+    lost_at = weblab.get_property("Recovery", "lostAt")
+    assert lost_at == weblab.monitor("Telemetry").attributes["progress"]
+
+
+def creep(app, clock, seconds: float = 2.0) -> None:
+    """The control moving again at 1 mm/s: the telemetry goes out, the robot gets nowhere."""
+    port = app.container("UserSide").find("Navigator").instance.port("NavLocomotionPort")
+    for _ in range(round(seconds / 0.5)):
+        port.call("move", 1.0, 0.0)
+        clock.sleep(0.5)
+
+
+def test_a_recovery_succeeds_only_ahead_of_where_the_stripe_was_lost(lab):
+    app, clock = lab
+    weblab = app.container("WebLabSide")
+    loco = app.container("UserSide").find("Navigator").instance.port("NavLocomotionPort")
+    move_at(app, clock, 1.0, 5.0, moves=2)
+    loco.call("stop")  # the control lost the stripe: a recovery
+    lost_at = weblab.get_property("Recovery", "lostAt")
+    creep(app, clock)  # moving again where it lost the stripe: not recovered yet
+    assert weblab.monitor("Telemetry").attributes["progress"] < lost_at + 100
+    assert weblab.get_property("Recovery", "recoveries") == 0
+    assert weblab.get_property("Recovery", "retries") == 1
+    world.installed().progress = lost_at + 150  # the lab sees it 150 mm further along
+    creep(app, clock)
     assert weblab.get_property("Recovery", "recoveries") == 1
     assert weblab.get_property("Recovery", "retries") == 0
     assert weblab.faults.counts["total"] == 0

@@ -32,15 +32,11 @@ from importlib import resources
 from pathlib import Path
 
 from acordcs.codegen import regions
-from acordcs.codegen.context import TargetContext
 from acordcs.codegen.registry import Target, target
 from acordcs.codegen.targets.names import NameRefused, refused
 from acordcs.codegen.targets.python import check_names, package_name
 
 STYLESHEET = resources.files(__package__) / "shell.xsl"
-
-ENV_FILE = "bin/env.sh"
-"""The one file with protected regions, sourced by the others; every other file is a script."""
 
 
 def interpreter() -> str:
@@ -67,37 +63,17 @@ def shell(context) -> None:
         raise refused(context, err, "shell") from None
     from acordcs.codegen.xslt import run_stylesheet
 
-    # The stylesheet's listing says which files it wrote; whether a file is a script or has
-    # regions is this target's to say (ENV_FILE), so its files are emitted again with that.
-    made = TargetContext(
-        context.target,
-        app,
-        context.descriptor_xml,
-        context.source,
-        context.workdir,
-        context.generator,
-        locate=context.locate,
-    )
+    # The stylesheet's listing marks env.sh as having protected regions and the scripts as
+    # executable.
     run_stylesheet(
         _STYLESHEET_TARGET,
-        made,
+        context,
         {
             "package": package_name(app.name),
             "python": interpreter(),
             "region-keys": " ".join(regions.key(c.id) for c in app.containers),
         },
     )
-    context.messages.extend(made.messages)
-    for f in made.files:
-        env = f.path == ENV_FILE
-        context.emit(
-            f.path,
-            f.data,
-            element=f.element,
-            ids=f.ids,
-            regions="hash" if env else "",
-            executable=not env,
-        )
 
 
-__all__ = ["ENV_FILE", "STYLESHEET", "interpreter", "shell"]
+__all__ = ["STYLESHEET", "interpreter", "shell"]

@@ -154,14 +154,14 @@
     </xsl:for-each>
 
     <files>
-      <file path="bin/env.sh" element="{$app/@name}" ids="{$all-ids}"/>
+      <file path="bin/env.sh" element="{$app/@name}" ids="{$all-ids}" regions="hash"/>
       <xsl:for-each select="$containers">
-        <file path="bin/{@name}-start" element="{@qname}" ids="{@id}"/>
-        <file path="bin/{@name}-stop" element="{@qname}" ids="{@id}"/>
-        <file path="bin/{@name}-status" element="{@qname}" ids="{@id}"/>
+        <file path="bin/{@name}-start" element="{@qname}" ids="{@id}" executable="yes"/>
+        <file path="bin/{@name}-stop" element="{@qname}" ids="{@id}" executable="yes"/>
+        <file path="bin/{@name}-status" element="{@qname}" ids="{@id}" executable="yes"/>
       </xsl:for-each>
-      <file path="bin/start-all" element="{$app/@name}" ids="{$all-ids}"/>
-      <file path="bin/stop-all" element="{$app/@name}" ids="{$all-ids}"/>
+      <file path="bin/start-all" element="{$app/@name}" ids="{$all-ids}" executable="yes"/>
+      <file path="bin/stop-all" element="{$app/@name}" ids="{$all-ids}" executable="yes"/>
     </files>
   </xsl:template>
 

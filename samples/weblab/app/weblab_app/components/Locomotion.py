@@ -5,13 +5,14 @@
 ``move(speed, turn)``: forward speed in mm/s, capped at ``maxSpeed`` (which SpeedLimiting adapts;
 backing up, a negative speed, is the lab's own recovery and is not capped), and the turn in degrees
 (+ left): the bearing of the point the robot should head for (pure pursuit, :mod:`weblab_sim.steering`).
-Telemetry (position, sonar, battery) goes out on ``TelemetryPort`` and to the context provider
-(``<telemetry>`` with one child per reading, which the Telemetry monitor subscribes to) every
-:data:`TELEMETRY_PERIOD` seconds while the robot drives forward under the user's control, and not
-while it stands or the lab backs it up. This matters: the model's
-Telemetry monitor feeds the Recovering policy set, whose rules count a retry (and recover) at
-every firing while the control's last speed is 0, so a reading of a stopped robot would start
-recoveries nobody asked for.
+Telemetry (position, heading, sonar, battery, and ``progress``: how far along the stripe the lab
+has seen the robot get, in mm) goes out every :data:`TELEMETRY_PERIOD` seconds on
+``TelemetryPort`` (the Navigator keeps its course with the heading), and to the context provider
+(``<telemetry>`` with one child per reading, which the Telemetry monitor subscribes to) only while
+the robot drives forward under the user's control, not while it stands or the lab backs it up.
+This matters: the model's Telemetry monitor feeds the Recovering policy set, whose rules count a
+retry (and recover) at every firing while the control's last speed is 0, so a reading of a
+stopped robot would start recoveries nobody asked for.
 
 ``odometry()`` also says whether the robot has crossed the finish line (``finished``): how the
 Navigator in another process (live mode) knows the run is over. In live mode (a WebLab container
@@ -90,14 +91,13 @@ class Locomotion(LocomotionBase):
 
     def _publish(self) -> None:
         lab = world.current(self.clock)
-        if lab.commanded <= 0 and not lab.malformed_due():
-            return
         reading = lab.telemetry_reading()
-        self.publish_context(
-            "<telemetry>"
-            + "".join(f"<{name}>{value}</{name}>" for name, value in reading.items())
-            + "</telemetry>"
-        )
+        if lab.commanded > 0 or lab.malformed_due():
+            self.publish_context(
+                "<telemetry>"
+                + "".join(f"<{name}>{value}</{name}>" for name, value in reading.items())
+                + "</telemetry>"
+            )
         port = self.port("TelemetryPort")
         if port.connections:
             port.notify(reading)

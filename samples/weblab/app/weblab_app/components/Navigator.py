@@ -6,7 +6,11 @@ One cycle (:meth:`step`): get an image through ``NavVisionPort``; find the strip
 robot through ``NavLocomotionPort``, sleep ``retryDelay`` s and return, the next cycle retries);
 compute the turn towards the point ``lookAhead`` mm along the stripe; set ``forwardSpeed`` and the
 turn. The image processing takes the user's CPU time (the simulator's network profile), in clock
-time. :meth:`run` authenticates and loops until the simulator says the finish line was crossed.
+time. The Navigator keeps the stripe's direction of travel (:class:`weblab_sim.course.Course`,
+from the headings the lab's telemetry pushes on ``NavTelemetryPort``): where the camera sees the
+stripe run both ways it steers the way it was going, and a stripe that runs back the way it came
+counts as no stripe; it never follows the stripe backwards. :meth:`run` authenticates and loops
+until the simulator says the finish line was crossed.
 The cycles are recorded in ``cycles``: (start, end, turn or None) for the experiment's figures.
 
 Live mode: when the simulated lab is not in this process (the user's container run on its own,
@@ -27,6 +31,7 @@ import serpent
 from weblab_app import model_types
 from weblab_app.base.Navigator import NavigatorBase
 from weblab_sim import detector, world
+from weblab_sim.course import Course
 
 from acordcs.runtime.errors import RemoteUnreachableError
 
@@ -38,12 +43,13 @@ WAIT_FOR_LAB = 30.0  # s live mode waits for the WebLab's process to answer (sta
 
 
 class Navigator(NavigatorBase):
-    state_fields = ("cycles", "misses_in_row", "losses")
+    state_fields = ("cycles", "misses_in_row", "losses", "course")
 
     def on_start(self) -> None:
         self.cycles: list[tuple[float, float, float | None]] = []
         self.misses_in_row = 0
         self.losses = 0  # stripe-loss events: a cycle without stripe after one with it
+        self.course = Course()  # the direction of travel, and the heading the telemetry gave
         self.odometry: dict[str, Any] | None = None  # live mode: the WebLab's last odometry
         self.frames = [0, 0]  # live mode: frames received as bytes, their total size
         # The last frame got and the turn found in it (None: no stripe), for a console to show.
@@ -90,6 +96,13 @@ class Navigator(NavigatorBase):
         elif isinstance(frame, bytes):
             self.frames[0] += 1
             self.frames[1] += len(frame)
+        # What the lab pushed meanwhile: the telemetry's heading for the course; the panorama
+        # (a console would show it).
+        telemetry, panorama = self.port("NavTelemetryPort"), self.port("NavPanoramaPort")
+        while (reading := telemetry.take()) is not None:
+            self.course.observe(reading)
+        while panorama.take() is not None:
+            pass
         turn = self.findStripe(frame)  # 2. find the stripe
         self.last_frame, self.last_turn = frame, turn
         locomotion = self.port("NavLocomotionPort")
@@ -105,11 +118,6 @@ class Navigator(NavigatorBase):
             # 3. the turn that centres the stripe; 4. constant speed and the turn
             locomotion.call("move", self.forwardSpeed, turn)
             self.cycles.append((start, self.clock.now(), turn))
-        # Drain what the lab pushed meanwhile (telemetry, panorama): a console would show it.
-        for name in ("NavTelemetryPort", "NavPanoramaPort"):
-            port = self.port(name)
-            while port.take() is not None:
-                pass
         if lab is not None:
             return not lab.done
         odometry: dict[str, Any] = json.loads(locomotion.call("odometry"))
@@ -148,4 +156,4 @@ class Navigator(NavigatorBase):
             frame = serpent.tobytes(frame)
         if not isinstance(frame, bytes | bytearray):
             raise TypeError(f"a frame is JPEG bytes, not {type(frame).__name__}")
-        return detector.find_stripe(bytes(frame), self.lookAhead)
+        return detector.find_stripe(bytes(frame), self.lookAhead, self.course.choose)
