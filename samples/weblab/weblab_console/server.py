@@ -64,7 +64,8 @@ BUNDLE = 0
 STRIKES = 20
 DRIVES_PER_SECOND = 30
 SENDS_PER_SECOND = 30
-"""How often a viewer's sender takes what is pending, at most (frames go at most 25 a second)."""
+"""How often a viewer's sender takes what is pending, at most (cameras send at most 15 frames a
+second)."""
 PROTOCOL = "weblab"
 TOKEN_PROTOCOL = "weblab.token."
 """The subprotocol that carries the session's token when the page opens the WebSocket."""
