@@ -6,7 +6,7 @@ STAMP := $(VENV)/.installed
 DEV_STAMP := $(VENV)/.installed-dev
 SYSTEM_PACKAGES := shellcheck mosquitto libeclipse-emf-ecore-java libeclipse-emf-ecore-xmi-java openjdk-17-jdk-headless chromium chromium-driver
 
-.PHONY: demo live console test docs lint format bench system-packages clean
+.PHONY: demo live live-console console test docs lint format bench system-packages clean
 
 $(BIN)/python:
 	$(PY) -m venv $(VENV)
@@ -41,6 +41,13 @@ demo: $(STAMP)
 live: $(STAMP)
 	$(BIN)/acordcs-gen build samples/weblab/weblab.xmi -o samples/weblab/app
 	PYTHON=$(abspath $(BIN)/python) sh samples/weblab/live.sh
+
+# The same two processes with the WebLab console attached to them (docs/console.md), until Ctrl-C,
+# which stops the console and both processes. LIVE_CONSOLE_ARGS: e.g. --port 8765.
+LIVE_CONSOLE_ARGS ?=
+live-console: $(STAMP)
+	$(BIN)/acordcs-gen build samples/weblab/weblab.xmi -o samples/weblab/app
+	PYTHON=$(abspath $(BIN)/python) sh samples/weblab/live.sh console $(LIVE_CONSOLE_ARGS)
 
 # The WebLab console (docs/console.md): builds the application if needed, serves the console on
 # 127.0.0.1 and prints its URL with the session's token. CONSOLE_ARGS: e.g. --port 8765 --speed 2.

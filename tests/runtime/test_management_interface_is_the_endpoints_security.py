@@ -1,8 +1,8 @@
 """The management interface a running container serves beside its endpoint (what ``acordcs-gen
 update`` calls) admits whom the endpoint admits: the application's token in the handshake, serpent
 only, its methods and nothing else. Served without a token it answers ``status`` but refuses
-updates, unless started on a loopback host with updates allowed explicitly. It refuses an update
-made against another descriptor than the one it runs, and a change that cannot apply live, and
+updates and holds, unless started on a loopback host with updates allowed explicitly. It
+refuses an update made against another descriptor than the one it runs, and a change that cannot apply live, and
 changes nothing then; the second identical update does nothing."""
 
 from __future__ import annotations
@@ -17,7 +17,7 @@ from acordcs.descriptor import to_xml
 from acordcs.runtime.assembly import assemble
 from acordcs.runtime.clock import VirtualClock
 from acordcs.runtime.connectors.remote import RemoteConnector
-from acordcs.runtime.errors import RemoteUnreachableError
+from acordcs.runtime.errors import RemoteCallError, RemoteUnreachableError
 from acordcs.runtime.management import MANAGE_OBJECT, digest, manage
 from acordcs.runtime.update import GivenClasses
 from tests.support.descriptors import (
@@ -86,7 +86,14 @@ def test_the_token_admits_callers_and_only_its_methods_are_exposed(served):
     proxy._pyroTimeout = 3.0
     with proxy:
         proxy._pyroBind()
-        assert proxy._pyroMethods == {"status", "descriptor", "properties", "apply"}
+        assert proxy._pyroMethods == {
+            "status",
+            "descriptor",
+            "properties",
+            "apply",
+            "hold",
+            "release",
+        }
         assert not proxy._pyroAttrs
     with pytest.raises(AttributeError, match="no exposed attribute or method 'touched'"):
         ask(uri, "touched", "Heater", "level")
@@ -111,6 +118,8 @@ def test_without_a_token_updates_are_refused(served):
     reply = ask(uri, "apply", to_xml(home(level=3)).decode(), digest(data), {}, False, token=None)
     assert reply["status"] == "refused" and "without a token" in reply["error"]
     assert run.container("house").get_property("Heater", "level") == 0
+    with pytest.raises(RemoteCallError, match="it takes no update and holds no call"):
+        ask(uri, "hold", "Heater", 5.0, token=None)
 
 
 @pytest.mark.parametrize("served", [(None, True)], indirect=True)

@@ -1,9 +1,13 @@
-"""``python -m weblab_console [--host 127.0.0.1] [--port 8765] [--speed 1]``: the WebLab console.
+"""``python -m weblab_console [--host 127.0.0.1] [--port 8765] [--speed 1] [--attach APP]``: the
+WebLab console.
 
 Serves the console on uvicorn and prints its URL, whose fragment (``#token=...``, never sent to a
 server) carries the session's token (random per start: whoever has the link may drive). Run from
 ``samples/weblab`` with the generated application built into ``samples/weblab/app`` (``make
-console`` does both). Ctrl-C stops it.
+console`` does both). Without ``--attach`` it runs the experiment in this process, on a simulated
+clock; with ``--attach APP`` it attaches to the application built in ``APP`` and started by its
+scripts (``make live-console``), found as those scripts find it (``APP/bin/env.sh``, with the
+environment they ran with). Ctrl-C stops it.
 """
 
 from __future__ import annotations
@@ -11,12 +15,16 @@ from __future__ import annotations
 import argparse
 import logging
 import secrets
+import signal
 import sys
+from pathlib import Path
 
 import uvicorn
 
+from weblab_console.attached import AttachedSession
 from weblab_console.guard import allowed_names, host_name, is_loopback
 from weblab_console.hub import ConsoleHub
+from weblab_console.remote import AttachError
 from weblab_console.server import create_app
 from weblab_console.serving import free_port
 from weblab_console.session import ConsoleSession
@@ -60,10 +68,22 @@ def main(argv: list[str] | None = None) -> int:
         "--start", metavar="PROFILE", help="start an experiment on this network at once"
     )
     parser.add_argument("--seed", type=int, default=0, help="the seed of --start (default 0)")
+    parser.add_argument(
+        "--attach",
+        metavar="APP",
+        type=Path,
+        help="attach to the application built in APP and started by its scripts (APP/bin) "
+        "instead of running the experiment here",
+    )
     args = parser.parse_args(argv)
     if not 0 <= args.port <= 65535 or args.speed < 0 or args.viewers < 1 or args.watchers < 0:
         parser.error("--port must be 0..65535, --speed >= 0, --viewers >= 1, --watchers >= 0")
+    if args.attach is not None and args.start:
+        parser.error("--start runs an experiment here: not with --attach (the application runs)")
     logging.basicConfig(level=logging.WARNING, format="%(levelname)s %(name)s: %(message)s")
+    # TERM (kill, live.sh passing Ctrl-C on) stops as Ctrl-C does: uvicorn shuts down, then
+    # raises the signal again, which must reach this handler, not the default (no cleanup).
+    signal.signal(signal.SIGTERM, _interrupt)
     everywhere = args.host.strip("[]") in ("0.0.0.0", "::")
     if everywhere and not args.allow_host:
         parser.error(
@@ -75,7 +95,15 @@ def main(argv: list[str] | None = None) -> int:
         print(exposure_warning(args.host), file=sys.stderr, flush=True)
     token = secrets.token_urlsafe(16)
     hub = ConsoleHub(max_viewers=args.viewers, max_watchers=args.watchers)
-    session = ConsoleSession(hub, token, speed=args.speed)
+    session: ConsoleSession | AttachedSession
+    if args.attach is not None:
+        try:
+            session = AttachedSession(hub, token, args.attach)
+        except AttachError as err:
+            print(f"weblab_console: cannot attach to {args.attach}: {err}", file=sys.stderr)
+            return 2
+    else:
+        session = ConsoleSession(hub, token, speed=args.speed)
     port = args.port or free_port(args.host)
     shown = host_name(args.allow_host[0]) if everywhere else args.host.strip("[]")
     shown = f"[{shown}]" if ":" in shown else shown
@@ -84,6 +112,12 @@ def main(argv: list[str] | None = None) -> int:
         "(the link carries the session's token: whoever has it may drive; Ctrl-C stops)"
     )
     try:  # Ctrl-C at any moment, also before the server runs, stops cleanly
+        if isinstance(session, AttachedSession):
+            try:
+                print(f"WebLab console: attached to {session.attach()}", flush=True)
+            except AttachError as err:
+                print(f"weblab_console: cannot attach to {args.attach}: {err}", file=sys.stderr)
+                return 2
         if args.start:
             try:
                 session.start(args.start, args.seed)
@@ -118,6 +152,10 @@ class _Announcing(uvicorn.Server):
         await super().startup(sockets)
         if self.started:
             print(self.link, flush=True)
+
+
+def _interrupt(signum: int, frame: object) -> None:
+    raise KeyboardInterrupt
 
 
 def exposure_warning(host: str) -> str:

@@ -1,7 +1,12 @@
 """``python -m weblab_console.screenshot OUT.png [--profile residential] [--seed 0] [--at 90]``:
 a screenshot of the console (1400 x 900) during a run, taken by Debian's chromium (headless,
 driven by selenium through chromedriver) once the run reaches ``--at`` simulated seconds. The
-run is sped up (``--speed``) so that this takes seconds; the console looks the same."""
+run is sped up (``--speed``) so that this takes seconds; the console looks the same.
+
+``--attach APP``: the console attached to the application built in APP and started by its scripts
+(for instance ``WEBLAB_LIVE_SECONDS=60 sh live.sh`` in another terminal, which prints where its
+processes serve; the same environment here), once its WebLab process's clock reaches ``--at``
+seconds."""
 
 from __future__ import annotations
 
@@ -10,6 +15,7 @@ import sys
 import time
 from pathlib import Path
 
+from weblab_console.attached import AttachedSession
 from weblab_console.hub import ConsoleHub
 from weblab_console.serving import serving
 from weblab_console.session import ConsoleSession
@@ -26,6 +32,7 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--speed", type=float, default=8.0)
     parser.add_argument("--chromium", default="/usr/bin/chromium")
     parser.add_argument("--chromedriver", default="/usr/bin/chromedriver")
+    parser.add_argument("--attach", metavar="APP", type=Path)
     args = parser.parse_args(argv)
     from selenium import webdriver
     from selenium.webdriver.support.ui import Select, WebDriverWait
@@ -35,7 +42,12 @@ def main(argv: list[str] | None = None) -> int:
     for arg in ("--headless=new", "--no-sandbox", "--disable-gpu", "--window-size=1400,900"):
         options.add_argument(arg)
     hub = ConsoleHub()
-    session = ConsoleSession(hub, TOKEN, speed=args.speed)
+    session: ConsoleSession | AttachedSession
+    if args.attach is not None:
+        session = AttachedSession(hub, TOKEN, args.attach)
+        session.attach()
+    else:
+        session = ConsoleSession(hub, TOKEN, speed=args.speed)
     browser = webdriver.Chrome(options=options, service=webdriver.ChromeService(args.chromedriver))
     try:
         # The page's viewport is 1400 x 900 (the window would be that size with its frame).
@@ -45,17 +57,19 @@ def main(argv: list[str] | None = None) -> int:
         )
         with serving(hub, session) as url:
             browser.get(f"{url}/#token={TOKEN}")
-            wait = WebDriverWait(browser, 60, poll_frequency=0.1)
+            wait = WebDriverWait(browser, 60 + args.at, poll_frequency=0.1)
             wait.until(lambda d: d.find_elements("css selector", "#profile option"))
-            Select(browser.find_element("id", "profile")).select_by_value(args.profile)
-            seed = browser.find_element("id", "seed")
-            seed.clear()
-            seed.send_keys(str(args.seed))
-            browser.find_element("id", "start").click()
+            if isinstance(session, ConsoleSession):
+                Select(browser.find_element("id", "profile")).select_by_value(args.profile)
+                seed = browser.find_element("id", "seed")
+                seed.clear()
+                seed.send_keys(str(args.seed))
+                browser.find_element("id", "start").click()
             wait.until(
                 lambda d: float(d.find_element("id", "map").get_attribute("data-t") or 0) >= args.at
             )
-            session.set_speed(1.0)  # hold still while the picture is taken
+            if isinstance(session, ConsoleSession):
+                session.set_speed(1.0)  # hold still while the picture is taken
             time.sleep(1.0)
             args.out.parent.mkdir(parents=True, exist_ok=True)
             browser.get_screenshot_as_file(str(args.out))

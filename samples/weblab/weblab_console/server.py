@@ -2,8 +2,10 @@
 
 ``GET /`` is the page (``static/index.html``, an ES module and a style sheet, no build step);
 ``/ws`` streams what the :class:`~weblab_console.hub.ConsoleHub` publishes: camera frames as binary
-messages (one byte naming the camera, then the JPEG), everything else as JSON text: an object
-``{"type", "data"}``, or an array of such objects when several were pending. A viewer sends
+messages (one byte naming the camera, then the JPEG; when frames of both cameras are pending, one
+message: a 0 byte, then for each a byte naming the camera, its length in 4 bytes, big-endian, and
+the JPEG), everything else as JSON text: an object ``{"type", "data"}``, or an array of such
+objects when several were pending. A viewer sends
 commands (:mod:`weblab_console.commands`); those that change the experiment need the session's token,
 which the application's access service checks (:class:`Session.authorize`). The page presents the
 token when it opens the WebSocket, as the subprotocol ``weblab.token.<token>`` beside ``weblab``
@@ -21,7 +23,10 @@ What it promises, and its limits:
   told so and closed (code 1013, try again later); 20 refused messages close a viewer (1008);
   manual driving is taken at most 30 times a second per viewer;
 - a viewer never slows the experiment: the experiment only stores into the viewer's mailbox
-  (see the hub), and each viewer's sender awaits its own socket;
+  (see the hub), and each viewer's sender awaits its own socket; the experiment's thread wakes the
+  server's event loop once for every viewer with something new, not once per viewer
+  (:class:`_Waker`), and a viewer's sender takes what is pending at most :data:`SENDS_PER_SECOND`
+  times a second, so that what was published meanwhile goes together;
 - the experiment stopping, or raising in a command, is a message to the page, never a crash.
 """
 
@@ -31,6 +36,7 @@ import asyncio
 import contextlib
 import json
 import logging
+import threading
 import time
 from collections.abc import Callable, Iterable
 from importlib import resources
@@ -52,18 +58,25 @@ log = logging.getLogger("weblab.console")
 STATIC = resources.files("weblab_console") / "static"
 FRAME_CHANNELS = {"frame:onboard": 1, "frame:panoramic": 2}
 """Binary channels: the byte that starts each message."""
+BUNDLE = 0
+"""The byte that starts a binary message holding several frames."""
 
 STRIKES = 20
 DRIVES_PER_SECOND = 30
+SENDS_PER_SECOND = 30
+"""How often a viewer's sender takes what is pending, at most (cameras send at most 15 frames a
+second)."""
 PROTOCOL = "weblab"
 TOKEN_PROTOCOL = "weblab.token."
 """The subprotocol that carries the session's token when the page opens the WebSocket."""
 
 
 class Session(Protocol):
-    """What the console drives: the running experiment."""
+    """What the console drives: the experiment it runs (``mode`` ``simulation``), or the
+    application it is attached to (``attached``)."""
 
     profiles: tuple[str, ...]
+    mode: str
 
     def authorize(self, token: str) -> bool: ...
 
@@ -103,9 +116,12 @@ def create_app(
         return FileResponse(str(STATIC / "index.html"), media_type="text/html")
 
     async def status(request) -> JSONResponse:
-        return JSONResponse({"profiles": list(session.profiles), **hub.stats()})
+        return JSONResponse(
+            {"profiles": list(session.profiles), "mode": session.mode, **hub.stats()}
+        )
 
     encode = _Encoded()  # shared by the viewers' senders, all on the server's event loop
+    waker = _Waker()
 
     async def socket(websocket: WebSocket) -> None:
         offered = [
@@ -118,14 +134,9 @@ def create_app(
         if 0 < len(token) <= 128:
             viewer.authorized = await asyncio.to_thread(_call, session.authorize, token) is True
         await websocket.accept(subprotocol=PROTOCOL if PROTOCOL in offered else None)
-        loop = asyncio.get_running_loop()
+        waker.loop = asyncio.get_running_loop()
         pending = asyncio.Event()
-
-        def wake() -> None:  # from the experiment's thread
-            with contextlib.suppress(RuntimeError):  # the loop is closing
-                loop.call_soon_threadsafe(pending.set)
-
-        joined = hub.join(wake, holder=viewer.authorized)
+        joined = hub.join(lambda: waker.wake(pending), holder=viewer.authorized)
         if joined is None:
             kind = (
                 f"{hub.max_viewers} viewers holding the token"
@@ -145,7 +156,8 @@ def create_app(
             return
         viewer_id, box = joined
         pending.set()  # the current state first
-        await websocket.send_text(json.dumps({"type": "hello", "profiles": list(session.profiles)}))
+        hello = {"type": "hello", "profiles": list(session.profiles), "mode": session.mode}
+        await websocket.send_text(json.dumps(hello))
         if token:
             await websocket.send_text(json.dumps(_token_reply(viewer)))
         sender = asyncio.create_task(_send(websocket, hub, box, pending, encode))
@@ -168,6 +180,34 @@ def create_app(
     )
 
 
+class _Waker:
+    """Wakes viewers' senders from the publishing thread with one call into the event loop for all
+    of them: the first wake since the loop last ran schedules it, the next ones only add their
+    viewer (a call into the loop per viewer and publish was a system call each, on the
+    experiment's thread)."""
+
+    def __init__(self) -> None:
+        self.loop: asyncio.AbstractEventLoop | None = None
+        self._lock = threading.Lock()
+        self._events: list[asyncio.Event] = []
+        self._scheduled = False
+
+    def wake(self, event: asyncio.Event) -> None:  # any thread
+        with self._lock:
+            self._events.append(event)
+            if self._scheduled or self.loop is None:
+                return
+            self._scheduled = True
+        with contextlib.suppress(RuntimeError):  # the loop is closing
+            self.loop.call_soon_threadsafe(self._run)
+
+    def _run(self) -> None:  # on the loop
+        with self._lock:
+            events, self._events, self._scheduled = self._events, [], False
+        for event in events:
+            event.set()
+
+
 class _Encoded:
     """Each payload encoded once for all viewers (by identity: every mailbox holds the same object;
     the object is kept with its encoding, so its id cannot be reused while cached)."""
@@ -175,6 +215,7 @@ class _Encoded:
     def __init__(self, keep: int = 256) -> None:
         self.keep = keep
         self.cache: dict[int, tuple[Any, str | bytes]] = {}
+        self.bundles: dict[tuple[int, ...], tuple[list[bytes], bytes]] = {}
 
     def __call__(self, channel: str, payload: Any) -> str | bytes:
         found = self.cache.get(id(payload))
@@ -185,26 +226,56 @@ class _Encoded:
             encoded: str | bytes = bytes([tag]) + payload
         else:
             encoded = json.dumps({"type": channel, "data": payload})
+        self._keep(payload, encoded)
+        return encoded
+
+    def bundle(self, frames: list[bytes]) -> bytes:
+        """Several encoded frames as one message (see the module docstring); the same frames
+        (these very objects: each viewer gets the same encodings) give the same message."""
+        key = tuple(id(f) for f in frames)
+        found = self.bundles.get(key)
+        if found is not None and all(a is b for a, b in zip(found[0], frames, strict=True)):
+            return found[1]
+        encoded = bytes([BUNDLE]) + b"".join(
+            f[:1] + len(f[1:]).to_bytes(4, "big") + f[1:] for f in frames
+        )
+        if len(self.bundles) >= self.keep:
+            self.bundles.pop(next(iter(self.bundles)))
+        self.bundles[key] = (list(frames), encoded)
+        return encoded
+
+    def _keep(self, payload: Any, encoded: str | bytes) -> None:
         if len(self.cache) >= self.keep:
             self.cache.pop(next(iter(self.cache)))
         self.cache[id(payload)] = (payload, encoded)
-        return encoded
 
 
 async def _send(
     websocket: WebSocket, hub: ConsoleHub, box, pending: asyncio.Event, encode: _Encoded
 ) -> None:
+    loop = asyncio.get_running_loop()
+    gap = 1.0 / SENDS_PER_SECOND
+    last = 0.0
     while True:
         await pending.wait()
+        wait = last + gap - loop.time()
+        if wait > 0:  # what is published meanwhile goes with it
+            await asyncio.sleep(wait)
         pending.clear()
+        last = loop.time()
         latest, events = hub.take(box)
         texts: list[str] = []
+        frames: list[bytes] = []
         for channel, payload in latest.items():
             message = encode(channel, payload)
             if isinstance(message, bytes):
-                await websocket.send_bytes(message)
+                frames.append(message)
             else:
                 texts.append(message)
+        if len(frames) == 1:
+            await websocket.send_bytes(frames[0])
+        elif frames:  # one message: a send costs more than the bytes it carries
+            await websocket.send_bytes(encode.bundle(frames))
         texts.extend(encode("event", event) for event in events)  # type: ignore[misc]
         # What is pending goes as one JSON array (the page reads an array as its messages in
         # order): one WebSocket message per wake, not one per payload.

@@ -1,5 +1,6 @@
 """The console's session: one WebLab experiment at a time, run in a background thread and shown
-through the hub (implements :class:`weblab_console.server.Session`).
+through the hub (implements :class:`weblab_console.server.Session`; what it publishes is made by
+:mod:`weblab_console.showing`, as for the console attached to the two-process application).
 
 The experiment is :func:`weblab_sim.experiment.rig`: the generated application assembled in one
 process on a :class:`~acordcs.runtime.clock.VirtualClock`. A pacing timer on that clock (every
@@ -39,35 +40,17 @@ from weblab_sim.network import PROFILES
 
 from acordcs.runtime import events as ev
 from weblab_console import pictures
-from weblab_console.hub import EVENT, ConsoleHub
+from weblab_console.hub import ConsoleHub
+from weblab_console.showing import FRAME_HZ, PUBLISH_HZ, SERIES_PERIOD, Showing
 
 log = logging.getLogger("weblab.console")
 
 PACE = 0.05  # simulated seconds between pacing ticks
-PUBLISH_HZ = 10.0  # state, context and policies per wall second, at most
-FRAME_HZ = 25.0  # camera pictures per wall second and camera, at most (policies set <= 15)
-SERIES_PERIOD = 0.5  # simulated seconds between points of the live plots
-SERIES_HZ = 2.0  # the plots and the viewer statistics per wall second, at most
-SERIES_KEPT = 600
-TRAIL_STEP_MM = 20.0  # trajectory points closer than this to the last one are not sent
-TRAIL_KEPT = 2000
 MANUAL_PERIOD = 0.2  # simulated seconds the Navigator waits between looks while paused
 MANUAL_RESEND = 1.0  # simulated seconds between repeats of a manual forward move
 TIME_CAP = 900.0  # simulated seconds before a run is ended (the finish is usually at 100-250)
 REQUEST_TIMEOUT = 5.0  # wall seconds a viewer's request may wait for the experiment's thread
 CONSOLE_USER = "console"
-CONTEXT = (
-    ("cycle rate (cycles/s)", "Control", "cycleRate"),
-    ("trajectory angle (°)", "Control", "angle"),
-    ("speed set (mm/s)", "Control", "speed"),
-    ("users", "Usage", "numUsers"),
-    ("battery (V)", "Telemetry", "batteryVoltage"),
-    ("nearest sonar (mm)", "Telemetry", "sonarRange"),
-    ("speed limit (mm/s)", "Locomotion", "maxSpeed"),
-    ("panoramic fps", "PanoramicCamera", "fps"),
-    ("recovery retries", "Recovery", "retries"),
-    ("recoveries", "Recovery", "recoveries"),
-)
 
 
 class SessionError(RuntimeError):
@@ -77,6 +60,7 @@ class SessionError(RuntimeError):
 class ConsoleSession:
     """Runs experiments for the console; ``token`` is the one the console's URL carries."""
 
+    mode = "simulation"
     profiles: tuple[str, ...] = tuple(PROFILES)
 
     def __init__(
@@ -203,7 +187,7 @@ class _Run:
 
     def __init__(self, session: ConsoleSession, profile: str, seed: int) -> None:
         self.session = session
-        self.hub = session.hub
+        self.show = Showing(session.hub, profile, seed)
         self.profile = profile
         self.seed = seed
         self.stopping = False
@@ -216,16 +200,9 @@ class _Run:
         self.sent_at = 0.0
         self.requests: deque[tuple[Callable[[], Any], concurrent.futures.Future]] = deque()
         self.rig: Any = None
-        self.last_state: dict[str, Any] | None = None
-        self.trail: list[list[float]] = []
-        self.series: dict[str, deque] = {
-            k: deque(maxlen=SERIES_KEPT) for k in ("t", "max_speed", "fps")
-        }
         self.firings: set[str] = set()  # policy sets that fired since they were last shown
-        self.counts: dict[str, int] = {}
         self.frames_shown = -1
         self.panorama_shown = 0
-        self.last_publish = self.last_frame = self.last_panorama = self.last_stats = 0.0
         self.sim0 = self.wall0 = 0.0
 
     # ------------------------------------------------------------------ viewers' side
@@ -282,14 +259,7 @@ class _Run:
             self.ended = True
             self.ready.set()
             self._fail_requests()
-            # The application is closed now: the last state shown, marked as not running.
-            last = dict(
-                self.last_state or {"t": 0.0, "pose": [0, 0, 0], "trajectory": [], "sonar": []}
-            )
-            last.update(running=False, driver="navigator", profile=self.profile, seed=self.seed)
-            last.setdefault("speed", 0.0)
-            last.setdefault("fps", 0)
-            self.hub.publish("state", last)
+            self.show.stopped()  # the application is closed now: the last state, not running
 
     def _drive(self, r: Any) -> None:
         """The Navigator's loop (as its ``run``), paused while a viewer drives."""
@@ -360,68 +330,42 @@ class _Run:
 
     def _sample(self) -> None:
         weblab = self.rig.weblab
-        self.series["t"].append(round(self.rig.clock.now(), 2))
-        self.series["max_speed"].append(
-            round(float(weblab.get_property("Locomotion", "maxSpeed")), 1)
+        self.show.sample(
+            self.rig.clock.now(),
+            weblab.get_property("Locomotion", "maxSpeed"),
+            weblab.get_property("PanoramicCamera", "fps"),
         )
-        self.series["fps"].append(float(weblab.get_property("PanoramicCamera", "fps")))
 
     # ---------------------------------------------------------------------- publishing
     def _publish(self, *, force: bool = False) -> None:
-        now = time.perf_counter()
-        if (force or now - self.last_frame >= 1.0 / FRAME_HZ) and self._publish_onboard():
-            self.last_frame = now
-        if (force or now - self.last_panorama >= 1.0 / FRAME_HZ) and self._publish_panorama():
-            self.last_panorama = now
-        if not force and now - self.last_publish < 1.0 / PUBLISH_HZ:
+        show = self.show
+        for channel, publish in (
+            ("frame:onboard", self._publish_onboard),
+            ("frame:panoramic", self._publish_panorama),
+        ):
+            if show.due(channel, force=force) and publish():
+                show.sent(channel, FRAME_HZ)
+        if not show.due("state", force=force):
             return
-        self.last_publish = now
-        self._publish_state()
-        self._publish_context()
+        show.sent("state", PUBLISH_HZ)
+        r = self.rig
+        lab, now = r.lab, r.clock.now()
+        x, y, heading = lab.robot.pose(now)
+        ranges = lab.robot.sonar(now, world.SONAR_BEARINGS, world.SONAR_RANGE_MM)
+        show.state(
+            t=now,
+            pose=(x, y, heading),
+            sonar=zip(world.SONAR_BEARINGS, ranges, strict=True),
+            speed=lab.commanded,
+            fps=int(r.weblab.get_property("PanoramicCamera", "fps")),
+            driver="manual" if self.manual is not None else "navigator",
+            running=not self.ended,
+            progress=lab.progress / lab.path.length * 100.0,
+        )
+        show.context(r.weblab.get_property)
         self._publish_policies()
         self._publish_events()
-        if force or now - self.last_stats >= 1.0 / SERIES_HZ:  # plots need no more
-            self.last_stats = now
-            self.hub.publish("series", {k: list(v) for k, v in self.series.items()})
-            self.hub.publish("stats", self.hub.stats())
-
-    def _publish_state(self) -> None:
-        r = self.rig
-        lab, clock = r.lab, r.clock
-        now = clock.now()
-        x, y, heading = lab.robot.pose(now)
-        if not self.trail or math.dist(self.trail[-1], (x, y)) >= TRAIL_STEP_MM:
-            self.trail.append([round(x, 1), round(y, 1)])
-            if len(self.trail) > TRAIL_KEPT:
-                del self.trail[::2]  # keep the whole run, coarser
-        ranges = lab.robot.sonar(now, world.SONAR_BEARINGS, world.SONAR_RANGE_MM)
-        self.last_state = {
-            "t": round(now, 2),
-            "pose": [round(x, 1), round(y, 1), round(math.degrees(heading), 1)],
-            "trajectory": list(self.trail),
-            "sonar": [
-                [a, round(float(d), 0)] for a, d in zip(world.SONAR_BEARINGS, ranges, strict=True)
-            ],
-            "speed": round(lab.commanded, 1),
-            "fps": int(r.weblab.get_property("PanoramicCamera", "fps")),
-            "driver": "manual" if self.manual is not None else "navigator",
-            "running": not self.ended,
-            "profile": self.profile,
-            "seed": self.seed,
-            "progress": round(lab.progress / lab.path.length * 100.0, 1),
-        }
-        self.hub.publish("state", self.last_state)
-
-    def _publish_context(self) -> None:
-        weblab = self.rig.weblab
-        values: dict[str, object] = {}
-        for label, element, attribute in CONTEXT:
-            try:
-                value = weblab.get_property(element, attribute)
-            except Exception:  # a monitor without a value yet, an element gone
-                value = None
-            values[label] = value if isinstance(value, int | float) else "–"
-        self.hub.publish("context", values)
+        show.plots(force=force)
 
     def _publish_policies(self) -> None:
         weblab = self.rig.weblab
@@ -431,51 +375,34 @@ class _Run:
             firing = policy_set.last_firing
             if firing is None:
                 continue
-            self.hub.publish(
-                f"policy:{name}",
-                {
-                    "set": name,
-                    "engine": policy_set.engine_kind,
-                    "t": round(firing.time, 2),
-                    "fires": policy_set.fires,
-                    "rules": [
-                        {"label": label, "policy": policy, "degree": round(degree, 3)}
-                        for (policy, label), degree in firing.rules.items()
-                    ],
-                    "inputs": {k: _plain(v) for k, v in firing.inputs.items()},
-                    "outputs": {k: _plain(v) for k, v in firing.outputs.items()},
-                },
+            self.show.policy(
+                name,
+                policy_set.engine_kind,
+                firing.time,
+                policy_set.fires,
+                ((policy, label, degree) for (policy, label), degree in firing.rules.items()),
+                firing.inputs,
+                firing.outputs,
             )
 
     def _publish_events(self) -> None:
         r = self.rig
         nav, recovery = r.navigator.instance, r.recovery.instance
-        faults = sum(c.faults.counts["total"] for c in r.app.containers.values())
         counts = {
             "recovery": int(recovery.actions),
             "user_request": int(recovery.user_requests),
             "stripe_loss": int(nav.losses),
-            "fault": faults,
+            "fault": sum(c.faults.counts["total"] for c in r.app.containers.values()),
         }
-        texts = {
-            "recovery": "recovery: backed up and turned towards the stripe",
-            "user_request": "user request: a person puts the robot back on the stripe",
-            "stripe_loss": "stripe lost",
-        }
-        for kind, count in counts.items():
-            seen = self.counts.get(kind, 0)
-            if count > seen:
-                if kind == "fault":
-                    last = [f for c in r.app.containers.values() for f in c.faults.recent][-1:]
-                    text = f"fault: {last[0].where}: {last[0].error}" if last else "fault"
-                else:
-                    text = texts[kind]
-                self._event(kind, text + (f" (×{count - seen})" if count - seen > 1 else ""))
-            self.counts[kind] = count
+
+        def fault() -> str:
+            last = [f for c in r.app.containers.values() for f in c.faults.recent][-1:]
+            return f"fault: {last[0].where}: {last[0].error}" if last else "fault"
+
+        self.show.counted(r.clock.now(), counts, fault)
 
     def _event(self, kind: str, text: str) -> None:
-        t = self.rig.clock.now() if self.rig is not None else 0.0
-        self.hub.publish(EVENT, {"t": round(t, 2), "kind": kind, "text": text[:300]})
+        self.show.event(self.rig.clock.now() if self.rig is not None else 0.0, kind, text)
 
     def _publish_onboard(self) -> bool:
         nav = self.rig.navigator.instance
@@ -483,7 +410,9 @@ class _Run:
         if nav.last_frame is None or frames == self.frames_shown:
             return False
         self.frames_shown = frames
-        self.hub.publish("frame:onboard", pictures.onboard(bytes(nav.last_frame), nav.last_turn))
+        self.show.hub.publish(
+            "frame:onboard", pictures.onboard(bytes(nav.last_frame), nav.last_turn)
+        )
         return True
 
     def _publish_panorama(self) -> bool:
@@ -492,11 +421,5 @@ class _Run:
             return False
         self.panorama_shown = sent
         x, y, heading = self.rig.lab.pose()
-        self.hub.publish("frame:panoramic", pictures.panoramic(x, y, heading, self.trail))
+        self.show.hub.publish("frame:panoramic", pictures.panoramic(x, y, heading, self.show.trail))
         return True
-
-
-def _plain(value: object) -> object:
-    if isinstance(value, float):
-        return round(value, 3)
-    return value if isinstance(value, int | str | bool) or value is None else str(value)

@@ -11,15 +11,29 @@ descriptor.
 
 :class:`ManagementEndpoint` serves it over Pyro5 beside the container's endpoint, at the object
 ``acordcs.manage.<container>`` of the same daemon: the same token admits callers (the handshake
-of :mod:`.connectors.pyrogate`), calls in serpent only, and only its three methods are exposed:
-``status``, ``descriptor`` and ``apply``. A container served without a token refuses updates
-unless it was started with updates allowed explicitly on a loopback host
-(``--updates-without-token``).
+of :mod:`.connectors.pyrogate`), calls in serpent only, and only its methods are exposed:
+``status``, ``descriptor``, ``properties``, ``apply``, ``hold`` and ``release``. A container
+served without a token refuses updates and holds unless it was started with updates allowed
+explicitly on a loopback host (``--updates-without-token``). :func:`manage` also serves the
+container's observer interface beside it (:mod:`.observer`: its context and policy firings, for a
+console).
+
+``hold(component, seconds)`` pauses the callers of a component from other processes
+(:mod:`.holds`): a call
+arriving from another process while the hold lasts waits until it is released or ends (never
+longer than :data:`HOLD_PATIENCE` times the container's remote-call timeout, so that its caller,
+whose calls time out after the same number of seconds when the generated scripts start them, gets
+an answer in time; it then goes through). A hold lasts ``seconds`` (at most :data:`HOLD_MAX`):
+whoever holds renews it, so a holder that went away frees the component soon. Calls made in this
+container (by a component, a monitor, a policy set) are never held. The WebLab console holds the
+Vision component while a viewer drives: the Navigator of the other process waits for its next
+image, between two of its cycles.
 """
 
 from __future__ import annotations
 
 import hashlib
+import math
 import threading
 from collections.abc import Callable, Mapping
 from typing import TYPE_CHECKING, Any
@@ -27,7 +41,9 @@ from typing import TYPE_CHECKING, Any
 from acordcs.runtime import events as ev
 from acordcs.runtime.connectors.pyrogate import serpent_only
 from acordcs.runtime.connectors.remote import RemoteFault
-from acordcs.runtime.errors import RuntimeFailure
+from acordcs.runtime.errors import ConfigurationError, RuntimeFailure
+from acordcs.runtime.holds import CallHold
+from acordcs.runtime.observer import OBSERVE_OBJECT, Observer, ObserverEndpoint
 from acordcs.runtime.update import Classes, UpdateFailed, apply_part
 
 if TYPE_CHECKING:
@@ -38,6 +54,12 @@ if TYPE_CHECKING:
 
 MANAGE_OBJECT = "acordcs.manage.{}"
 """The Pyro5 object name of a container's management interface."""
+
+HOLD_MAX = 60.0
+"""Seconds one hold lasts at most; renew it to hold longer."""
+
+HOLD_PATIENCE = 0.75
+"""The share of the container's remote-call timeout a held call waits at most."""
 
 
 def digest(data: bytes) -> str:
@@ -78,10 +100,14 @@ class Management:
         self.last_update: dict[str, Any] | None = None
         # Called with the new digest once an update applied (the launcher logs it).
         self.on_applied: Callable[[str], None] | None = None
+        # Its observer interface, when served (manage() makes it).
+        self.observer: Observer | None = None
         self._lock = threading.Lock()
         self._applying: int | None = None  # the thread applying an update
         # (element, attribute) of the properties changed at run time: an update leaves them be.
         self._touched: set[tuple[str, str]] = set()
+        self._holds: dict[str, CallHold] = {}
+        self._holding = threading.Lock()
         self.container.subscribe(ev.PROPERTY_CHANGED, self._changed, name="management")
 
     def _changed(self, event: Event) -> None:
@@ -96,9 +122,21 @@ class Management:
         update) since the container started."""
         return (element, attribute) in self._touched
 
+    def policy_sets(self) -> tuple[str, ...]:
+        """The names of the policy sets the container hosts, as the descriptor it runs says."""
+        here = next((c for c in self.application.containers if c.name == self.name), None)
+        return tuple(here.hosted("policy-set")) if here is not None else ()
+
     def close(self) -> None:
         self.container.unsubscribe("management")
         self.container.unsubscribe("management:fired")
+        if self.observer is not None:
+            self.observer.close()
+        with self._holding:
+            holds, self._holds = dict(self._holds), {}
+        for hold in holds.values():
+            hold.end()
+            self.container.remove_interceptor(hold)
 
     # -------------------------------------------------------------------------------- calls
     def status(self) -> dict[str, Any]:
@@ -108,8 +146,7 @@ class Management:
         ``inputs``, ``outputs``), and when the ``last_update`` started and was applied, and when
         each policy set it replanned fired last before it and first after it (clock times)."""
         sets: dict[str, Any] = {}
-        here = next((c for c in self.application.containers if c.name == self.name), None)
-        for name in here.hosted("policy-set") if here is not None else ():
+        for name in self.policy_sets():
             try:
                 found = self.container.policy_set(name)
             except RuntimeFailure:
@@ -137,6 +174,43 @@ class Management:
         the container) as they are now; an element it does not have is left out."""
         found = self.container.elements()
         return {e: _plain(found[e]) for e in elements if isinstance(e, str) and e in found}
+
+    def hold(self, component: str, seconds: float) -> dict[str, Any]:
+        """Hold the calls other processes make to ``component`` for ``seconds`` (see the module
+        docstring; again while held: renewed). Returns the ``component``, the seconds the hold
+        has ``left``, the calls ``waiting`` now and the ``patience`` of each (seconds)."""
+        if self.refusal is not None:
+            raise ConfigurationError(
+                self.refusal.replace("it takes no update", "it takes no update and holds no call")
+            )
+        if not isinstance(seconds, int | float) or not 0 < seconds <= HOLD_MAX:
+            raise ConfigurationError(f"a hold lasts more than 0 and at most {HOLD_MAX:g} seconds")
+        if not self.container.operations_of(component):
+            hosted = ", ".join(c.name for c in self.container.components()) or "none"
+            raise ConfigurationError(
+                f"container {self.name!r} hosts no component {component!r:.80} (it hosts: "
+                f"{hosted})",
+                hint="hold a component of the container it runs in",
+            )
+        with self._holding:
+            found = self._holds.get(component)
+            if found is None:
+                found = CallHold(component, HOLD_PATIENCE * self.remote_timeout)
+                self._holds[component] = found
+                self.container.add_interceptor(found, component=component)
+        found.extend(float(seconds))
+        return found.state()
+
+    def release(self, component: str) -> dict[str, Any]:
+        """End the hold on ``component`` (its waiting calls go on); ``held`` says whether there
+        was one."""
+        with self._holding:
+            found = self._holds.pop(component, None)
+        if found is None:
+            return {"component": component, "held": False, "left": 0.0, "waiting": 0}
+        found.end()
+        self.container.remove_interceptor(found)
+        return {**found.state(), "held": True}
 
     def apply(
         self,
@@ -324,6 +398,20 @@ class ManagementEndpoint:
             lambda: self._management.apply(descriptor, expected, remote, bool(reset))
         )
 
+    @serpent_only
+    def hold(self, component: str, seconds: float) -> dict[str, Any]:
+        if not isinstance(component, str) or isinstance(seconds, bool):
+            raise RemoteFault("TypeError", "hold(component name, seconds)", None)
+        if not isinstance(seconds, int | float) or not math.isfinite(seconds):
+            raise RemoteFault("TypeError", "seconds is a finite number", None)
+        return self._guarded(lambda: self._management.hold(component, float(seconds)))
+
+    @serpent_only
+    def release(self, component: str) -> dict[str, Any]:
+        if not isinstance(component, str):
+            raise RemoteFault("TypeError", "release(component name)", None)
+        return self._guarded(lambda: self._management.release(component))
+
     @staticmethod
     def _guarded(call: Any) -> Any:
         try:
@@ -349,7 +437,8 @@ def manage(
     ``server``'s daemon, as the launcher does; the log (standard output) gets a line with the
     digest of the descriptor it runs, at start and after each update, and one per change applied
     (``model.updated``). Without a token, it takes updates only on a loopback host and with
-    ``without_token``."""
+    ``without_token``. Its observer interface (:class:`~.observer.Observer`) is served beside it,
+    at ``acordcs.observe.<container>``: ``management.observer``."""
     from acordcs.runtime.connectors.pyrogate import is_loopback
 
     refusal = None
@@ -369,6 +458,8 @@ def manage(
         remote_timeout=timeout,
     )
     server.daemon.register(ManagementEndpoint(management), MANAGE_OBJECT.format(container))
+    management.observer = Observer(running.container(container), management.policy_sets)
+    server.daemon.register(ObserverEndpoint(management.observer), OBSERVE_OBJECT.format(container))
     box = running.container(container)
 
     def updated(event: Event) -> None:

@@ -1,8 +1,10 @@
 """The console in a real headless browser (Debian's chromium through chromedriver) over the real
-experiment, sped up five times: the page loads and authorizes with the URL's token; both camera
-panels update; the map draws the trajectory; the context panel shows values and a policy panel a
-firing with its rules' degrees; manual control moves the robot and handing back works; a viewer
-without the token is refused with the reason shown; the page says so when the server goes away."""
+experiment, sped up five times: the page loads and authorizes with the URL's token; before the
+first frame each camera panel shows a placeholder, not a broken image; both camera panels update;
+the map draws the trajectory; the context panel shows values and a policy panel a firing with its
+rules' degrees; the plots have a time axis; manual control moves the robot and handing back works;
+a viewer without the token is refused with the reason shown; a run started elsewhere shows its
+network and seed in the form; the page says so when the server goes away."""
 
 from __future__ import annotations
 
@@ -70,6 +72,10 @@ def test_the_page_shows_a_running_experiment_in_every_panel(console, browser):
     assert browser.current_url == f"{url}/"
     entries = browser.execute_cdp_cmd("Page.getNavigationHistory", {})["entries"]
     assert entries[-1]["url"] == f"{url}/" and not any("token" in e["url"] for e in entries)
+    # No run yet: each camera panel says so, no image (a broken-image icon) is shown.
+    for camera in ("onboard", "panoramic"):
+        assert not browser.find_element("id", camera).is_displayed()
+        assert "no frame yet" in text(browser, f"{camera}-waiting")
     Select(browser.find_element("id", "profile")).select_by_value("residential")
     browser.find_element("id", "seed").clear()
     browser.find_element("id", "seed").send_keys("3")
@@ -86,6 +92,8 @@ def test_the_page_shows_a_running_experiment_in_every_panel(console, browser):
         first = attr(browser, camera, "src")
         until(browser, lambda d, c=camera, f=first: attr(d, c, "src") != f, f"a new {camera} frame")
         assert attr(browser, camera, "src").startswith("blob:")
+        assert browser.find_element("id", camera).is_displayed()
+        assert not browser.find_element("id", f"{camera}-waiting").is_displayed()
 
     # The map draws a trajectory that grows.
     until(browser, lambda d: int(attr(d, "map", "data-points") or 0) >= 3, "a trajectory")
@@ -121,6 +129,12 @@ def test_the_page_shows_a_running_experiment_in_every_panel(console, browser):
     assert policy["degrees"] and all(0.0 < d <= 1.0 for d in policy["degrees"])
     assert "Locomotion.maxSpeed" in policy["text"]
     until(browser, lambda d: d.find_elements("id", "policy-BandwidthLimiting"), "BandwidthLimiting")
+
+    # The plots' time axis: ticks at whole seconds of the run, from its start.
+    ticks = until(browser, lambda d: attr(d, "plot-speed", "data-ticks"), "the time axis")
+    seconds = [int(t.removesuffix(" s")) for t in ticks.split(",")]
+    assert seconds == sorted(seconds) and len(set(seconds)) == len(seconds) >= 1
+    assert seconds[-1] <= float(attr(browser, "map", "data-t")) + 1
 
 
 def test_the_content_security_policy_refuses_nothing_the_page_does(console, browser):
@@ -176,6 +190,24 @@ def test_a_viewer_without_the_token_is_refused_with_the_reason_shown(console, br
         lambda d: "does not know this token" in text(d, "message"),
         "the wrong token refused",
     )
+
+
+def test_a_run_started_elsewhere_shows_its_network_and_seed_in_the_form(weblab_app, browser):
+    # As `python -m weblab_console --start campus --seed 7` does: the run starts before any page.
+    hub = ConsoleHub()
+    session = ConsoleSession(hub, TOKEN, speed=SPEED)
+    with serving(hub, session) as url:
+        session.start("campus", 7)
+        browser.get(f"{url}/#token={TOKEN}")
+        until(browser, lambda d: "campus, seed 7" in text(d, "profile-shown"), "the run")
+        until(browser, lambda d: attr(d, "seed", "value") == "7", "the seed in the form")
+        assert attr(browser, "profile", "value") == "campus"
+        # A seed typed for the next run stays as typed while the same run goes on.
+        browser.find_element("id", "seed").clear()
+        browser.find_element("id", "seed").send_keys("12")
+        t = float(attr(browser, "map", "data-t"))
+        until(browser, lambda d: float(attr(d, "map", "data-t")) > t + 1, "the run going on")
+        assert attr(browser, "seed", "value") == "12"
 
 
 def test_the_page_says_disconnected_when_the_console_goes_away(weblab_app, browser):

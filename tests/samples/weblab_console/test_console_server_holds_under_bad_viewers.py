@@ -25,6 +25,7 @@ class Session:
     access service, and fails on demand."""
 
     profiles = PROFILES
+    mode = "simulation"
 
     def __init__(self) -> None:
         self.calls: list[tuple] = []
@@ -209,6 +210,25 @@ def test_viewers_get_frames_as_binary_and_the_rest_as_json(console):
             if len(got) == 2:
                 break
         assert got == {"frame": b"\x01\xff\xd8jpeg", "context": {"Control.cycleRate": 1.5}}
+
+
+def test_frames_of_both_cameras_pending_go_as_one_message(console):
+    client, hub, _ = console
+    onboard, panoramic = b"\xff\xd8on" * 100, b"\xff\xd8pan" * 300
+    hub.publish("frame:onboard", onboard)
+    hub.publish("frame:panoramic", panoramic)  # a viewer joining now has both pending
+    with client.websocket_connect(WS) as ws:
+        message = ws.receive()
+        while message.get("bytes") is None:
+            message = ws.receive()
+    raw = message["bytes"]
+    assert raw[0] == 0  # several frames: camera, 4-byte length, JPEG, each
+    frames, at = {}, 1
+    while at < len(raw):
+        length = int.from_bytes(raw[at + 1 : at + 5], "big")
+        frames[raw[at]] = raw[at + 5 : at + 5 + length]
+        at += 5 + length
+    assert frames == {1: onboard, 2: panoramic} and at == len(raw)
 
 
 # ------------------------------------------------------------------------------------- hub

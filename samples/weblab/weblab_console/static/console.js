@@ -1,5 +1,6 @@
 // The WebLab console's page: one WebSocket, camera frames as binary messages (first byte: 1 on-board,
-// 2 panoramic), everything else as JSON {type, data}. Commands go back as JSON (see commands.py).
+// 2 panoramic; 0: several frames, each a camera byte, a 4-byte big-endian length and the JPEG),
+// everything else as JSON {type, data}. Commands go back as JSON (see commands.py).
 // The session's token comes in the link's fragment (#token=..., never sent to a server): the page
 // keeps it in this tab's sessionStorage (this origin only), takes it out of the address bar and
 // history, and presents it when it opens the WebSocket (subprotocol weblab.token.<token>).
@@ -18,7 +19,7 @@ function takeToken() {
 }
 
 let token = takeToken();
-const state = { path: null, last: null, manual: false, driveTimer: null, socket: null, frames: 0 };
+const state = { path: null, last: null, manual: false, driveTimer: null, socket: null, frames: 0, run: null };
 const imageUrls = { 1: null, 2: null };
 
 function say(text, kind = "") {
@@ -53,7 +54,7 @@ function connect() {
     if (event.code !== 1013 && event.code !== 1008) setTimeout(connect, 2000);
   };
   socket.onmessage = (event) => {
-    if (event.data instanceof ArrayBuffer) return showFrame(new Uint8Array(event.data));
+    if (event.data instanceof ArrayBuffer) return showFrames(new Uint8Array(event.data));
     let message;
     try { message = JSON.parse(event.data); } catch { return; }
     if (Array.isArray(message)) message.forEach(handle);  // several pending at once, in order
@@ -61,20 +62,33 @@ function connect() {
   };
 }
 
-function showFrame(bytes) {
-  const camera = bytes[0];
+function showFrames(bytes) {
+  if (bytes[0] !== 0) return showFrame(bytes[0], bytes.subarray(1));
+  const view = new DataView(bytes.buffer, bytes.byteOffset, bytes.byteLength);
+  for (let at = 1; at + 5 <= bytes.length;) {
+    const length = view.getUint32(at + 1);
+    showFrame(bytes[at], bytes.subarray(at + 5, at + 5 + length));
+    at += 5 + length;
+  }
+}
+
+function showFrame(camera, jpeg) {
   const img = camera === 1 ? $("onboard") : camera === 2 ? $("panoramic") : null;
   if (!img) return;
-  const url = URL.createObjectURL(new Blob([bytes.subarray(1)], { type: "image/jpeg" }));
+  const url = URL.createObjectURL(new Blob([jpeg], { type: "image/jpeg" }));
   if (imageUrls[camera]) URL.revokeObjectURL(imageUrls[camera]);
   imageUrls[camera] = url;
   img.src = url;
   img.dataset.frames = String(Number(img.dataset.frames || 0) + 1);
+  if (img.hidden) {  // the first frame replaces the panel's placeholder
+    img.hidden = false;
+    $(`${img.id}-waiting`).hidden = true;
+  }
 }
 
 function handle(message) {
   const { type, data } = message;
-  if (type === "hello") return fillProfiles(message.profiles);
+  if (type === "hello") return hello(message);
   if (type === "authorized") return say("you hold the session: you may drive");
   if (type === "refused") return say(`refused: ${message.why}${message.todo ? ` (${message.todo})` : ""}`, "refused");
   if (type === "error") return say(`${message.cmd}: ${message.why}`, "refused");
@@ -88,10 +102,15 @@ function handle(message) {
   if (type.startsWith("policy:")) return showPolicy(data);
 }
 
-function fillProfiles(profiles) {
+function hello(message) {
   const select = $("profile");
-  if (select.options.length) return;
-  for (const name of profiles) select.add(new Option(name, name));
+  if (!select.options.length) for (const name of message.profiles) select.add(new Option(name, name));
+  if (message.mode !== "attached") return;
+  // Attached to the application its scripts started: they start and stop it, not the page.
+  for (const id of ["profile", "seed", "start", "stop"]) $(id).disabled = true;
+  $("attached").hidden = false;
+  $("attached").textContent = "Attached to the two-process application its scripts started (make live-console): " +
+    "Ctrl-C there stops it. Take control to drive; the Navigator waits meanwhile.";
 }
 
 function showState(s) {
@@ -99,8 +118,18 @@ function showState(s) {
   $("clock").textContent = `t = ${s.t.toFixed(1)} s`;
   $("profile-shown").textContent = s.profile ? `${s.profile}, seed ${s.seed}${s.running ? "" : " (stopped)"}` : "";
   $("fps-shown").textContent = `${s.fps} fps`;
-  $("driver").textContent = s.driver === "manual" ? "You drive (manual control)." : "Navigator drives.";
+  $("driver").textContent = s.driver !== "manual" ? "Navigator drives."
+    : `You drive (manual control).${s.held ? " The Navigator waits for its next image." : ""}`;
+  // The running experiment's network and seed in the form (a run started elsewhere: --start,
+  // another tab, or the application the console is attached to), once per run.
+  const run = `${s.profile}|${s.seed}`;
+  if (s.profile && run !== state.run) {
+    state.run = run;
+    if ([...$("profile").options].some((o) => o.value === s.profile)) $("profile").value = s.profile;
+    $("seed").value = String(s.seed);
+  }
   const map = $("map");
+  map.dataset.held = String(s.held || 0);
   map.dataset.points = String(s.trajectory.length);
   map.dataset.pose = s.pose.join(",");
   map.dataset.driver = s.driver;
@@ -222,27 +251,52 @@ function drawSeries(series) {
   plot($("plot-fps"), series.t, series.fps, "panoramic frame rate, fps", "#d29922");
 }
 
+// Seconds between the time axis's ticks: the first step giving at most 6 ticks over the span.
+const TICK_STEPS = [1, 2, 5, 10, 15, 30, 60, 120, 300, 600, 1200, 1800, 3600];
+
 function plot(canvas, t, values, label, color) {
   const ctx = canvas.getContext("2d");
   const { width, height } = canvas;
+  const left = 5, right = width - 5, top = 20, bottom = height - 18;  // the plot's area
   ctx.clearRect(0, 0, width, height);
   ctx.fillStyle = "#8b98a5";
   ctx.font = "12px system-ui";
   ctx.fillText(label, 6, 14);
   if (!t.length) return;
   const t0 = t[0], t1 = Math.max(t[t.length - 1], t0 + 1);
-  const top = Math.max(...values, 1) * 1.1;
-  ctx.fillText(top.toFixed(0), width - 34, 14);
+  const most = Math.max(...values, 1) * 1.1;
+  ctx.textAlign = "right";
+  ctx.fillText(`max ${Math.max(...values).toFixed(0)}`, width - 6, 14);
+  // The time axis: the run's clock, in seconds.
+  const X = (ti) => left + ((ti - t0) / (t1 - t0)) * (right - left);
+  const step = TICK_STEPS.find((s) => (t1 - t0) / s <= 6) || 7200;
+  const ticks = [];
+  ctx.strokeStyle = "#2a3642";
+  ctx.lineWidth = 1;
+  ctx.beginPath();
+  ctx.moveTo(left, bottom + 0.5);
+  ctx.lineTo(right, bottom + 0.5);
+  ctx.textAlign = "center";
+  for (let s = Math.ceil(t0 / step) * step; s <= t1; s += step) {
+    const x = Math.round(X(s)) + 0.5;
+    ctx.moveTo(x, bottom);
+    ctx.lineTo(x, bottom + 4);
+    const text = `${s} s`;
+    ctx.fillText(text, Math.min(Math.max(x, left + 14), right - 14), height - 3);
+    ticks.push(text);
+  }
+  ctx.stroke();
+  ctx.textAlign = "left";
   ctx.strokeStyle = color;
   ctx.lineWidth = 2;
   ctx.beginPath();
   t.forEach((ti, i) => {
-    const x = ((ti - t0) / (t1 - t0)) * (width - 10) + 5;
-    const y = height - 6 - (values[i] / top) * (height - 24);
-    if (i) ctx.lineTo(x, y); else ctx.moveTo(x, y);
+    const y = bottom - 2 - (values[i] / most) * (bottom - top);
+    if (i) ctx.lineTo(X(ti), y); else ctx.moveTo(X(ti), y);
   });
   ctx.stroke();
   canvas.dataset.points = String(t.length);
+  canvas.dataset.ticks = ticks.join(",");
 }
 
 function startDriving() {

@@ -1,0 +1,402 @@
+"""The console attached to the two-process WebLab application (``make live-console``): it watches
+the running containers over the remote connector and shows what the simulation session shows;
+viewers holding the token drive the robot (implements :class:`weblab_console.server.Session`).
+
+Nothing runs in this process but the console. Each container is watched through its observer
+interface (:mod:`acordcs.runtime.observer`, with the application's token): the monitors' values,
+the properties the policies set, each policy set's firings with its rules' degrees, the changes
+of the model applied while it runs, the faults, and the calls of a few operations: the frames
+``Vision.grab`` returns to the Navigator (the on-board camera, with the stripe the console's
+detector finds in it, as the Navigator's does), ``Recovery.recover`` and ``askUser`` (recoveries and
+user requests), the Navigator's ``Locomotion.move`` and ``stop`` (a stop after a move is a stripe
+loss). The robot's pose, progress and finish come from ``Locomotion.odometry()``, called ten times a
+second as any client of the WebLab would; the map's sonar rays are drawn from that pose (the room's
+walls are fixed); the panoramic picture is drawn at the frame rate the Bandwidth limiting policy
+sets (``PanoramicCamera.fps``: its stream goes to the user's process).
+
+Driving: a viewer holding the token takes control; the console then holds the Vision component
+(the management interface's ``hold``, renewed while it drives), so that the Navigator of the other
+process waits for its next image, between two of its cycles, and sends the viewer's speed and turn
+to ``Locomotion.move`` (``stop`` for a speed of 0) through its port, as the Navigator does: the
+Control monitor and the policies see them as the Navigator's. Handing back releases the hold.
+The hold keeps a call waiting at most 0.75 of the containers' remote-call timeout
+(``ACORDCS_TIMEOUT``: 30 s in ``make live-console``); a viewer driving longer lets one cycle of the
+Navigator through, then holds it again.
+
+Who may drive is the application's decision, as in the simulation: the console reserves the user
+``console`` in the Access component with its token, and asks ``Access.authenticate("console",
+token)``. The application's processes are started and stopped by their scripts: Start and Stop are
+refused here.
+"""
+
+from __future__ import annotations
+
+import functools
+import json
+import logging
+import math
+import threading
+import time
+from collections import deque
+from pathlib import Path
+from typing import Any
+
+from weblab_sim import detector, floor, world
+from weblab_sim.robot import Robot
+
+from acordcs.runtime.connectors.remote import bytes_back
+from acordcs.runtime.errors import RuntimeFailure
+from weblab_console import pictures
+from weblab_console.hub import ConsoleHub
+from weblab_console.remote import Application, AttachError, Watcher
+from weblab_console.showing import FRAME_HZ, PUBLISH_HZ, SERIES_PERIOD, Showing
+
+log = logging.getLogger("weblab.console")
+
+MODE = "attached"
+PROFILE = "two processes"
+CONSOLE_USER = "console"
+CALLS = [
+    "Vision.grab",
+    "Recovery.recover",
+    "Recovery.askUser",
+    "Locomotion.move",
+    "Locomotion.stop",
+]
+TIMEOUT = 30.0  # seconds a call may take: a stop answered by a recovery takes several
+HOLD_SECONDS = 6.0  # a hold lasts this long unless renewed
+HOLD_RENEW = 0.5  # seconds between renewals while a viewer drives (each says what waits)
+MANUAL_RESEND = 1.0  # seconds between repeats of a manual forward move (a control cycle)
+TICK = 1.0 / FRAME_HZ
+
+
+class SessionError(RuntimeError):
+    """A request the session cannot carry out; ``str()`` says why and what to do."""
+
+
+class AttachedSession:
+    """The console over the application built in ``app_dir`` and started by its scripts; ``token``
+    is the console's (the one its URL carries)."""
+
+    mode = MODE
+    profiles: tuple[str, ...] = (PROFILE,)
+
+    def __init__(self, hub: ConsoleHub, token: str, app_dir: Path, *, timeout: float = TIMEOUT):
+        self.hub = hub
+        self.token = token
+        self.app = Application(Path(app_dir), timeout)
+        self.lab = self.app.host_of.get("Locomotion")
+        if self.lab is None or "Vision" not in self.app.host_of:
+            raise AttachError(f"{app_dir}: not the WebLab application (no Locomotion or Vision)")
+        self.show = Showing(hub, PROFILE, 0)
+        hub.publish("path", pictures.path())
+        self.closing = threading.Event()
+        self.wake = threading.Event()  # the loop's
+        self.steer = threading.Event()  # the driver's: a viewer's command
+        self.inbox: deque[tuple[str, str, Any]] = deque()
+        self.mirror: dict[str, dict[str, Any]] = {}
+        self.firings: dict[str, dict[str, Any]] = {}
+        self.counts = {"recovery": 0, "user_request": 0, "stripe_loss": 0, "fault": 0}
+        self.last_fault = "fault"
+        self.clock = (0.0, time.monotonic())  # the lab's clock time, when it was read
+        self.pose: dict[str, Any] | None = None
+        self.read_at = 0.0  # time.monotonic() of the last odometry
+        self.speed = 0.0  # mm/s, from the last two odometry readings
+        self.frame: bytes | None = None
+        self.frame_new = False
+        self.look_ahead = 300.0
+        self.forward = False  # the Navigator's last locomotion call was a forward move
+        self.finished = False
+        self.manual: tuple[float, float] | None = None
+        self.driving: tuple[float, float] | None = None  # what the driver last sent
+        self.held = 0  # calls of the Navigator waiting at the held Vision component
+        self.held_at = 0.0  # time.monotonic() of the last hold (0: not held)
+        self.sonar = Robot(0.0, 0.0, 0.0)  # a model of the robot among the room's walls
+        self.next_sample = 0.0
+        self.watchers = {
+            name: Watcher(self.app, name, CALLS if name == self.lab else [], self._deliver)
+            for name in self.app.places
+        }
+        self.threads: list[threading.Thread] = []
+
+    # ------------------------------------------------------------------------------ attaching
+    def attach(self) -> str:
+        """Watch every container and reserve the console's user (AttachError: a container does
+        not answer); what the console is attached to, in words."""
+        for watcher in self.watchers.values():
+            watcher.start_watching()
+        try:
+            self.app.call("Access", "AccessPort", "reserve", CONSOLE_USER, self.token)
+        except RuntimeFailure as err:
+            raise AttachError(f"the Access component refused the console: {err.message}") from None
+        lab = self.app.places[self.lab]
+        self._take()  # the snapshots: the lab's clock and seed
+        self.show.event(
+            self.sim_time, "start", f"attached to {self.app.name}: {self.app.describe()}"
+        )
+        self.next_sample = self.sim_time
+        self.threads = [
+            threading.Thread(target=self._loop, name="weblab-console-attached", daemon=True),
+            threading.Thread(target=self._reader, name="weblab-console-odometry", daemon=True),
+            threading.Thread(target=self._driver, name="weblab-console-driver", daemon=True),
+        ]
+        for thread in self.threads:
+            thread.start()
+        return f"{self.app.name}'s {len(self.app.places)} containers ({self.app.describe()}; the robot in {lab.name})"
+
+    # ---------------------------------------------------------------- server.Session
+    def authorize(self, token: str) -> bool:
+        """What the Access component says of ``token`` for the console's user, reserved again
+        first: a WebLab process started again since the console attached has forgotten it."""
+        try:
+            self.app.call("Access", "AccessPort", "reserve", CONSOLE_USER, self.token)
+            return (
+                self.app.call("Access", "AccessPort", "authenticate", CONSOLE_USER, token) is True
+            )
+        except RuntimeFailure as err:
+            log.warning("the Access component did not answer: %s", err.message)
+            return False
+
+    def start(self, profile: str, seed: int) -> None:
+        raise SessionError(
+            "the console is attached to the application its scripts started: stop it with "
+            "Ctrl-C where make live-console runs, or with its bin/stop-all"
+        )
+
+    def stop(self) -> None:
+        self.start("", 0)
+
+    def drive(self, speed: float, turn: float) -> None:
+        if not self.watchers[self.lab].reachable:
+            raise SessionError(f"container {self.lab} does not answer: the robot cannot be driven")
+        self.manual = (float(speed), float(turn))
+        self.steer.set()
+        self.wake.set()
+
+    def release(self) -> None:
+        self.manual = None
+        self.steer.set()
+        self.wake.set()
+
+    @property
+    def running(self) -> bool:
+        return not self.closing.is_set() and self.watchers[self.lab].reachable
+
+    @property
+    def sim_time(self) -> float:
+        """The lab container's clock now (seconds since it started)."""
+        t, at = self.clock
+        return t + (time.monotonic() - at)
+
+    def close(self) -> None:
+        self.closing.set()
+        self.wake.set()
+        self.steer.set()
+        for thread in self.threads:
+            thread.join(TIMEOUT)
+        for watcher in self.watchers.values():
+            watcher.stopping.set()
+        for watcher in self.watchers.values():
+            watcher.stop()
+        self.app.close()
+
+    # -------------------------------------------------------------- what the containers say
+    def _deliver(self, kind: str, container: str, data: Any) -> None:  # watchers' threads
+        self.inbox.append((kind, container, data))
+
+    def _take(self) -> None:
+        while self.inbox:
+            kind, container, data = self.inbox.popleft()
+            if kind == "snapshot":
+                for element, values in data["elements"].items():
+                    self.mirror[element] = dict(values)
+                for name, firing in data["policy_sets"].items():
+                    if firing is not None:
+                        self.firings[name] = firing
+                if container == self.lab:
+                    self.clock = (data["time"], time.monotonic())
+                    self.show.seed = data["seed"]
+                self.look_ahead = float(
+                    self.mirror.get("Navigator", {}).get("lookAhead", self.look_ahead)
+                )
+            elif kind == "down":
+                self._fault(f"container {container} does not answer: {data}")
+            else:
+                if container == self.lab:
+                    self.clock = (data["time"], time.monotonic())
+                for event in data["events"]:
+                    self._event(event)
+                for fault in data["faults"]:
+                    self._fault(f"fault: {container}: {fault['where']}: {fault['error']}")
+
+    def _event(self, event: dict[str, Any]) -> None:
+        kind, element, attribute = event["kind"], event["element"], event["attribute"]
+        if kind == "property.changed":
+            self.mirror.setdefault(element, {})[attribute] = event["value"]
+        elif kind == "monitor.updated":
+            self.mirror.setdefault(element, {}).update(event["values"])
+        elif kind == "policy.fired" and "firing" in event:
+            self.firings[element] = event["firing"]
+        elif kind == "model.updated":
+            self.show.event(event["time"], "model.updated", str(event["value"]))
+        elif kind == "operation.called":
+            self._call(element, attribute, event)
+
+    def _call(self, component: str, operation: str, event: dict[str, Any]) -> None:
+        if event["error"] is not None:
+            return
+        if (component, operation) == ("Vision", "grab"):
+            frame = bytes_back(event["value"])
+            if isinstance(frame, bytes):
+                self.frame, self.frame_new = frame, True
+        elif component == "Recovery":
+            key = "recovery" if operation == "recover" else "user_request"
+            self.counts[key] += 1
+        elif component == "Locomotion" and event["origin"] is None and self.manual is None:
+            if operation == "move":
+                self.forward = float(event["args"][0]) > 0
+            elif self.forward:  # the Navigator stopped after a move: it lost the stripe
+                self.forward = False
+                self.counts["stripe_loss"] += 1
+
+    def _fault(self, text: str) -> None:
+        self.counts["fault"] += 1
+        self.last_fault = text
+
+    # -------------------------------------------------------------------------- the loop
+    def _loop(self) -> None:
+        """Take what the watchers delivered, read the robot's odometry, publish."""
+        show = self.show
+        while not self.closing.is_set():
+            self._take()
+            now = self.sim_time
+            if show.due("state"):
+                show.sent("state", PUBLISH_HZ)
+                self._publish_state(now)
+            if self.frame_new and show.due("frame:onboard"):
+                show.sent("frame:onboard", FRAME_HZ)
+                self.frame_new = False
+                frame = self.frame or b""
+                turn = detector.find_stripe(frame, self.look_ahead)
+                self.hub.publish("frame:onboard", pictures.onboard(frame, turn))
+            fps = self.mirror.get("PanoramicCamera", {}).get("fps")
+            streaming = isinstance(fps, int | float) and fps > 0 and self.pose is not None
+            if streaming and show.due("frame:panoramic"):  # at the rate the policy sets
+                show.sent("frame:panoramic", min(float(fps), FRAME_HZ))
+                x, y, heading = self._xyh()
+                self.hub.publish("frame:panoramic", pictures.panoramic(x, y, heading, show.trail))
+            while self.next_sample <= now:
+                speed_limit = self.mirror.get("Locomotion", {}).get("maxSpeed")
+                show.sample(self.next_sample, speed_limit, fps)
+                self.next_sample += SERIES_PERIOD
+            self._hold()
+            self.wake.wait(TICK)
+            self.wake.clear()
+        self.manual = None
+        self._hold()  # closing while a viewer drives: the Navigator goes on
+        show.stopped()
+
+    def _xyh(self) -> tuple[float, float, float]:
+        pose = self.pose or {}
+        return pose.get("x", 0.0), pose.get("y", 0.0), math.radians(pose.get("heading", 0.0))
+
+    def _reader(self) -> None:
+        """Read the robot's odometry :data:`PUBLISH_HZ` times a second, in its own thread: the
+        WebLab's process answers it only once the events it is handling are handled (a recovery
+        takes seconds), and the console's loop must go on meanwhile."""
+        while not self.closing.is_set():
+            began = time.monotonic()
+            if self.watchers[self.lab].reachable:
+                try:
+                    pose = json.loads(self.app.call("Locomotion", "LocomotionPort", "odometry"))
+                    now = time.monotonic()
+                    if self.pose is not None and now > self.read_at:
+                        travelled = float(pose["distance"]) - float(self.pose["distance"])
+                        self.speed = max(0.0, travelled) / (now - self.read_at)
+                    self.pose, self.read_at = pose, now
+                except (RuntimeFailure, ValueError, TypeError, KeyError) as err:
+                    self._fault(f"fault: odometry: {err}")
+            self.closing.wait(max(0.0, began + 1.0 / PUBLISH_HZ - time.monotonic()))
+
+    def _publish_state(self, now: float) -> None:
+        show, lab = self.show, self.watchers[self.lab]
+        if self.pose is not None:
+            x, y, heading = self._xyh()
+            self.sonar.place(0.0, x, y, heading)
+            ranges = self.sonar.sonar(0.0, world.SONAR_BEARINGS, world.SONAR_RANGE_MM)
+            if self.pose.get("finished") and not self.finished:
+                self.finished = True
+                show.event(now, "finish", f"finish line crossed at about {now:.1f} s")
+            fps = self.mirror.get("PanoramicCamera", {}).get("fps", 0)
+            show.state(
+                t=now,
+                pose=(x, y, heading),
+                sonar=zip(world.SONAR_BEARINGS, ranges, strict=True),
+                speed=self.speed,
+                fps=int(fps) if isinstance(fps, int | float) else 0,
+                driver="manual" if self.manual is not None else "navigator",
+                running=lab.reachable,
+                progress=float(self.pose.get("progress", 0.0)) / path_length() * 100.0,
+                mode=MODE,
+                held=self.held,
+            )
+        show.context(lambda element, attribute: self.mirror.get(element, {}).get(attribute))
+        firings, self.firings = self.firings, {}
+        for name, f in sorted(firings.items()):
+            show.policy(
+                name, f["engine"], f["time"], f["fires"], f["rules"], f["inputs"], f["outputs"]
+            )
+        show.counted(now, self.counts, lambda: self.last_fault)
+        show.plots()
+
+    # ------------------------------------------------------------------------ driving
+    def _hold(self) -> None:
+        """While a viewer drives, hold the Vision component (renewed every :data:`HOLD_RENEW`
+        seconds: the reply says whether the Navigator waits); release it once they hand back.
+        In the loop's thread: the management interface answers at once, whatever the container
+        is busy with."""
+        vision = self.app.host_of["Vision"]
+        try:
+            if self.manual is not None and time.monotonic() - self.held_at >= HOLD_RENEW:
+                self.held = int(self.app.manage(vision, "hold", "Vision", HOLD_SECONDS)["waiting"])
+                self.held_at = time.monotonic()
+            elif self.manual is None and self.held_at:
+                self.held, self.held_at = 0, 0.0
+                self.app.manage(vision, "release", "Vision")
+        except RuntimeFailure as err:
+            self._fault(f"fault: holding the Navigator: {err.message}")
+
+    def _driver(self) -> None:
+        """Send the viewers' manual control to Locomotion, in its own thread: a stop answered by
+        a recovery returns only once the recovery is done."""
+        sent_at = 0.0
+        while not self.closing.is_set():
+            manual = self.manual
+            now = time.monotonic()
+            try:
+                if manual is None:
+                    if self.driving is not None:
+                        self.driving = None
+                        self.show.event(
+                            self.sim_time, "driver", "control handed back to the Navigator"
+                        )
+                elif manual != self.driving or (manual[0] > 0 and now - sent_at >= MANUAL_RESEND):
+                    if self.driving is None:
+                        self.show.event(self.sim_time, "driver", "manual control taken")
+                    self.driving, sent_at = manual, now
+                    speed, turn = manual
+                    if speed > 0:
+                        self.app.call("Locomotion", "LocomotionPort", "move", speed, turn)
+                    else:
+                        self.app.call("Locomotion", "LocomotionPort", "stop")
+            except RuntimeFailure as err:
+                self._fault(f"fault: manual control: {err.message}")
+                self.closing.wait(1.0)
+            self.steer.wait(0.1)
+            self.steer.clear()
+
+
+@functools.cache
+def path_length() -> float:
+    """The stripe's length (mm): what the odometry's progress is a part of."""
+    return float(floor.make_path().length)
