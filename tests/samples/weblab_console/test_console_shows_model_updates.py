@@ -36,6 +36,11 @@ def test_an_update_is_an_event_of_the_timeline(weblab_app, tmp_path):
             tmp_path / "weblab.xmi", models.rule(SLOW, SLOW.replace("slow", "fast"))
         )
         new = to_xml(describe(read_model(str(path)).architecture))
+        running = time.monotonic() + 30  # the run under way, its clock past 0 (a loaded host)
+        while session.sim_time <= 0:
+            assert time.monotonic() < running, "the experiment's clock never moved"
+            time.sleep(0.05)
+        before = session.sim_time
         reply = managed.apply(new.decode(), managed.digest)
         assert reply["status"] == "applied", reply
         line = "~ policy set SpeedLimiting: rule smallNarrow: ... is slow -> ... is fast"
@@ -46,6 +51,6 @@ def test_an_update_is_an_event_of_the_timeline(weblab_app, tmp_path):
             seen += hub.take(box)[1]
             time.sleep(0.05)
         (event,) = [e for e in seen if e.get("kind") == "model.updated"]
-        assert event["text"] == line and event["t"] > 0
+        assert event["text"] == line and event["t"] >= before > 0  # the run's clock
     finally:
         session.close()
