@@ -231,11 +231,11 @@ if sys.argv[2:] == ["lark"]:
     import lark
     grammar = open(rules.__file__.replace("parser.py", "rules.lark"), encoding="utf-8").read()
     own = lark.Lark(grammar, start=["start_fuzzy", "start_crisp", "start_terms"], parser="lalr",
-                    maybe_placeholders=True, transformer=rules._Builders())
+                    maybe_placeholders=True, transformer=rules.RuleTreeBuilder())
     parse = lambda text, kind: own.parse(text, start="start_" + kind)
 times = []
 for _ in range(8):
-    rules._PARSED.clear()
+    rules.forget_parsed_rules()
     start = time.perf_counter()
     for text, kind in texts:
         parse(text, kind)

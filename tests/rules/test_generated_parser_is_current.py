@@ -73,7 +73,7 @@ def oracle() -> lark.Lark:
         parser="lalr",
         lexer="contextual",
         maybe_placeholders=True,
-        transformer=rules._Builders(),
+        transformer=rules.RuleTreeBuilder(),
     )
 
 

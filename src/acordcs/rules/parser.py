@@ -117,7 +117,7 @@ def _mf(shape: str) -> Callable[[object, list], tuple[str, tuple[float, ...]]]:
     return lambda _self, c: (shape, tuple(map(_num, c[1:])))
 
 
-class _Builders(Transformer):
+class RuleTreeBuilder(Transformer):
     """The rule tree's builders, one per rule of ``rules.lark`` (by its alias when it has one)."""
 
     def label(self, c: list) -> tuple[str, str]:
@@ -205,8 +205,8 @@ class _Builders(Transformer):
 @cache
 def _parser() -> Lark:
     """The generated parser (``standalone_parser``, made by lark's standalone generator from
-    ``rules.lark``: no lark at run time) building the tree with :class:`_Builders`."""
-    return Lark_StandAlone(transformer=_Builders())
+    ``rules.lark``: no lark at run time) building the tree with :class:`RuleTreeBuilder`."""
+    return Lark_StandAlone(transformer=RuleTreeBuilder())
 
 
 _EXPECT_WORDS = {
@@ -304,6 +304,11 @@ def parse_rule(text: str, kind: RuleKind = "fuzzy") -> Rule:
             _PARSED.clear()
         _PARSED[text, kind] = rule
     return rule
+
+
+def forget_parsed_rules() -> None:
+    """Empty the cache of parsed rules (:func:`parse_rule` parses each text again: benchmarks)."""
+    _PARSED.clear()
 
 
 def _parse_rule(text: str, kind: str) -> Rule:
