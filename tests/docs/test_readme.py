@@ -9,6 +9,8 @@ import subprocess
 import sys
 from pathlib import Path
 
+import pytest
+
 from acordcs.diagnostics import CODES
 from tests.support.toolchain import ROOT
 
@@ -48,16 +50,19 @@ def test_runtime_assembly_example_prints_what_the_readme_shows(monkeypatch):
 
 # ------------------------------------------------------------------------------ the layout table
 LAYOUT = README.split("\n## Layout\n", 1)[1].split("\n## ", 1)[0]
+# The README's table is the short one; docs/layout.md names every module.
+MODULES = (ROOT / "docs" / "layout.md").read_text(encoding="utf-8")
+TABLES = {"README.md": LAYOUT, "docs/layout.md": MODULES}
 # A backticked name is a path when it ends with "/" or with one of the repository's file kinds.
 PATH_LIKE = re.compile(
     r"^[\w.*-]+(?:/[\w.*-]+)*(?:/|\.(?:py|xsl|xsd|lark|ecore|xmi|uml|txt|java|md|yml|toml|sh))$"
 )
 
 
-def _layout_rows() -> list[tuple[list[str], list[str]]]:
+def _layout_rows(table: str) -> list[tuple[list[str], list[str]]]:
     """(paths of the first column, backticked names of the second) for each row of the table."""
     rows = []
-    for line in LAYOUT.splitlines():
+    for line in table.splitlines():
         cells = [c.strip() for c in line.strip().strip("|").split("|")]
         if len(cells) != 2 or cells[0] in ("path", "---"):
             continue
@@ -75,10 +80,10 @@ def _resolve(name: str, base: Path) -> list[Path]:
     return sorted(p for p in base.rglob(name.rstrip("/")) if "__pycache__" not in p.parts)
 
 
-def _named_by_the_layout() -> tuple[set[Path], list[str]]:
+def _named_by_the_layout(table: str) -> tuple[set[Path], list[str]]:
     named: set[Path] = set()
     missing = []
-    for firsts, names in _layout_rows():
+    for firsts, names in _layout_rows(table):
         first = ROOT / firsts[0]
         base = first if firsts[0].endswith("/") else first.parent
         for name in [*firsts, *(n for n in names if PATH_LIKE.match(n))]:
@@ -89,10 +94,11 @@ def _named_by_the_layout() -> tuple[set[Path], list[str]]:
     return named, missing
 
 
-def test_every_path_in_the_layout_table_exists():
-    assert len(_layout_rows()) >= 10, "the layout table was not found"
-    _, missing = _named_by_the_layout()
-    assert not missing, f"the README's layout table names paths that do not exist: {missing}"
+@pytest.mark.parametrize("where", TABLES)
+def test_every_path_in_the_layout_table_exists(where):
+    assert len(_layout_rows(TABLES[where])) >= 10, "the layout table was not found"
+    _, missing = _named_by_the_layout(TABLES[where])
+    assert not missing, f"{where}'s layout table names paths that do not exist: {missing}"
 
 
 def _entries(folder: Path) -> list[Path]:
@@ -107,8 +113,8 @@ def _entries(folder: Path) -> list[Path]:
 
 def test_the_layout_table_names_every_package_module_and_top_directory():
     """Every package of src/acordcs at any depth and every module at its top, and every entry of
-    tools/, samples/, benchmarks/, deploy/ and docs/, is named by the table."""
-    named, _ = _named_by_the_layout()
+    tools/, samples/, benchmarks/, deploy/ and docs/, is named by the table of docs/layout.md."""
+    named, _ = _named_by_the_layout(MODULES)
     package = ROOT / "src" / "acordcs"
     wanted = [p for p in package.rglob("__init__.py") if p.parent != package]
     wanted = [p.parent for p in wanted] + [
@@ -117,7 +123,7 @@ def test_the_layout_table_names_every_package_module_and_top_directory():
     for top in ("tools", "samples", "benchmarks", "deploy", "docs"):
         wanted += _entries(ROOT / top)
     unnamed = sorted(str(p.relative_to(ROOT)) for p in wanted if p not in named)
-    assert not unnamed, f"the README's layout table does not name: {unnamed}"
+    assert not unnamed, f"docs/layout.md's table does not name: {unnamed}"
 
 
 # --------------------------------------------------------------------- the README stands alone

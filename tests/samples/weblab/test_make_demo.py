@@ -23,11 +23,19 @@ from tests.support.toolchain import ROOT, run_main
 from .conftest import SAMPLE_DIR
 
 README = (ROOT / "README.md").read_text(encoding="utf-8")
+WHOLE = (SAMPLE_DIR / "README.md").read_text(encoding="utf-8")  # the whole transcript
 TIMING = re.compile(r"simulated s in [\d.]+ wall s|^WebLab runs: |^report: ")
+ELIDED = re.compile(r"^\[\.\.\. .* \.\.\.\]$")
 
 
-def demo_block() -> list[str]:
-    return README.split("$ make demo\n", 1)[1].split("```", 1)[0].splitlines()
+def demo_block(text: str = README) -> list[str]:
+    return text.split("$ make demo\n", 1)[1].split("```", 1)[0].splitlines()
+
+
+def experiment_lines(block: list[str]) -> list[str]:
+    """The transcript's lines after the experiment's command, timings left out."""
+    shown = block[block.index(next(ln for ln in block if ln.startswith("cd "))) + 1 :]
+    return [ln for ln in shown if not TIMING.search(ln)]
 
 
 @pytest.fixture(scope="module")
@@ -73,11 +81,17 @@ def test_the_readme_transcript_of_validate_and_build_is_real(tmp_path, monkeypat
 
 def test_the_readme_transcript_of_the_experiment_is_real(demo):
     lines, _ = demo
-    block = demo_block()
-    shown = block[block.index(next(ln for ln in block if ln.startswith("cd "))) + 1 :]
-    assert [ln for ln in lines if not TIMING.search(ln)] == [
-        ln for ln in shown if not TIMING.search(ln)
-    ]
+    printed = [ln for ln in lines if not TIMING.search(ln)]
+    assert experiment_lines(demo_block(WHOLE)) == printed
+    assert demo_block(WHOLE)[:5] == demo_block()[:5]  # one run: the same commands and build
+    # The README's excerpt: the same lines in the same order, "[... ...]" standing for some left out.
+    at = 0
+    for line in experiment_lines(demo_block()):
+        if ELIDED.match(line):
+            continue
+        assert line in printed[at:], f"not in the output (or out of order): {line!r}"
+        at = printed.index(line, at) + 1
+    assert any(ELIDED.match(ln) for ln in demo_block()), "the README says where lines were left out"
 
 
 def test_the_claims_hold_and_the_data_files_say_so(demo):
