@@ -27,7 +27,7 @@ import time
 import clips
 import numpy as np
 
-from acordcs.runtime.clips import ClipsEngine
+from acordcs.engines.clips import ClipsEngine
 
 RULES = [
     "count: if Control.speed == 0 then Recovery.zeros = Recovery.zeros + 1",

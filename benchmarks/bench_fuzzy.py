@@ -16,7 +16,7 @@ import warnings
 
 import numpy as np
 
-from acordcs.runtime.fuzzy import FuzzyEngine
+from acordcs.engines.fuzzy import FuzzyEngine
 
 RATE = {"small": (0, 0, 0.5, 1.2), "medium": (0.5, 1.5, 2.5), "large": (1.8, 2.5, 3, 3)}
 ANGLE = {

@@ -15,8 +15,8 @@ from __future__ import annotations
 import time
 import warnings
 
-from acordcs.runtime.fuzzy import FuzzyEngine
-from acordcs.runtime.fuzzy.fcl import read_fcl
+from acordcs.engines.fuzzy import FuzzyEngine
+from acordcs.engines.fuzzy.fcl import read_fcl
 
 TERMS = 250
 RULES = 1_000

@@ -90,7 +90,7 @@ def terms_file() -> str:
 
 # ---------------------------------------------------------------------------------- children
 def child_fire(combination: str, fires: int) -> dict:
-    from acordcs.runtime.fuzzy import FuzzyEngine, Semantics
+    from acordcs.engines.fuzzy import FuzzyEngine, Semantics
 
     act, accu, method = combination.split("/")
     rnd = random.Random(11)
@@ -122,7 +122,7 @@ def child_read(path: str, traced: bool, without: str = "") -> dict:
     import tracemalloc
 
     if without == "fast":
-        from acordcs.runtime.fuzzy import fcl_fast
+        from acordcs.engines.fuzzy import fcl_fast
 
         def decline(text: str) -> None:
             raise fcl_fast.Decline
@@ -131,8 +131,8 @@ def child_read(path: str, traced: bool, without: str = "") -> dict:
     elif without == "gc-pause":
         gc.disable = lambda: None
 
-    from acordcs.runtime.fuzzy import read_fcl
-    from acordcs.runtime.rule_engine import RuleError
+    from acordcs.engines.fuzzy import read_fcl
+    from acordcs.engines.rule_engine import RuleError
 
     text = Path(path).read_text(encoding="utf-8")
     base = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss

@@ -24,6 +24,7 @@ from typing import Any, ClassVar
 
 import Pyro5.api
 
+from acordcs.engines.engine_registry import EngineSetup, Variable, lookup_engine, register_engine
 from acordcs.runtime.clock import VirtualClock
 from acordcs.runtime.component import ComponentFactory, CtxComponent
 from acordcs.runtime.connectors.remote import ContainerServer, RemoteConnector, RemotePort
@@ -32,7 +33,6 @@ from acordcs.runtime.errors import EngineNotAvailableError
 from acordcs.runtime.monitor import Monitor
 from acordcs.runtime.policy import PolicySet
 from acordcs.runtime.ports import sync_port
-from acordcs.runtime.registry import EngineSetup, Variable, lookup_engine, register_engine
 
 SPEED_RULES = [
     "slow1: if cycleRate is small and angle is narrow then Locomotion.speed is slow",
@@ -99,11 +99,11 @@ def adaptation_latency(n: int) -> None:
     try:
         lookup_engine("fuzzy")
         engine, rules, variables = "fuzzy", SPEED_RULES, VARIABLES
-        label = "project fuzzy engine (acordcs.runtime.fuzzy, mamdani)"
+        label = "project fuzzy engine (acordcs.engines.fuzzy, mamdani)"
     except EngineNotAvailableError:
         register_engine("bench-crisp", MiniCrisp, syntax="crisp")
         engine, rules, variables = "bench-crisp", CRISP_RULES, {}
-        label = "fallback crisp engine (no acordcs.runtime.fuzzy)"
+        label = "fallback crisp engine (no acordcs.engines.fuzzy)"
     with Container("bench", clock=VirtualClock()) as c:
         c.install_factory(ComponentFactory("Locomotion", Locomotion))
         c.create("Locomotion", "Locomotion")

@@ -37,7 +37,7 @@ import time
 from pathlib import Path
 
 from acordcs.runtime.connectors.remote import RemoteConnector
-from acordcs.runtime.management import MANAGE_OBJECT
+from acordcs.runtime.live.management import MANAGE_OBJECT
 
 ROOT = Path(__file__).resolve().parents[1]
 SAMPLE = ROOT / "samples" / "weblab"

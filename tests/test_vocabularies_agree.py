@@ -83,7 +83,7 @@ def test_the_schema_enumerates_every_eenum_of_the_metamodel() -> None:
 
 def test_a_descriptor_with_a_value_outside_the_vocabulary_is_refused(tmp_path) -> None:
     from acordcs.descriptor import DescriptorError, from_xml
-    from tests.support.codegen import build
+    from tests.support.generator import build
 
     assert build(ROOT / "samples/weblab/weblab.xmi", tmp_path, "--target", "config").code == 0
     data = (tmp_path / "WebLab.descriptor.xml").read_bytes()
@@ -158,8 +158,8 @@ def test_every_connector_kind_has_its_connector() -> None:
 
 
 def test_every_engine_kind_is_built_in_with_its_rule_syntax() -> None:
+    from acordcs.engines import engine_registry as registry
     from acordcs.rules.binding import RULE_SYNTAX
-    from acordcs.runtime import registry
 
     engines = ecore_literals()["EngineKind"]
     assert tuple(RULE_SYNTAX) == engines
@@ -169,8 +169,8 @@ def test_every_engine_kind_is_built_in_with_its_rule_syntax() -> None:
 
 
 def test_policy_sets_take_the_metamodels_semantics_triggers_and_defaults() -> None:
+    from acordcs.engines.fuzzy.semantics import PRESETS
     from acordcs.runtime.errors import ConfigurationError
-    from acordcs.runtime.fuzzy.semantics import PRESETS
     from acordcs.runtime.policy import PolicySet
 
     literals = ecore_literals()
@@ -185,8 +185,8 @@ def test_policy_sets_take_the_metamodels_semantics_triggers_and_defaults() -> No
 
 
 def test_term_shapes_are_the_metamodels() -> None:
+    from acordcs.engines.fuzzy.membership import SHAPES, make_membership
     from acordcs.rules import parse_terms
-    from acordcs.runtime.fuzzy.membership import SHAPES, make_membership
 
     shapes = ecore_literals()["MembershipShape"]
     assert shapes == SHAPES
@@ -202,7 +202,7 @@ def test_the_runtime_reads_the_vocabularies_without_the_toolchain() -> None:
     # A generated application imports the runtime, never acordcs.metamodel (pyecore).
     code = (
         "import sys; import acordcs.runtime.ports, acordcs.runtime.policy, "
-        "acordcs.runtime.repository, acordcs.runtime.fuzzy; "
+        "acordcs.runtime.repository, acordcs.engines.fuzzy; "
         "print(sorted(m for m in sys.modules if m in ('acordcs.metamodel', 'acordcs.profile', "
         "'pyecore') or m.startswith(('acordcs.metamodel.', 'pyecore.'))))"
     )

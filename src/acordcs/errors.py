@@ -53,3 +53,19 @@ class UnreadableInputError(AcordError):
     """Input that cannot be read at all: missing file, not XML, hostile XML."""
 
     exit_code = 2
+
+
+class RuntimeFailure(AcordError):
+    """Base of every error raised while an application runs (the runtime's, the engines'). ``where`` names the container (or connector) it happened in."""
+
+    def __init__(self, message: str, *, where: str | None = None, hint: str | None = None) -> None:
+        super().__init__(message, element=None, hint=hint)
+        self.where = where
+
+    def location(self) -> str:
+        return self.where or "runtime"
+
+
+class ConfigurationError(RuntimeFailure, ValueError):
+    """A setting out of its domain: a period or timeout <= 0, a periodic policy set without
+    frequency, an attribute default that is not of its type. Also a ValueError."""

@@ -17,8 +17,8 @@ from pathlib import Path
 
 import pytest
 
-from tests.codegen.test_shell_scripts_parse_quote_and_run import free_ports
-from tests.support.codegen import build, snapshot
+from tests.generator.test_shell_scripts_parse_quote_and_run import free_ports
+from tests.support.generator import build, snapshot
 from tests.support.toolchain import ROOT, SMARTROOM, CliResult, no_crash, replace, run_main
 
 LIGHT = "vacant: if occupancy is empty then Lights.dimmer is off"

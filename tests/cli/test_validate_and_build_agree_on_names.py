@@ -8,7 +8,7 @@ from pathlib import Path
 
 import pytest
 
-from tests.support.codegen import build, weblab_variant
+from tests.support.generator import build, weblab_variant
 from tests.support.toolchain import no_crash, run_main
 
 LONG = "A" * 230

@@ -5,7 +5,7 @@ from __future__ import annotations
 import pytest
 
 from acordcs.descriptor import Application
-from acordcs.model.describe import describe
+from acordcs.generator.describe import describe
 from acordcs.model.reading import ModelReading, read_model
 from tests.support.toolchain import SMARTROOM, WEBLAB
 

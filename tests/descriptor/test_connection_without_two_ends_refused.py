@@ -6,7 +6,7 @@ from __future__ import annotations
 import pytest
 
 from acordcs.descriptor import DescriptorError
-from acordcs.model.describe import describe
+from acordcs.generator.describe import describe
 from acordcs.model.reading import read_model
 from tests.support.toolchain import replace, replace_in_element, write_model
 

@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 from acordcs.descriptor import to_xml
-from acordcs.model.describe import describe
+from acordcs.generator.describe import describe
 from acordcs.model.reading import read_model
 from tests.support.toolchain import SMARTROOM, WEBLAB
 

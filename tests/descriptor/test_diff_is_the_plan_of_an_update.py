@@ -14,9 +14,9 @@ from hypothesis import strategies as st
 
 from acordcs.descriptor.diff import diff, elided, shown
 from acordcs.descriptor.model import Application
-from acordcs.model.describe import describe
+from acordcs.generator.describe import describe
 from acordcs.model.reading import read_model
-from tests.support.codegen import weblab_variant
+from tests.support.generator import weblab_variant
 from tests.support.toolchain import SMARTROOM, WEBLAB
 
 SETTINGS = settings(max_examples=30, deadline=None)

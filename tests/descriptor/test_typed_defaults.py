@@ -7,7 +7,7 @@ from __future__ import annotations
 import pytest
 
 from acordcs.descriptor import DescriptorError, typed_default, value_kind
-from acordcs.model.describe import describe
+from acordcs.generator.describe import describe
 from acordcs.model.reading import read_model
 from tests.support.toolchain import replace_in_element, write_model
 

@@ -14,8 +14,8 @@ import subprocess
 from pathlib import Path
 
 from acordcs.cli import main
-from tests.codegen.test_shell_scripts_parse_quote_and_run import free_ports
 from tests.docs.test_site import _transcripts
+from tests.generator.test_shell_scripts_parse_quote_and_run import free_ports
 from tests.support import weblab_models as models
 from tests.support.toolchain import ROOT, WEBLAB, run_main
 

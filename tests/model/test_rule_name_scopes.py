@@ -1,4 +1,4 @@
-"""The ``rules`` check (acordcs.model.checks.rules) resolves each name of a rule in the scope of its
+"""The ``rules`` check (acordcs.model.checks.rule_checks) resolves each name of a rule in the scope of its
 own policy set (the monitors feeding the set, the elements it adapts): what one set may name must not
 leak into another, for fuzzy variables and terms as for crisp names and calls."""
 

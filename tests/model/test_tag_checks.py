@@ -7,10 +7,10 @@ from __future__ import annotations
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
+from acordcs.engines.fuzzy.membership import make_membership
+from acordcs.engines.rule_engine import RuleError
 from acordcs.model.checks.tags import shape_problem
 from acordcs.rules import Name, TermDef
-from acordcs.runtime.fuzzy.membership import make_membership
-from acordcs.runtime.rule_engine import RuleError
 from tests.support.toolchain import codes_in, rule_and_tag_findings, run_main, write_model
 
 

@@ -18,9 +18,9 @@ from acordcs.runtime.clock import VirtualClock
 from acordcs.runtime.component import CtxComponent
 from acordcs.runtime.connectors.remote import RemoteConnector, container_uri
 from acordcs.runtime.errors import RemoteCallError
-from acordcs.runtime.management import HOLD_PATIENCE, MANAGE_OBJECT, manage
+from acordcs.runtime.live.apply_update import GivenClasses
+from acordcs.runtime.live.management import HOLD_PATIENCE, MANAGE_OBJECT, manage
 from acordcs.runtime.ports import sync_port
-from acordcs.runtime.update import GivenClasses
 from tests.support.descriptors import application, component, container, op, port, ref
 from tests.support.services import wait_for
 

@@ -15,7 +15,8 @@ from typing import Any
 
 import pytest
 
-from acordcs.model.describe import describe
+from acordcs.engines.engine_registry import Variable
+from acordcs.generator.describe import describe
 from acordcs.model.ecore_builder import to_ecore
 from acordcs.model.reading import read_model
 from acordcs.rules import parse_terms
@@ -28,7 +29,6 @@ from acordcs.runtime.connectors import (
     ShapedConnector,
 )
 from acordcs.runtime.ports import Port
-from acordcs.runtime.registry import Variable
 from tests.support.toolchain import SMARTROOM, WEBLAB
 
 _FCL = {

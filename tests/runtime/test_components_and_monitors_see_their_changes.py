@@ -8,6 +8,7 @@ from typing import ClassVar
 
 import pytest
 
+from acordcs.engines.engine_registry import Variable
 from acordcs.runtime.api import (
     ComponentFactory,
     Container,
@@ -17,7 +18,6 @@ from acordcs.runtime.api import (
     VirtualClock,
 )
 from acordcs.runtime.errors import ConfigurationError
-from acordcs.runtime.registry import Variable
 
 
 class Vent(CtxComponent):

@@ -8,6 +8,10 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
+from acordcs.engines.clips import ClipsEngine
+from acordcs.engines.fuzzy import FuzzyEngine
+from acordcs.engines.fuzzy.fcl import read_fcl
+from acordcs.engines.rule_engine import RuleError
 from acordcs.rules import (
     MAX_DEPTH,
     BoolOp,
@@ -18,10 +22,6 @@ from acordcs.rules import (
     RuleSyntaxError,
     parse_rule,
 )
-from acordcs.runtime.clips import ClipsEngine
-from acordcs.runtime.fuzzy import FuzzyEngine
-from acordcs.runtime.fuzzy.fcl import read_fcl
-from acordcs.runtime.rule_engine import RuleError
 
 # Each step wraps the expression once more; runs of one step build the chains of the attack.
 CRISP_STEPS = {

@@ -10,7 +10,7 @@ from pathlib import Path
 
 import pytest
 
-from tests.support.codegen import build, run_container
+from tests.support.generator import build, run_container
 
 REMOTE = ("--remote", "WebLabSide=PYRO:acordcs.container.WebLabSide@127.0.0.1:9")
 LAB_REMOTE = ("--remote", "UserSide=PYRO:acordcs.container.UserSide@127.0.0.1:9")

@@ -9,7 +9,7 @@ from pathlib import Path
 
 import pytest
 
-from tests.support.codegen import build, run_container
+from tests.support.generator import build, run_container
 from tests.support.toolchain import WEBLAB
 
 REMOTE = ("--remote", "UserSide=PYRO:acordcs.container.UserSide@127.0.0.1:9")

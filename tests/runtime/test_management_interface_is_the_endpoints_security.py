@@ -18,8 +18,8 @@ from acordcs.runtime.assembly import assemble
 from acordcs.runtime.clock import VirtualClock
 from acordcs.runtime.connectors.remote import RemoteConnector
 from acordcs.runtime.errors import RemoteCallError, RemoteUnreachableError
-from acordcs.runtime.management import MANAGE_OBJECT, digest, manage
-from acordcs.runtime.update import GivenClasses
+from acordcs.runtime.live.apply_update import GivenClasses
+from acordcs.runtime.live.management import MANAGE_OBJECT, digest, manage
 from tests.support.descriptors import (
     application,
     component,

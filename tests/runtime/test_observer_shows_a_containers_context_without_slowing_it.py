@@ -22,10 +22,10 @@ from acordcs.runtime.clock import VirtualClock
 from acordcs.runtime.component import CtxComponent
 from acordcs.runtime.connectors.remote import RemoteConnector, bytes_back, container_uri
 from acordcs.runtime.errors import ConfigurationError, RemoteCallError, RemoteUnreachableError
-from acordcs.runtime.management import manage
-from acordcs.runtime.observer import MAX_BATCH, OBSERVE_OBJECT, Observer
+from acordcs.runtime.live.apply_update import GivenClasses
+from acordcs.runtime.live.management import manage
+from acordcs.runtime.live.observer import MAX_BATCH, OBSERVE_OBJECT, Observer
 from acordcs.runtime.ports import sync_port
-from acordcs.runtime.update import GivenClasses
 from tests.support.descriptors import (
     application,
     component,

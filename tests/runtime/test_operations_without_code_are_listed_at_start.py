@@ -1,5 +1,5 @@
 """At start, a container lists the operations of its components that have no code and that the
-model calls (acordcs.runtime.drift): a crisp rule of a policy set there, a polling monitor there,
+model calls (acordcs.runtime.live.code_check): a crisp rule of a policy set there, a polling monitor there,
 a connection to a synchronous provided port (every operation of the component), a ``--run``. A
 fresh WebLab build lists exactly those of the model; the WebLab's own code lists none; renaming
 an operation in the model (issue 21's loop) names the new one, its caller and the user's file, and
@@ -17,9 +17,9 @@ from pathlib import Path
 import pytest
 
 from acordcs.runtime.api import VirtualClock
-from acordcs.runtime.drift import operations_without_code
 from acordcs.runtime.errors import OperationNotImplementedError
-from tests.support.codegen import build, imported, weblab_variant
+from acordcs.runtime.live.code_check import operations_without_code
+from tests.support.generator import build, imported, weblab_variant
 from tests.support.toolchain import ROOT, WEBLAB
 
 APP = WEBLAB.parent / "app" / "weblab_app"

@@ -10,13 +10,13 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
+from acordcs.engines.engine_registry import Variable
+from acordcs.engines.fuzzy import FuzzyEngine
 from acordcs.runtime.clock import VirtualClock
 from acordcs.runtime.component import ComponentFactory, CtxComponent
 from acordcs.runtime.container import Container
-from acordcs.runtime.fuzzy import FuzzyEngine
 from acordcs.runtime.monitor import Monitor
 from acordcs.runtime.policy import PolicySet
-from acordcs.runtime.registry import Variable
 
 RULES = {
     "r1": "r1: if rate is small and angle is narrow then speed is slow",
@@ -105,7 +105,7 @@ def test_a_rule_at_the_depth_limit_is_explained_without_recursion():
 
 
 def test_the_clips_engine_says_which_crisp_rules_fired():
-    from acordcs.runtime.clips.clips_engine import ClipsEngine
+    from acordcs.engines.clips.clips_engine import ClipsEngine
 
     e = ClipsEngine()
     e.declare("Control.speed", 1.0, type="double")

@@ -8,11 +8,11 @@ from dataclasses import replace
 
 import pytest
 
+from acordcs.engines.clips import engine_for_plan
+from acordcs.engines.plan import plan_from_descriptor
 from acordcs.runtime.assembly import assemble
-from acordcs.runtime.clips import engine_for_plan
 from acordcs.runtime.clock import VirtualClock
 from acordcs.runtime.errors import BindingError
-from acordcs.runtime.plan import plan_from_descriptor
 from tests.support.descriptors import (
     application,
     component,

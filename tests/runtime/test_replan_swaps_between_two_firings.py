@@ -11,10 +11,10 @@ import threading
 from dataclasses import replace
 from typing import ClassVar
 
+from acordcs.engines.plan import plan_from_descriptor
 from acordcs.runtime.assembly import assemble
 from acordcs.runtime.clock import RealClock, VirtualClock
 from acordcs.runtime.component import CtxComponent
-from acordcs.runtime.plan import plan_from_descriptor
 from tests.support.descriptors import (
     application,
     component,

@@ -9,13 +9,13 @@ from typing import ClassVar
 
 import pytest
 
+from acordcs.engines.engine_registry import register_engine, unregister_engine
 from acordcs.runtime.assembly import assemble
 from acordcs.runtime.clock import VirtualClock
 from acordcs.runtime.component import CtxComponent
 from acordcs.runtime.errors import BindingError, ConfigurationError
 from acordcs.runtime.monitor import Monitor
 from acordcs.runtime.ports import stream_port
-from acordcs.runtime.registry import register_engine, unregister_engine
 from tests.support.components import CrispEngine
 from tests.support.descriptors import (
     application,

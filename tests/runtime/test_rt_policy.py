@@ -7,6 +7,8 @@ from __future__ import annotations
 
 import pytest
 
+from acordcs.engines.engine_registry import lookup_engine, register_engine, unregister_engine
+from acordcs.engines.rule_engine import RuleError
 from acordcs.runtime.clock import VirtualClock
 from acordcs.runtime.component import ComponentFactory
 from acordcs.runtime.container import Container
@@ -14,8 +16,6 @@ from acordcs.runtime.errors import BindingError, EngineNotAvailableError
 from acordcs.runtime.interceptors import Interceptor
 from acordcs.runtime.monitor import Monitor
 from acordcs.runtime.policy import PolicySet
-from acordcs.runtime.registry import lookup_engine, register_engine, unregister_engine
-from acordcs.runtime.rule_engine import RuleError
 from tests.support.components import Counter, CrispEngine
 
 
@@ -307,7 +307,7 @@ def test_builtin_engine_kinds_are_looked_up_lazily():
 
 
 def test_policy_set_with_the_project_clips_engine(box):
-    pytest.importorskip("acordcs.runtime.clips")
+    pytest.importorskip("acordcs.engines.clips")
     box.add_policy_set(
         PolicySet(
             "recover",
@@ -341,9 +341,9 @@ SPEED_RULES = [
 
 
 def test_speed_limiting_policy_with_the_project_fuzzy_engine():
-    pytest.importorskip("acordcs.runtime.fuzzy")
+    pytest.importorskip("acordcs.engines.fuzzy")
+    from acordcs.engines.engine_registry import Variable
     from acordcs.runtime.component import CtxComponent
-    from acordcs.runtime.registry import Variable
 
     class Locomotion(CtxComponent):
         properties = {"speed": 100.0}  # noqa: RUF012

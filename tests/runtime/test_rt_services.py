@@ -9,8 +9,8 @@ from acordcs.runtime.component import ComponentFactory
 from acordcs.runtime.connectors.shaping import ShapedConnector
 from acordcs.runtime.container import Container
 from acordcs.runtime.errors import CallVetoed
-from acordcs.runtime.services import AccessService, QoSBroker, SessionGuard
 from tests.support.components import Camera, Counter, Screen
+from tests.support.runtime_services import AccessService, QoSBroker, SessionGuard
 
 
 @pytest.fixture

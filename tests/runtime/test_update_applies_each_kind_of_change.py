@@ -9,7 +9,7 @@ from __future__ import annotations
 from acordcs.descriptor.diff import diff
 from acordcs.runtime.assembly import assemble
 from acordcs.runtime.clock import VirtualClock
-from acordcs.runtime.update import GivenClasses, apply_part, container_order
+from acordcs.runtime.live.apply_update import GivenClasses, apply_part, container_order
 from tests.support.descriptors import (
     application,
     component,

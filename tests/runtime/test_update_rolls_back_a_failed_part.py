@@ -16,7 +16,7 @@ from acordcs.runtime import events as ev
 from acordcs.runtime.assembly import assemble
 from acordcs.runtime.clock import VirtualClock
 from acordcs.runtime.component import CtxComponent
-from acordcs.runtime.update import GivenClasses, UpdateFailed, apply_part
+from acordcs.runtime.live.apply_update import GivenClasses, UpdateFailed, apply_part
 from tests.support.descriptors import (
     application,
     component,

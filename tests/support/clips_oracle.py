@@ -13,6 +13,7 @@ import operator
 
 from hypothesis import strategies as st
 
+from acordcs.engines.clips import ClipsEngine
 from acordcs.rules import (
     Arith,
     Assign,
@@ -25,7 +26,6 @@ from acordcs.rules import (
     VarRef,
     parse_rule,
 )
-from acordcs.runtime.clips import ClipsEngine
 
 
 class EvalError(Exception):

@@ -5,6 +5,8 @@ from __future__ import annotations
 import operator
 from typing import Any, ClassVar
 
+from acordcs.engines.engine_registry import EngineSetup
+from acordcs.engines.rule_engine import RuleError
 from acordcs.rules import (
     Arith,
     Assign,
@@ -19,8 +21,6 @@ from acordcs.rules import (
 )
 from acordcs.runtime.component import CtxComponent
 from acordcs.runtime.ports import async_port, stream_port, sync_port
-from acordcs.runtime.registry import EngineSetup
-from acordcs.runtime.rule_engine import RuleError
 
 _CMP = {
     "==": operator.eq,

@@ -1,6 +1,6 @@
-"""PINNED COPY (do not edit): src/acordcs/runtime/fuzzy/defuzz.py as it was at commit 1bc763a,
+"""PINNED COPY (do not edit): src/acordcs/engines/fuzzy/defuzz.py as it was at commit 1bc763a,
 before outputs with deeply overlapping terms got the polyline path. The oracle of
-tests/runtime/test_fuzzy_deep_overlap.py and the "before" of benchmarks/bench_fuzzy_deep.py: every
+tests/engines/test_fuzzy_deep_overlap.py and the "before" of benchmarks/bench_fuzzy_deep.py: every
 defuzzifier here is the former exact one, cubic in the lines of an interval.
 
 The original module docstring follows.
@@ -14,7 +14,7 @@ only where a line meets a clip level or another line. Evaluating the aggregated 
 and integrating each straight piece gives the centroid in closed form (no sampling error).
 
 Non-linear output terms (gaussian, bell, sigmoid) and PROBOR accumulation are not piecewise linear:
-they are sampled on :data:`acordcs.runtime.fuzzy.sampled.FALLBACK_SAMPLES` evenly spaced points over the range and integrated with
+they are sampled on :data:`acordcs.engines.fuzzy.sampled.FALLBACK_SAMPLES` evenly spaced points over the range and integrated with
 trapezoid weights (error well under 1e-4 of the range for the shapes we tested).
 A semantics with ``samples`` (the paper's engine) uses plain sums over that many samples instead.
 
@@ -27,10 +27,10 @@ import itertools
 import math
 from bisect import bisect_left, bisect_right
 
-from acordcs.runtime.fuzzy.membership import Membership
-from acordcs.runtime.fuzzy.sampled import Sampled
-from acordcs.runtime.fuzzy.semantics import SUMS, Semantics, collapses
-from acordcs.runtime.rule_engine import RuleError
+from acordcs.engines.fuzzy.membership import Membership
+from acordcs.engines.fuzzy.sampled import Sampled
+from acordcs.engines.fuzzy.semantics import SUMS, Semantics, collapses
+from acordcs.engines.rule_engine import RuleError
 
 
 class OutputShape:

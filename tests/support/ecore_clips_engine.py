@@ -11,9 +11,9 @@ from __future__ import annotations
 
 from collections.abc import Iterable
 
-from acordcs.runtime.clips.clips_engine import ClipsEngine
-from acordcs.runtime.clips.values import kind_of_type, parse_default
-from acordcs.runtime.rule_engine import RuleError
+from acordcs.engines.clips.clips_engine import ClipsEngine
+from acordcs.engines.clips.values import kind_of_type, parse_default
+from acordcs.engines.rule_engine import RuleError
 
 
 def _literal(value: object) -> str:

@@ -17,9 +17,9 @@ from __future__ import annotations
 
 from typing import Any
 
+from acordcs.engines.fuzzy.fuzzy_engine import FuzzyEngine
+from acordcs.engines.rule_engine import RuleError
 from acordcs.rules import Name, RuleSyntaxError, TermDef, parse_rule
-from acordcs.runtime.fuzzy.fuzzy_engine import FuzzyEngine
-from acordcs.runtime.rule_engine import RuleError
 
 
 def _literal(value: object, default: str) -> str:

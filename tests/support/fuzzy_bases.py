@@ -4,13 +4,13 @@
   -> speed (mm/s, 0..200);
 - bandwidth (9 rules): cycleRate x numUsers (0..10) -> fps (0..15).
 
-Their FCL twins are ``tests/runtime/fcl/speed.fcl`` and ``bandwidth.fcl``
-(``tests/runtime/test_fuzzy_bases.py`` checks they agree).
+Their FCL twins are ``tests/engines/fcl/speed.fcl`` and ``bandwidth.fcl``
+(``tests/engines/test_fuzzy_bases.py`` checks they agree).
 """
 
 from __future__ import annotations
 
-from acordcs.runtime.fuzzy import FuzzyEngine
+from acordcs.engines.fuzzy import FuzzyEngine
 
 SPEED_VARIABLES = {
     "cycleRate": (

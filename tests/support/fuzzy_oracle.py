@@ -15,8 +15,8 @@ import math
 import numpy as np
 from hypothesis import strategies as st
 
+from acordcs.engines.fuzzy import FuzzyEngine, Semantics, make_membership
 from acordcs.rules import Is, Not, parse_rule, parse_terms
-from acordcs.runtime.fuzzy import FuzzyEngine, Semantics, make_membership
 
 DENSE = 200_001
 

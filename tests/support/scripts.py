@@ -17,7 +17,7 @@ from pathlib import Path
 import pytest
 
 from tests.support import fake_container
-from tests.support.codegen import build
+from tests.support.generator import build
 from tests.support.toolchain import WEBLAB
 
 PACKAGE = "weblab_app"

@@ -3,7 +3,7 @@ the running containers over the remote connector and shows what the simulation s
 viewers holding the token drive the robot (implements :class:`weblab_console.server.Session`).
 
 Nothing runs in this process but the console. Each container is watched through its observer
-interface (:mod:`acordcs.runtime.observer`, with the application's token): the monitors' values,
+interface (:mod:`acordcs.runtime.live.observer`, with the application's token): the monitors' values,
 the properties the policies set, each policy set's firings with its rules' degrees, the changes
 of the model applied while it runs, the faults, and the calls of a few operations: the frames
 ``Vision.grab`` returns to the Navigator (the on-board camera, with the stripe the console's

@@ -4,7 +4,7 @@ serves, found as its generated scripts find it (:func:`acordcs.cli.running.setti
 container hosts which component (the package's descriptor), and the calls the console makes,
 each presenting the application's token: an operation through a component's provided port (the
 container's endpoint, as the Navigator calls them), the observer interface (``watch``, ``poll``:
-:mod:`acordcs.runtime.observer`) and the management interface (``hold``, ``release``).
+:mod:`acordcs.runtime.live.observer`) and the management interface (``hold``, ``release``).
 
 :class:`Watcher` is one container's watch: a thread that polls its observer and hands what it
 gets to the console's loop, watching again (with a new snapshot) after the container was
@@ -24,8 +24,8 @@ from acordcs.cli.running import NotFound, settings
 from acordcs.descriptor import DescriptorError, from_xml
 from acordcs.runtime.connectors.remote import RemoteConnector, bytes_back, container_uri
 from acordcs.runtime.errors import RuntimeFailure
-from acordcs.runtime.management import MANAGE_OBJECT
-from acordcs.runtime.observer import OBSERVE_OBJECT
+from acordcs.runtime.live.management import MANAGE_OBJECT
+from acordcs.runtime.live.observer import OBSERVE_OBJECT
 
 POLL_WAIT = 1.0  # seconds a poll waits for something new
 RETRY = 2.0  # seconds between attempts to reach a container that did not answer

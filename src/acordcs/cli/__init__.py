@@ -15,7 +15,7 @@ from typing import NoReturn
 import click
 
 from acordcs import __version__
-from acordcs.cli import build, export, inspect, profile, update, validate
+from acordcs.cli import build, export, inspect, profile_export, update, validate
 
 
 @click.group(context_settings={"help_option_names": ["-h", "--help"]})
@@ -29,7 +29,7 @@ def cli() -> None:
 cli.add_command(validate.validate)
 cli.add_command(inspect.inspect)
 cli.add_command(build.build)
-cli.add_command(profile.profile)
+cli.add_command(profile_export.profile)
 cli.add_command(export.export)
 cli.add_command(update.update)
 

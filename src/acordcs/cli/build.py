@@ -101,8 +101,8 @@ def build(
       acordcs-gen build model.xmi -o gen --target rules --check
       acordcs-gen build model.xmi -o gen --check --strict
     """
-    from acordcs.codegen import BuildError
-    from acordcs.codegen import build as run_build
+    from acordcs.generator import BuildError
+    from acordcs.generator import build as run_build
 
     write = not (check or dry_run or diff)
     progress = _Bar(len(_count(target_names)) + 4) if sys.stderr.isatty() else None
@@ -173,16 +173,16 @@ _DONE = {"create": "wrote", "update": "wrote", "delete": "deleted"}
 
 
 def _list(ctx: click.Context) -> None:
-    from acordcs.codegen import registry
+    from acordcs.generator.targets import targets
 
-    for name, made in registry.targets().items():
+    for name, made in targets().items():
         click.echo(f"{name:12s} {made.kind:6s} {made.description} ({made.origin})")
     warn_plugins()
     ctx.exit(0)
 
 
 def _count(target_names: tuple[str, ...]) -> list[str]:
-    from acordcs.codegen.registry import targets
+    from acordcs.generator.targets import targets
 
     wanted = [n for name in target_names for n in name.split(",") if n.strip()]
     return list(targets()) if not wanted or "all" in wanted else wanted
@@ -257,11 +257,10 @@ def report_notes(plan, out: str, write: bool, explained: Collection[str] = ()) -
 
 def warn_plugins() -> None:
     """The problems met loading other packages' targets, once."""
-    from acordcs.codegen.registry import PROBLEMS
+    from acordcs.generator import targets
 
-    for problem in PROBLEMS:
+    for problem in targets.TARGETS.take_problems():
         click.echo(f"acordcs-gen: warning: {problem}", err=True)
-    PROBLEMS.clear()
 
 
 def report_failure(err, command: str = "build") -> None:

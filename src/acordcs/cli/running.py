@@ -6,7 +6,7 @@ the environment winning over it. Rather than restating those rules, :func:`setti
 ``env.sh`` in ``sh`` as the scripts do (same environment, same working directory) and reads back
 what it set, so that ``ACORDCS_RUN_DIR=... acordcs-gen update`` reaches what ``bin/start-all``
 started with the same environment. :func:`reach` then asks each container's management interface
-(:mod:`acordcs.runtime.management`) which descriptor it runs, presenting the token.
+(:mod:`acordcs.runtime.live.management`) which descriptor it runs, presenting the token.
 """
 
 from __future__ import annotations
@@ -107,7 +107,7 @@ def settings(app: Path, *, timeout: float = 10.0) -> Settings:
 class Reached:
     """A container of the application, where the scripts say it serves: its management
     interface's ``uri``, and what it answered (``status``: see
-    :meth:`~acordcs.runtime.management.Management.status`; its ``descriptor``) or why it did
+    :meth:`~acordcs.runtime.live.management.Management.status`; its ``descriptor``) or why it did
     not (``problem``)."""
 
     name: str
@@ -123,7 +123,7 @@ def reach(found: Settings, *, timeout: float) -> list[Reached]:
     """Ask each container of ``found`` which descriptor it runs (see :class:`Reached`)."""
     from acordcs.runtime.connectors.remote import RemoteConnector
     from acordcs.runtime.errors import RuntimeFailure
-    from acordcs.runtime.management import MANAGE_OBJECT
+    from acordcs.runtime.live.management import MANAGE_OBJECT
 
     connector = RemoteConnector(timeout=timeout, token=found.token or None)
     out = []
@@ -171,7 +171,7 @@ def apply(
     timeout: float,
 ) -> dict[str, Any]:
     """Send the new ``descriptor`` to ``item``'s management interface (see
-    :meth:`~acordcs.runtime.management.Management.apply`); a failure to reach it is a refusal."""
+    :meth:`~acordcs.runtime.live.management.Management.apply`); a failure to reach it is a refusal."""
     from acordcs.runtime.connectors.remote import RemoteConnector
     from acordcs.runtime.errors import RuntimeFailure
 

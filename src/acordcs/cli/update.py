@@ -10,7 +10,7 @@ import click
 from acordcs.diagnostics import printable
 
 if TYPE_CHECKING:
-    from acordcs.codegen import BuildResult
+    from acordcs.generator import BuildResult
 
 
 @click.command()
@@ -98,8 +98,8 @@ def update(model: str, output: str, dry_run: bool, reset: bool, timeout: float) 
 def _build(model: str, app: Path, package: str) -> tuple[BuildResult, bytes]:
     """Build MODEL as ``build`` does, without writing: the build, and the new descriptor."""
     from acordcs.cli.build import report_failure, warn_plugins
-    from acordcs.codegen import BuildError
-    from acordcs.codegen import build as run_build
+    from acordcs.generator import BuildError
+    from acordcs.generator import build as run_build
 
     try:
         result = run_build(model, app, write=False)
@@ -128,8 +128,8 @@ def _build(model: str, app: Path, package: str) -> tuple[BuildResult, bytes]:
 def _write(result: BuildResult, app: Path) -> None:
     """Write what :func:`_build` made, as ``build`` does last."""
     from acordcs.cli.build import report_failure, report_notes
-    from acordcs.codegen import BuildError
-    from acordcs.codegen.pipeline import write_out
+    from acordcs.generator import BuildError
+    from acordcs.generator.pipeline import write_out
 
     try:
         write_out(result)
@@ -191,8 +191,8 @@ def _show(running: list, plans: dict[str, Any]) -> None:
 def _apply(running: list, plans: dict, new_data: bytes, found, reset: bool, timeout: float) -> int:
     from acordcs.cli.running import apply, container_uri
     from acordcs.descriptor import from_xml
-    from acordcs.runtime.management import digest
-    from acordcs.runtime.update import container_order
+    from acordcs.runtime.live.apply_update import container_order
+    from acordcs.runtime.live.management import digest
 
     new = from_xml(new_data, file="the new descriptor")
     text = new_data.decode("utf-8")

@@ -4,11 +4,11 @@ A leaf package: frozen plain data (:mod:`.model`), and ``to_xml`` / ``from_xml``
 writing and reading it as the XML deployment descriptor, validated against
 ``acordcs-descriptor.xsd``. It imports nothing of the toolchain: a generated application reads
 its descriptor with it. The toolchain makes a descriptor from a model with
-:func:`acordcs.model.describe.describe`; the code generator's stylesheets read the document, and
+:func:`acordcs.generator.describe.describe`; the code generator's stylesheets read the document, and
 :func:`acordcs.runtime.assembly.assemble` builds running containers from the data::
 
     from acordcs.descriptor import to_xml
-    from acordcs.model.describe import describe
+    from acordcs.generator.describe import describe
     from acordcs.model.reading import read_model
 
     app = describe(read_model("samples/weblab/weblab.xmi").architecture)

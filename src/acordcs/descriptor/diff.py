@@ -1,7 +1,7 @@
 """The difference between two application descriptors: the plan of an update.
 
 :func:`diff` compares the descriptor a running application was started from with a new one and
-returns a :class:`Plan`: one :class:`Change` per difference that matters to the running
+returns :class:`ModelChanges`, the plan of an update: one :class:`Change` per difference that matters to the running
 application, each with its plan line (``+`` added, ``-`` removed, ``~`` changed, the element and
 what changes), the containers whose part it is, how it applies (:attr:`Change.action`) and
 whether it can apply live (:attr:`Change.live`, and :attr:`Change.why` when not).
@@ -86,7 +86,7 @@ class Change:
 
 
 @dataclass(frozen=True, slots=True)
-class Plan:
+class ModelChanges:
     """The changes from ``old`` to ``new``, in a stable order (kinds in the order containers,
     components, connections, monitors, policy sets; elements in descriptor order)."""
 
@@ -109,7 +109,7 @@ class Plan:
         return bool(self.changes)
 
 
-def diff(old: Application, new: Application) -> Plan:
+def diff(old: Application, new: Application) -> ModelChanges:
     """The plan taking a running application from ``old`` to ``new`` (see the module docstring)."""
     out = _Differ(old, new)
     out.application()
@@ -118,7 +118,7 @@ def diff(old: Application, new: Application) -> Plan:
     out.connections()
     out.monitors()
     out.policy_sets()
-    return Plan(tuple(out.changes))
+    return ModelChanges(tuple(out.changes))
 
 
 class _Named(Protocol):
@@ -423,4 +423,4 @@ def _end(end) -> str:
     return f"{end.component}.{end.port}"
 
 
-__all__ = ["RESTART", "Change", "Plan", "diff", "elided", "pairs", "shown"]
+__all__ = ["RESTART", "Change", "ModelChanges", "diff", "elided", "pairs", "shown"]

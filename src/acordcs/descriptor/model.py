@@ -8,7 +8,7 @@ semantics, trigger, period, policies and their rules, adapted elements, linguist
 
 Every element that comes from a UML element carries its ``id`` (the xmi:id, stable across exports)
 and its ``qualified_name`` (``Model::Package::Class``) for traceability. Lists of elements are in a
-deterministic order (see :func:`acordcs.model.describe.describe`). Nothing here refers to the UML view,
+deterministic order (see :func:`acordcs.generator.describe.describe`). Nothing here refers to the UML view,
 the architecture index or pyecore: a descriptor is written to and read from XML
 (:mod:`acordcs.descriptor.xml`) without loss, and ``assemble`` builds running containers from it.
 """
@@ -389,7 +389,7 @@ class PolicySet:
 
 @dataclass(frozen=True, slots=True)
 class Application:
-    """One context-aware application: what :func:`~acordcs.model.describe.describe` finds in a model."""
+    """One context-aware application: what :func:`~acordcs.generator.describe.describe` finds in a model."""
 
     name: str
     containers: tuple[Container, ...] = ()

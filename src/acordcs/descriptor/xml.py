@@ -74,7 +74,7 @@ def _check(value: str, field: str, where: str) -> str:
     if not isinstance(value, str):
         raise DescriptorError(
             f"{where}: {field} must be a string, not {type(value).__name__}",
-            hint="build the descriptor with acordcs.model.describe.describe",
+            hint="build the descriptor with acordcs.generator.describe.describe",
         )
     bad = _FORBIDDEN.search(value)
     if bad:

@@ -2,14 +2,14 @@
 code (G703).
 
 One set of rules with two callers: ``validate`` runs them on the model (the check
-``generated_names`` in :mod:`acordcs.model.checks.names`), so that a model ``validate`` passes is one
+``generated_names`` in :mod:`acordcs.model.checks.element_names`), so that a model ``validate`` passes is one
 ``build`` (which validates first) can generate; the ``python`` target runs them on the descriptor it
-is given (:func:`acordcs.codegen.targets.python.check_names`: a descriptor may be made otherwise).
+is given (:func:`acordcs.generator.targets.python.check_names`: a descriptor may be made otherwise).
 Names that are no identifier, keywords and names of the component API are N601, N602 and N604 in
-``validate`` (:mod:`acordcs.model.checks.names`); the ``python`` target refuses them too (G703).
-The paths the targets make are checked whole after they ran (:mod:`acordcs.codegen.paths`).
+``validate`` (:mod:`acordcs.model.checks.element_names`); the ``python`` target refuses them too (G703).
+The paths the targets make are checked whole after they ran (:mod:`acordcs.generator.paths`).
 
-A leaf: the standard library only (the component API's names are imported when first needed).
+A leaf: the standard library only.
 """
 
 from __future__ import annotations
@@ -18,6 +18,51 @@ import keyword
 import re
 from collections.abc import Iterable, Iterator
 from dataclasses import dataclass
+
+COMPONENT_API = frozenset(
+    {
+        "alive",
+        "call",
+        "clock",
+        "get",
+        "instance",
+        "name",
+        "on_property_changed",
+        "on_start",
+        "on_stop",
+        "operation_names",
+        "port",
+        "ports",
+        "properties",
+        "publish_context",
+        "restore_state",
+        "save_state",
+        "set",
+        "state_fields",
+        "type_name",
+    }
+)
+"""The public names every component has at run time, on itself and on the handles callers hold
+(the members of :class:`acordcs.runtime.component.CtxComponent` and ``ComponentRef`` not starting
+with ``_``): a model operation of the same name would hide one (the check N604 and the code
+generators refuse it). Declared here, where the rules on generated names are, so that checking and
+generating never import the runtime; a test holds it equal to the classes' members."""
+
+COMPONENT_ATTRIBUTES = frozenset(
+    {
+        "alive",
+        "container",
+        "factory",
+        "name",
+        "port_map",
+        "ports",
+        "properties",
+        "props",
+        "state_fields",
+    }
+)
+"""What the container sets on a component instance (``CtxComponent``'s annotations): a generated
+property attribute cannot take one of these names either; a test holds it equal to the class's."""
 
 # Characters no portable file name holds: separators, NUL and other controls, and what Windows
 # refuses (a generated tree is copied, committed, checked out elsewhere).
@@ -147,14 +192,11 @@ def _python_reason(named: Named, identifiers: bool) -> str | None:
         if keyword.iskeyword(name):
             return "it is a Python keyword"
     if kind == "operation":
-        if identifiers:
-            from acordcs.runtime.component import COMPONENT_API
-
-            if name in COMPONENT_API:
-                return (
-                    "it is a name of the component API, which every component has "
-                    f"({', '.join(sorted(COMPONENT_API))})"
-                )
+        if identifiers and name in COMPONENT_API:
+            return (
+                "it is a name of the component API, which every component has "
+                f"({', '.join(sorted(COMPONENT_API))})"
+            )
         if name.startswith("_"):
             return "it starts with _: private to the generated base class and the runtime"
         if name in CLASS_SCOPE:

@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import sys
 
-from acordcs.profile.export import OUTPUTS, default_directory, write_profiles
+from acordcs.profile.profile_files import OUTPUTS, default_directory, write_profiles
 
 
 def main() -> int:

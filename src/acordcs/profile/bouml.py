@@ -2,7 +2,7 @@
 in-model profile, so that BOUML's XMI 2.1 import plug-out reads it back as a profile: a
 ``uml:Profile`` with ``uml:Stereotype`` children whose tags are ``ownedAttribute`` elements (type,
 ``defaultValue``) and whose ``base_<Metaclass>`` attributes name the extended metaclasses, plus
-BOUML's ``xmi:Extension`` blocks. Ids are derived from names (see :mod:`acordcs.profile.export`).
+BOUML's ``xmi:Extension`` blocks. Ids are derived from names (see :mod:`acordcs.profile.profile_files`).
 """
 
 from __future__ import annotations

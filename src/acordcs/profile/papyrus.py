@@ -2,7 +2,7 @@
 Papyrus-made profile: metaclass ``elementImport`` elements, ``uml:Extension`` elements with an
 ``uml:ExtensionEnd``, enumerations, primitive types from ``UMLPrimitiveTypes.library.uml``, and
 already *defined* (its Ecore definition, :mod:`acordcs.profile.papyrus_definition`), so Papyrus
-applies it as shipped. Ids are derived from names (see :mod:`acordcs.profile.export`).
+applies it as shipped. Ids are derived from names (see :mod:`acordcs.profile.profile_files`).
 """
 
 from __future__ import annotations

@@ -27,7 +27,7 @@ MemberKind = Literal["attribute", "operation"]
 
 RULE_SYNTAX: dict[str, RuleKind] = {"fuzzy": "fuzzy", "clips": "crisp"}
 """How the rules of a policy set are written, by its engine: the metamodel's two engines (an
-engine registered at run time says its own: :func:`acordcs.runtime.registry.register_engine`)."""
+engine registered at run time says its own: :func:`acordcs.engines.engine_registry.register_engine`)."""
 
 
 def rule_syntax(engine: str | None) -> RuleKind:

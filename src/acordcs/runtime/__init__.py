@@ -1,1 +1,1 @@
-"""The ACORD-CS runtime: containers, components, connectors, monitors, policy sets and rule engines."""
+"""The ACORD-CS runtime: containers, components, connectors, monitors and policy sets, which host the rule engines of :mod:`acordcs.engines`."""

@@ -3,6 +3,7 @@
 Start with :class:`Container` (docs/runtime.md walks through an example).
 """
 
+from acordcs.engines.engine_registry import EngineSetup, Variable, register_engine
 from acordcs.runtime.acquisition import (
     InterceptingMonitor,
     ObservedCall,
@@ -29,7 +30,6 @@ from acordcs.runtime.monitor import Monitor
 from acordcs.runtime.operations import unimplemented
 from acordcs.runtime.policy import PolicySet
 from acordcs.runtime.ports import PortSpec, async_port, stream_port, sync_port
-from acordcs.runtime.registry import EngineSetup, Variable, register_engine
 
 __all__ = [
     "Clock",

@@ -9,7 +9,7 @@ properties, ports and operations: :mod:`.operations`). Monitors are made by the 
 properties and a connector by where their ends run: in-process between containers built here (also
 for a ``remote`` connection: co-located containers need no network), Pyro5 to an end in a container
 not built here (given as ``remote={container name: uri}``); ``shaped`` adds an emulated link.
-Policy sets get their plan (:func:`acordcs.runtime.plan.plan_from_descriptor`: the rules as
+Policy sets get their plan (:func:`acordcs.engines.plan.plan_from_descriptor`: the rules as
 the descriptor resolved them), trigger and frequency. A monitor feeding a policy set of another container has a replica there, updated with its
 readings (in-process, or over Pyro5 to another process: see :class:`Feed`).
 
@@ -25,6 +25,7 @@ from collections.abc import Callable, Iterable, Mapping
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
+from acordcs.engines.plan import plan_from_descriptor
 from acordcs.runtime import events as ev
 from acordcs.runtime.acquisition import MONITOR_KINDS
 from acordcs.runtime.clock import Clock, VirtualClock
@@ -43,7 +44,6 @@ from acordcs.runtime.errors import BindingError
 from acordcs.runtime.events import Event
 from acordcs.runtime.monitor import Monitor
 from acordcs.runtime.operations import OutParameters, generic_component
-from acordcs.runtime.plan import plan_from_descriptor
 from acordcs.runtime.policy import PolicySet
 from acordcs.runtime.ports import Port
 
@@ -211,7 +211,7 @@ def assemble(
 
 class Assembler:
     """Builds the elements of ``app`` into containers: :func:`assemble` builds them all into new
-    containers; a live update (:mod:`acordcs.runtime.update`) builds the elements a change adds
+    containers; a live update (:mod:`acordcs.runtime.live.apply_update`) builds the elements a change adds
     into the running ones (``containers``, by name)."""
 
     def __init__(

@@ -338,10 +338,3 @@ class ComponentRef:
 
     def __hash__(self) -> int:
         return hash((id(self._container), self._name, self._lineage))
-
-
-# The public names every component has, on itself and on the handles callers hold: a model
-# operation of the same name would hide one (the model check N604 and the code generators refuse it).
-COMPONENT_API = frozenset(
-    name for cls in (CtxComponent, ComponentRef) for name in dir(cls) if not name.startswith("_")
-)

@@ -163,20 +163,10 @@ class Container(OperationCalls, Wiring):
         event = Event(kind, element, attribute, time=self.clock.now(), data=data, **fields)
         self._events.emit(event)
 
-    @contextmanager
-    def acting_as(self, origin: str) -> Iterator[None]:
-        """Events emitted inside are attributed to ``origin`` (a policy set applying its actions)."""
-        previous = self._events.origin
-        self._events.origin = origin
-        try:
-            yield
-        finally:
-            self._events.origin = previous
-
     @property
     def origin(self) -> str | None:
-        """What events emitted now are attributed to; :meth:`acting_as` sets it for a block (a
-        policy set's firing sets and restores it itself: that is the adaptation hot path)."""
+        """What events emitted now are attributed to; a policy set's firing sets and restores it
+        itself (the adaptation hot path)."""
         return self._events.origin
 
     @origin.setter

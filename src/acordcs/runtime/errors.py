@@ -1,28 +1,17 @@
 """Errors the runtime raises to its callers: each says what went wrong, where, and what to do.
 
 They are :class:`~acordcs.errors.AcordError` s, so the CLI shows them without a traceback; the location is
-the container (``container 'robot'``) instead of an input file.
+the container (``container 'robot'``) instead of an input file. Their base
+:class:`~acordcs.errors.RuntimeFailure` and :class:`~acordcs.errors.ConfigurationError` are
+defined beside :class:`~acordcs.errors.AcordError`, and the engines' :class:`BindingError` and
+:class:`EngineNotAvailableError` in :mod:`acordcs.engines.errors`, because the engines raise them
+too; all four are importable from here, the runtime's one module of errors.
 """
 
 from __future__ import annotations
 
-from acordcs.errors import AcordError
-
-
-class RuntimeFailure(AcordError):
-    """Base of every runtime error. ``where`` names the container (or connector) it happened in."""
-
-    def __init__(self, message: str, *, where: str | None = None, hint: str | None = None) -> None:
-        super().__init__(message, element=None, hint=hint)
-        self.where = where
-
-    def location(self) -> str:
-        return self.where or "runtime"
-
-
-class ConfigurationError(RuntimeFailure, ValueError):
-    """A setting out of its domain: a period or timeout <= 0, a periodic policy set without
-    frequency, an attribute default that is not of its type. Also a ValueError."""
+from acordcs.engines.errors import BindingError, EngineNotAvailableError
+from acordcs.errors import ConfigurationError, RuntimeFailure
 
 
 class FactoryError(RuntimeFailure):
@@ -81,9 +70,21 @@ class RemoteUnreachableError(RemoteCallError):
     """The remote container could not be reached: the call was not sent."""
 
 
-class EngineNotAvailableError(RuntimeFailure):
-    """A policy set names an engine kind no constructor is registered for."""
-
-
-class BindingError(RuntimeFailure):
-    """A rule variable or operation that matches no element attribute (or more than one)."""
+__all__ = [
+    "BindingError",
+    "CallVetoed",
+    "ComponentDestroyedError",
+    "ComponentError",
+    "ComponentNotFoundError",
+    "ConfigurationError",
+    "ConnectorError",
+    "EngineNotAvailableError",
+    "FactoryError",
+    "OperationNotImplementedError",
+    "PortError",
+    "QueueFullError",
+    "RemoteCallError",
+    "RemoteTimeoutError",
+    "RemoteUnreachableError",
+    "RuntimeFailure",
+]

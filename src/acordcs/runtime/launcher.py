@@ -3,7 +3,7 @@
 A container module of the ``python`` target names its package and container and hands over to a
 :class:`Launcher`, which owns the rest: the command line, the clock, the container assembled from
 the package's ``descriptor.xml`` with the package's classes (``<package>.registry``), the
-operations without code that the model calls (:mod:`acordcs.runtime.drift`), serving, ``--run``,
+operations without code that the model calls (:mod:`acordcs.runtime.live.code_check`), serving, ``--run``,
 signals and the exit status::
 
     LAUNCHER = Launcher("weblab_app", "UserSide")
@@ -37,8 +37,8 @@ from typing import TYPE_CHECKING
 
 from acordcs.errors import AcordError
 from acordcs.runtime.clock import Clock, RealClock, VirtualClock
-from acordcs.runtime.drift import operations_without_code
 from acordcs.runtime.errors import RuntimeFailure
+from acordcs.runtime.live.code_check import operations_without_code
 
 if TYPE_CHECKING:
     from acordcs.descriptor import Application
@@ -290,8 +290,8 @@ class Launcher:
         try:  # from the line saying it serves on, an interrupt stops it as a run's end does
             if server is not None:
                 print(f"{self.container}: serving at {server.uri}", flush=True)
-                from acordcs.runtime.management import manage
-                from acordcs.runtime.reloading import PackageClasses
+                from acordcs.runtime.live.management import manage
+                from acordcs.runtime.live.reloading import PackageClasses
 
                 classes = PackageClasses(self.package)
                 manage(app, self.container, server, data, classes, dict(args.remote),

@@ -23,7 +23,7 @@ operation: its code comes from a factory (``assemble(..., factories={name: cls})
 A method standing for an operation without code (a generic component's, a generated base class's)
 is marked :func:`unimplemented`; :func:`has_code` tells whether a class implements an operation
 (a container's start lists the operations that the model calls and that have none:
-:mod:`acordcs.runtime.drift`).
+:mod:`acordcs.runtime.live.code_check`).
 """
 
 from __future__ import annotations

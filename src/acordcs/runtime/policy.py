@@ -1,7 +1,7 @@
 """Policy sets (paper, CtxPolicySet): rules bound to a rule engine, variables bound to attributes.
 
 A policy set holds policies (rule sets, one per :class:`CtxPolicy`), binds their rules to an engine by
-the model's engine tag (see :mod:`acordcs.runtime.registry`) and drives it with the paper's four calls:
+the model's engine tag (see :mod:`acordcs.engines.engine_registry`) and drives it with the paper's four calls:
 ``defrule`` each rule once; on each firing ``set`` every input variable from its attribute, ``fire``
 every rule set, then ``get`` every output variable and write it back through the container (so the
 change is an event, seen by monitors and other policy sets). Operations called by crisp rules go
@@ -28,10 +28,12 @@ from collections.abc import Callable, Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any
 
+from acordcs.engines.engine_registry import Variable, lookup_engine
+from acordcs.engines.plan import PolicyPlan, Terms, plan_by_hand
+from acordcs.engines.rule_engine import RuleEngine, RuleError
 from acordcs.rules import split_rules
 from acordcs.runtime import events as ev
 from acordcs.runtime.errors import BindingError, ComponentNotFoundError, ConfigurationError
-from acordcs.runtime.plan import PolicyPlan, Terms, plan_by_hand
 from acordcs.runtime.policy_binding import (
     Bound,
     PolicyHost,
@@ -41,8 +43,6 @@ from acordcs.runtime.policy_binding import (
     scope,
     split,
 )
-from acordcs.runtime.registry import Variable, lookup_engine
-from acordcs.runtime.rule_engine import RuleEngine, RuleError
 from acordcs.vocabularies import TRIGGERS
 
 if TYPE_CHECKING:
@@ -154,7 +154,7 @@ class PolicySet:
         adapts: Iterable[str] = (),
         fed_by: Iterable[str] = (),
     ) -> PolicySet:
-        """A policy set whose rules are resolved already (:mod:`acordcs.runtime.plan`)."""
+        """A policy set whose rules are resolved already (:mod:`acordcs.engines.plan`)."""
         return cls(
             plan.name, trigger=trigger, frequency=frequency, adapts=adapts, fed_by=fed_by, plan=plan
         )

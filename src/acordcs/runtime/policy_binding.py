@@ -11,11 +11,11 @@ from collections.abc import Callable, Iterable
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any, Protocol
 
+from acordcs.engines.engine_registry import EngineSetup, Variable, lookup_engine
+from acordcs.engines.plan import PolicyPlan
+from acordcs.engines.rule_engine import RuleEngine
 from acordcs.rules.binding import ScopeElement
 from acordcs.runtime.errors import BindingError
-from acordcs.runtime.plan import PolicyPlan
-from acordcs.runtime.registry import EngineSetup, Variable, lookup_engine
-from acordcs.runtime.rule_engine import RuleEngine
 
 if TYPE_CHECKING:
     from acordcs.runtime.clock import Clock

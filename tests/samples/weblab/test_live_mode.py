@@ -14,7 +14,7 @@ import sys
 import threading
 from pathlib import Path
 
-from tests.codegen.test_shell_scripts_parse_quote_and_run import free_ports
+from tests.generator.test_shell_scripts_parse_quote_and_run import free_ports
 from tests.samples.weblab.conftest import APP_DIR, SAMPLE_DIR
 from tests.support.toolchain import ROOT
 

@@ -29,16 +29,16 @@ from typing import Any
 import pytest
 
 from acordcs.descriptor import from_xml
+from acordcs.engines.fuzzy import MAMDANI
 from acordcs.runtime.connectors.remote import RemoteConnector, container_uri
-from acordcs.runtime.fuzzy import MAMDANI
-from acordcs.runtime.management import MANAGE_OBJECT
-from tests.codegen.test_shell_scripts_parse_quote_and_run import free_ports
+from acordcs.runtime.live.management import MANAGE_OBJECT
+from tests.generator.test_shell_scripts_parse_quote_and_run import free_ports
 from tests.samples.weblab.conftest import APP_DIR, SAMPLE_DIR
 from tests.samples.weblab.test_live_mode import alive
 from tests.samples.weblab.test_update_in_one_process import speed_rules
 from tests.support import weblab_models as models
-from tests.support.codegen import snapshot
 from tests.support.fuzzy_oracle import oracle
+from tests.support.generator import snapshot
 from tests.support.toolchain import ROOT, CliResult, entry_point, run_main
 
 SLOW = "largeNarrow: if cycleRate is large and angle is narrow then Locomotion.maxSpeed is slow"

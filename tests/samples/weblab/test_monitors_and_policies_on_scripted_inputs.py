@@ -13,7 +13,7 @@ from weblab_sim import world
 from weblab_sim.world import World
 
 from acordcs.runtime.api import VirtualClock
-from tests.support.codegen import imported
+from tests.support.generator import imported
 
 from .conftest import APP_DIR
 

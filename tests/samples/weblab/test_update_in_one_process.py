@@ -18,13 +18,13 @@ import pytest
 
 from acordcs.descriptor import from_xml, to_xml
 from acordcs.descriptor.diff import diff
-from acordcs.model.describe import describe
+from acordcs.engines.fuzzy import MAMDANI
+from acordcs.generator.describe import describe
 from acordcs.model.reading import read_model
 from acordcs.runtime import events as ev
 from acordcs.runtime.component import CtxComponent
-from acordcs.runtime.fuzzy import MAMDANI
-from acordcs.runtime.management import Management
-from acordcs.runtime.update import GivenClasses, container_order
+from acordcs.runtime.live.apply_update import GivenClasses, container_order
+from acordcs.runtime.live.management import Management
 from tests.samples.weblab.conftest import APP_DIR
 from tests.support import weblab_models as models
 from tests.support.fuzzy_oracle import oracle

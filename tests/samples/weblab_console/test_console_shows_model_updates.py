@@ -11,10 +11,10 @@ from weblab_console.hub import ConsoleHub
 from weblab_console.session import ConsoleSession
 
 from acordcs.descriptor import to_xml
-from acordcs.model.describe import describe
+from acordcs.generator.describe import describe
 from acordcs.model.reading import read_model
-from acordcs.runtime.management import Management
-from acordcs.runtime.update import GivenClasses
+from acordcs.runtime.live.apply_update import GivenClasses
+from acordcs.runtime.live.management import Management
 from tests.samples.weblab.conftest import APP_DIR
 from tests.support import weblab_models as models
 

@@ -1,75 +1,66 @@
-"""Model checks. Each is a function ``(ctx) -> iterable of Diagnostic`` registered with :func:`check`;
-:func:`run_checks` runs every one and collects all diagnostics in one pass (none stops the others).
+"""Model checks. Each is a function ``(ctx) -> iterable of Diagnostic`` (:data:`~.context.Check`,
+its context :class:`~.context.Context`); :func:`run_checks` runs every one and collects all
+diagnostics in one pass (none stops the others).
+
+The built-in checks are the table :data:`BUILTIN` (each module's ``CHECKS``); other packages add
+theirs through the entry-point group ``acordcs.checks`` (``name = "package.module:attribute"``, a
+check function or a tuple of them), loaded by :mod:`acordcs.plugins`.
 """
 
 from __future__ import annotations
 
-from collections.abc import Callable, Iterable
-from dataclasses import dataclass
+from typing import Any
 
 from acordcs.diagnostics import Diagnostic, diagnostic
-from acordcs.model.architecture import Architecture, Role
-from acordcs.xmi.uml import Element, UmlModel
+from acordcs.model.checks.check_context import Check, Context
+from acordcs.plugins import PluginTable, Refused
 
-Check = Callable[["Context"], Iterable[Diagnostic]]
-_CHECKS: list[Check] = []
+ENTRY_POINT_GROUP = "acordcs.checks"
+
+BUILTIN = {
+    "monitors": "acordcs.model.checks.monitors:CHECKS",
+    "names": "acordcs.model.checks.element_names:CHECKS",
+    "profile_use": "acordcs.model.checks.profile_use:CHECKS",
+    "rules": "acordcs.model.checks.rule_checks:CHECKS",
+    "structure": "acordcs.model.checks.structure:CHECKS",
+    "tags": "acordcs.model.checks.tags:CHECKS",
+    "term_limits": "acordcs.model.checks.term_limits:CHECKS",
+}
+"""The built-in checks: name -> ``"module:attribute"`` of a tuple of checks, run in this order."""
 
 
-def check(fn: Check) -> Check:
-    """Register a model check."""
-    _CHECKS.append(fn)
-    return fn
-
-
-@dataclass
-class Context:
-    uml: UmlModel
-    arch: Architecture
-
-    def diag(
-        self,
-        code: str,
-        message: str,
-        where: Role | Element,
-        *,
-        line: int | None = None,
-        column: int | None = None,
-        subject: str | None = None,
-    ) -> Diagnostic:
-        element = where.element if isinstance(where, Role) else where
-        return diagnostic(
-            code,
-            message,
-            file=self.uml.file,
-            line=line or element.line,
-            column=column,
-            element=element.qualified_name(),
-            xmi_id=element.id,
-            subject=subject,
+def _accept(name: str, loaded: Any, origin: str) -> tuple[Check, ...]:
+    found = tuple(loaded) if isinstance(loaded, (tuple, list)) else (loaded,)
+    if not found or not all(callable(fn) for fn in found):
+        raise Refused(
+            f"is a {type(loaded).__name__}, not a check; point it at a function taking the "
+            "check context, or a tuple of them"
         )
+    return found
+
+
+CHECKS: PluginTable[tuple[Check, ...]] = PluginTable(ENTRY_POINT_GROUP, "check", BUILTIN, _accept)
+"""The checks of this process: loaded on the first :func:`run_checks`."""
 
 
 def run_checks(ctx: Context) -> list[Diagnostic]:
-    from acordcs.model.checks import (  # noqa: F401  (registration)
-        monitors,
-        names,
-        profile_use,
-        rules,
-        structure,
-        tags,
-        term_limits,
-    )
-
+    """Every check's diagnostics; a check that raises gives Z901 and the others run."""
+    table = CHECKS.load()
     out: list[Diagnostic] = []
-    for fn in _CHECKS:
-        try:
-            out.extend(fn(ctx))
-        except Exception as err:  # a bug in one check must not hide what the others find
-            out.append(
-                diagnostic(
-                    "Z901",
-                    f"check {fn.__name__} failed: {type(err).__name__}: {err}; the other checks ran",
-                    file=ctx.uml.file,
+    for name in (*BUILTIN, *(n for n in table if n not in BUILTIN)):
+        for fn in table[name]:
+            try:
+                out.extend(fn(ctx))
+            except Exception as err:  # a bug in one check must not hide what the others find
+                out.append(
+                    diagnostic(
+                        "Z901",
+                        f"check {fn.__name__} failed: {type(err).__name__}: {err}; the other "
+                        "checks ran",
+                        file=ctx.uml.file,
+                    )
                 )
-            )
     return out
+
+
+__all__ = ["BUILTIN", "CHECKS", "ENTRY_POINT_GROUP", "Check", "Context", "run_checks"]

@@ -15,7 +15,7 @@ from lxml import etree
 
 from acordcs.diagnostics import Diagnostic
 from acordcs.model.architecture import COMPONENT, CONTAINER, MONITOR, PORT, Role
-from acordcs.model.checks import Context, check
+from acordcs.model.checks.check_context import Context
 from acordcs.model.queries import (
     ACQUISITIONS,
     monitor_acquisition,
@@ -28,7 +28,6 @@ from acordcs.model.queries import (
 _ONLY_FOR = {"xpath": "subscribe", "operation": "poll"}
 
 
-@check
 def monitor_acquisition_data(ctx: Context) -> Iterator[Diagnostic]:
     arch = ctx.arch
     for monitor in arch.of_kind(MONITOR):
@@ -146,7 +145,6 @@ def _polled(
         )
 
 
-@check
 def container_ports(ctx: Context) -> Iterator[Diagnostic]:
     for container in ctx.arch.of_kind(CONTAINER):
         text = container.tag("port")
@@ -160,3 +158,7 @@ def container_ports(ctx: Context) -> Iterator[Diagnostic]:
                 container,
                 line=container.tag_line("port"),
             )
+
+
+CHECKS = (monitor_acquisition_data, container_ports)
+"""This module's checks, in the order they run."""

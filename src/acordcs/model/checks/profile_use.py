@@ -8,14 +8,13 @@ from collections.abc import Iterator
 from urllib.parse import unquote
 
 from acordcs.diagnostics import Diagnostic, diagnostic
-from acordcs.model.checks import Context, check
+from acordcs.model.checks.check_context import Context
 from acordcs.profile import PROFILE_NAME
 from acordcs.xmi.uml import Element
 
 _PACKAGES = ("Model", "Package", "Profile")
 
 
-@check
 def profile_applied(ctx: Context) -> Iterator[Diagnostic]:
     if ctx.arch.roles or any(a.profile == PROFILE_NAME for a in ctx.uml.applications.values()):
         return  # applied (wrongly applied stereotypes have their own codes: T301, T302)
@@ -47,7 +46,6 @@ def profile_applied(ctx: Context) -> Iterator[Diagnostic]:
     )
 
 
-@check
 def profile_files(ctx: Context) -> Iterator[Diagnostic]:
     """A profile applied by reference in an Eclipse UML2 model (Papyrus: ``appliedProfile
     href="ACORDCS.profile.uml#..."``) whose file is not where the reference says: Papyrus then
@@ -83,3 +81,7 @@ def _profile_definition(ctx: Context) -> Element | None:
         if element.name == PROFILE_NAME and element.kind in _PACKAGES:
             return element
     return None
+
+
+CHECKS = (profile_applied, profile_files)
+"""This module's checks, in the order they run."""

@@ -14,12 +14,11 @@ from acordcs.model.architecture import (
     POLICY_SET,
     PORT,
 )
-from acordcs.model.checks import Context, check
+from acordcs.model.checks.check_context import Context
 
 _ADAPTABLE = {CONTAINER, COMPONENT, PORT, CONNECTION}
 
 
-@check
 def connections(ctx: Context) -> Iterator[Diagnostic]:
     arch = ctx.arch
     for conn in arch.of_kind(CONNECTION):
@@ -51,7 +50,6 @@ def connections(ctx: Context) -> Iterator[Diagnostic]:
             )
 
 
-@check
 def policy_sets(ctx: Context) -> Iterator[Diagnostic]:
     arch = ctx.arch
     for ps in arch.of_kind(POLICY_SET):
@@ -94,7 +92,6 @@ def policy_sets(ctx: Context) -> Iterator[Diagnostic]:
             yield ctx.diag("A508", msg, policy)
 
 
-@check
 def monitors(ctx: Context) -> Iterator[Diagnostic]:
     for monitor in ctx.arch.of_kind(MONITOR):
         if not ctx.arch.related(monitor, "feeds"):
@@ -106,7 +103,6 @@ def monitors(ctx: Context) -> Iterator[Diagnostic]:
             )
 
 
-@check
 def deployment(ctx: Context) -> Iterator[Diagnostic]:
     arch = ctx.arch
     for kind in (COMPONENT, MONITOR, POLICY_SET):
@@ -127,7 +123,6 @@ def deployment(ctx: Context) -> Iterator[Diagnostic]:
                 )
 
 
-@check
 def ports(ctx: Context) -> Iterator[Diagnostic]:
     for port in ctx.arch.of_kind(PORT):
         owners = ctx.arch.related_to(port, "owns_port")
@@ -142,3 +137,7 @@ def ports(ctx: Context) -> Iterator[Diagnostic]:
                 f"port {port.name!r} belongs to {len(owners)} components ({names}); keep one",
                 port,
             )
+
+
+CHECKS = (connections, policy_sets, monitors, deployment, ports)
+"""This module's checks, in the order they run."""

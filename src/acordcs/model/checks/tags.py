@@ -8,7 +8,7 @@ from itertools import pairwise
 
 from acordcs.diagnostics import Diagnostic, within_edits
 from acordcs.model.architecture import MONITOR, POLICY_SET, VARIABLE
-from acordcs.model.checks import Context, check
+from acordcs.model.checks.check_context import Context
 from acordcs.model.queries import (
     parse_integer,
     parse_real,
@@ -28,7 +28,6 @@ _PARSERS = {
 }
 
 
-@check
 def tag_values(ctx: Context) -> Iterator[Diagnostic]:
     for role in ctx.arch.roles.values():
         for name, value in role.tags.items():
@@ -89,7 +88,6 @@ def tag_values(ctx: Context) -> Iterator[Diagnostic]:
                 )
 
 
-@check
 def linguistic_variables(ctx: Context) -> Iterator[Diagnostic]:
     # What the terms say against the range depends on the three tags only, and models repeat a
     # few term lists over many variables: each distinct (terms, min, max) is examined once.
@@ -173,7 +171,7 @@ def _term_findings(
 def shape_problem(term: TermDef) -> str | None:
     """Why the fuzzy engine would refuse this term, or None.
 
-    The same rules as ``acordcs.runtime.fuzzy.membership.make_membership`` (a property test keeps the
+    The same rules as ``acordcs.engines.fuzzy.membership.make_membership`` (a property test keeps the
     two in step): the validator must not pass a model the engine then refuses at start-up.
     """
     p = term.parameters
@@ -257,3 +255,7 @@ def uncovered(terms: list[TermDef], lo: float, hi: float) -> tuple[float, float]
         if reach >= hi:
             return None
     return (reach, hi) if reach < hi else None
+
+
+CHECKS = (tag_values, linguistic_variables)
+"""This module's checks, in the order they run."""

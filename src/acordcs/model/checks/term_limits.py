@@ -8,12 +8,11 @@ from collections.abc import Iterator
 
 from acordcs.diagnostics import Diagnostic
 from acordcs.model.architecture import VARIABLE
-from acordcs.model.checks import Context, check
+from acordcs.model.checks.check_context import Context
 from acordcs.model.queries import variable_terms
 from acordcs.rules.tree import MAX_POINTS, MAX_TERMS
 
 
-@check
 def term_limits(ctx: Context) -> Iterator[Diagnostic]:
     for role in ctx.arch.of_kind(VARIABLE):
         terms = variable_terms(role)
@@ -39,3 +38,7 @@ def term_limits(ctx: Context) -> Iterator[Diagnostic]:
                     line=line,
                     subject=term.name.text,
                 )
+
+
+CHECKS = (term_limits,)
+"""This module's checks, in the order they run."""

@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import threading
-from pathlib import Path
 
 from lxml import etree
 
@@ -49,14 +48,6 @@ class ComponentRepository:
             self._items[key] = description
             self._catalog = None
         return description
-
-    def add_file(self, path: str | Path) -> ComponentDescription:
-        path = Path(path)
-        try:
-            data = path.read_bytes()
-        except OSError as err:
-            raise RepositoryError(f"cannot read {path}: {err.strerror}", file=str(path)) from None
-        return self.add(data, source=str(path))
 
     def remove(self, name: str, version: str | None = None) -> int:
         """Remove a description (every version if ``version`` is None). Returns how many."""

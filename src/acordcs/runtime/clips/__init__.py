@@ -1,6 +1,0 @@
-"""The CLIPS rule engine (through clipspy) behind the paper's four calls: see :mod:`.clips_engine`."""
-
-from acordcs.runtime.clips.clips_engine import ClipsEngine, FireError
-from acordcs.runtime.clips.plan import engine_for_plan
-
-__all__ = ["ClipsEngine", "FireError", "engine_for_plan"]

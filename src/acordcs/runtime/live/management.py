@@ -1,0 +1,477 @@
+"""A running container's management interface: what ``acordcs-gen update`` talks to.
+
+:class:`Management` keeps, for one container of a running application, the descriptor it runs
+(its bytes, and their sha256: the *digest* the launcher prints and ``status`` returns), which
+properties were changed at run time (so that an update leaves their values alone), and applies
+an update's part to the container (:func:`acordcs.runtime.live.apply_update.apply_part`), one update at a
+time: given the new descriptor and the digest the caller believes the container runs (another
+update in between is refused), it computes the plan (:func:`acordcs.descriptor.diff.diff`),
+refuses a part that cannot apply live, applies it or rolls it back, and from then on runs the new
+descriptor.
+
+:class:`ManagementEndpoint` serves it over Pyro5 beside the container's endpoint, at the object
+``acordcs.manage.<container>`` of the same daemon: the same token admits callers (the handshake
+of :mod:`.connectors.pyrogate`), calls in serpent only, and only its methods are exposed:
+``status``, ``descriptor``, ``properties``, ``apply``, ``hold`` and ``release``. A container
+served without a token refuses updates and holds unless it was started with updates allowed
+explicitly on a loopback host (``--updates-without-token``). :func:`manage` also serves the
+container's observer interface beside it (:mod:`.observer`: its context and policy firings, for a
+console).
+
+``hold(component, seconds)`` pauses the callers of a component from other processes
+(:mod:`.holds`): a call
+arriving from another process while the hold lasts waits until it is released or ends (never
+longer than :data:`HOLD_PATIENCE` times the container's remote-call timeout, so that its caller,
+whose calls time out after the same number of seconds when the generated scripts start them, gets
+an answer in time; it then goes through). A hold lasts ``seconds`` (at most :data:`HOLD_MAX`):
+whoever holds renews it, so a holder that went away frees the component soon. Calls made in this
+container (by a component, a monitor, a policy set) are never held. The WebLab console holds the
+Vision component while a viewer drives: the Navigator of the other process waits for its next
+image, between two of its cycles.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import math
+import threading
+from collections.abc import Callable, Mapping
+from typing import TYPE_CHECKING, Any
+
+from acordcs.runtime import events as ev
+from acordcs.runtime.connectors.pyrogate import serpent_only
+from acordcs.runtime.connectors.remote import RemoteFault
+from acordcs.runtime.errors import ConfigurationError, RuntimeFailure
+from acordcs.runtime.live.apply_update import UpdateFailed, apply_part
+from acordcs.runtime.live.holds import CallHold
+from acordcs.runtime.live.observer import OBSERVE_OBJECT, Observer, ObserverEndpoint
+from acordcs.runtime.live.update_steps import Classes
+
+if TYPE_CHECKING:
+    from acordcs.descriptor.model import Application
+    from acordcs.runtime.assembly import RunningApplication
+    from acordcs.runtime.connectors.remote import ContainerServer
+    from acordcs.runtime.events import Event
+
+MANAGE_OBJECT = "acordcs.manage.{}"
+"""The Pyro5 object name of a container's management interface."""
+
+HOLD_MAX = 60.0
+"""Seconds one hold lasts at most; renew it to hold longer."""
+
+HOLD_PATIENCE = 0.75
+"""The share of the container's remote-call timeout a held call waits at most."""
+
+
+def digest(data: bytes) -> str:
+    """The digest of a descriptor: the sha256 of its bytes, in hexadecimal."""
+    return hashlib.sha256(data).hexdigest()
+
+
+class Management:
+    """The management of container ``container`` of ``running``, which runs the descriptor
+    ``descriptor`` (the bytes it was read from). ``classes``: where new code comes from;
+    ``remote``: the URIs of the other containers it was started with; ``refusal``: why it refuses
+    updates (None: it takes them)."""
+
+    def __init__(
+        self,
+        running: RunningApplication,
+        container: str,
+        descriptor: bytes,
+        *,
+        classes: Classes,
+        remote: Mapping[str, str] | None = None,
+        refusal: str | None = None,
+        remote_timeout: float = 5.0,
+        token: str | None = None,
+    ) -> None:
+        self.running = running
+        self.name = container
+        self.container = running.container(container)
+        self.data = descriptor
+        self.digest = digest(descriptor)
+        self.application: Application = running.descriptor
+        self.classes = classes
+        self.remote = dict(remote or {})
+        self.refusal = refusal
+        self.remote_timeout = remote_timeout
+        self.token = token
+        self.updates = 0
+        self.last_update: dict[str, Any] | None = None
+        # Called with the new digest once an update applied (the launcher logs it).
+        self.on_applied: Callable[[str], None] | None = None
+        # Its observer interface, when served (manage() makes it).
+        self.observer: Observer | None = None
+        self._lock = threading.Lock()
+        self._applying: int | None = None  # the thread applying an update
+        # (element, attribute) of the properties changed at run time: an update leaves them be.
+        self._touched: set[tuple[str, str]] = set()
+        self._holds: dict[str, CallHold] = {}
+        self._holding = threading.Lock()
+        self.container.subscribe(ev.PROPERTY_CHANGED, self._changed, name="management")
+
+    def _changed(self, event: Event) -> None:
+        # An update's own writes are not changes at run time; what a policy set writes on them,
+        # in the same thread, is (its events carry the set as their origin).
+        mine = self._applying == threading.get_ident() and event.origin is None
+        if not mine and event.attribute is not None:
+            self._touched.add((event.element, event.attribute))
+
+    def touched(self, element: str, attribute: str) -> bool:
+        """Whether property ``element.attribute`` was changed at run time (by anything but an
+        update) since the container started."""
+        return (element, attribute) in self._touched
+
+    def policy_sets(self) -> tuple[str, ...]:
+        """The names of the policy sets the container hosts, as the descriptor it runs says."""
+        here = next((c for c in self.application.containers if c.name == self.name), None)
+        return tuple(here.hosted("policy-set")) if here is not None else ()
+
+    def close(self) -> None:
+        self.container.unsubscribe("management")
+        self.container.unsubscribe("management:fired")
+        if self.observer is not None:
+            self.observer.close()
+        with self._holding:
+            holds, self._holds = dict(self._holds), {}
+        for hold in holds.values():
+            hold.end()
+            self.container.remove_interceptor(hold)
+
+    # -------------------------------------------------------------------------------- calls
+    def status(self) -> dict[str, Any]:
+        """The container, its application, the digest of the descriptor it runs, the updates
+        applied since it started, whether it takes updates (``refusal``: why not), its clock's
+        ``time``, per policy set how often it ``fires`` and its last firing (``time``,
+        ``inputs``, ``outputs``), and when the ``last_update`` started and was applied, and when
+        each policy set it replanned fired last before it and first after it (clock times)."""
+        sets: dict[str, Any] = {}
+        for name in self.policy_sets():
+            try:
+                found = self.container.policy_set(name)
+            except RuntimeFailure:
+                continue
+            firing = found.last_firing
+            sets[name] = {
+                "fires": found.fires,
+                "time": firing.time if firing is not None else None,
+                "inputs": _plain(firing.inputs) if firing is not None else {},
+                "outputs": _plain(firing.outputs) if firing is not None else {},
+            }
+        return {
+            "container": self.name,
+            "application": self.application.name,
+            "digest": self.digest,
+            "updates": self.updates,
+            "refusal": self.refusal,
+            "time": self.container.clock.now(),
+            "policy_sets": sets,
+            "last_update": self.last_update,
+        }
+
+    def properties(self, elements: list[str]) -> dict[str, dict[str, Any]]:
+        """The properties of ``elements`` (components, ``Component.Port``, connections, monitors,
+        the container) as they are now; an element it does not have is left out."""
+        found = self.container.elements()
+        return {e: _plain(found[e]) for e in elements if isinstance(e, str) and e in found}
+
+    def hold(self, component: str, seconds: float) -> dict[str, Any]:
+        """Hold the calls other processes make to ``component`` for ``seconds`` (see the module
+        docstring; again while held: renewed). Returns the ``component``, the seconds the hold
+        has ``left``, the calls ``waiting`` now and the ``patience`` of each (seconds)."""
+        if self.refusal is not None:
+            raise ConfigurationError(
+                self.refusal.replace("it takes no update", "it takes no update and holds no call")
+            )
+        if not isinstance(seconds, int | float) or not 0 < seconds <= HOLD_MAX:
+            raise ConfigurationError(f"a hold lasts more than 0 and at most {HOLD_MAX:g} seconds")
+        if not self.container.operations_of(component):
+            hosted = ", ".join(c.name for c in self.container.components()) or "none"
+            raise ConfigurationError(
+                f"container {self.name!r} hosts no component {component!r:.80} (it hosts: "
+                f"{hosted})",
+                hint="hold a component of the container it runs in",
+            )
+        with self._holding:
+            found = self._holds.get(component)
+            if found is None:
+                found = CallHold(component, HOLD_PATIENCE * self.remote_timeout)
+                self._holds[component] = found
+                self.container.add_interceptor(found, component=component)
+        found.extend(float(seconds))
+        return found.state()
+
+    def release(self, component: str) -> dict[str, Any]:
+        """End the hold on ``component`` (its waiting calls go on); ``held`` says whether there
+        was one."""
+        with self._holding:
+            found = self._holds.pop(component, None)
+        if found is None:
+            return {"component": component, "held": False, "left": 0.0, "waiting": 0}
+        found.end()
+        self.container.remove_interceptor(found)
+        return {**found.state(), "held": True}
+
+    def apply(
+        self,
+        descriptor: str,
+        expected: str,
+        remote: Mapping[str, str] | None = None,
+        reset: bool = False,
+    ) -> dict[str, Any]:
+        """Apply the new ``descriptor`` (its XML text) to the container, which must run the
+        descriptor of digest ``expected``; ``remote``: URIs of other containers (only those it
+        reaches in the new model are used; those it was started with win); ``reset``: set new
+        defaults also over values changed at run time.
+
+        Returns ``status`` (``applied``, ``unchanged``, ``refused`` or ``rolled back``), the
+        plan lines ``applied``, the defaults ``kept``, ``rolled_back`` and ``unrolled`` (undone,
+        and what could not be), ``error`` (why refused or what failed), the container's
+        ``digest`` after it and the ``seconds`` the part took."""
+        if self.refusal is not None:
+            return self._reply("refused", error=self.refusal)
+        if not self._lock.acquire(blocking=False):
+            return self._reply(
+                "refused", error="another update is being applied to it: try again when it is done"
+            )
+        try:
+            return self._apply(descriptor, expected, dict(remote or {}), reset)
+        finally:
+            self._lock.release()
+
+    def _reply(self, status: str, **fields: Any) -> dict[str, Any]:
+        out: dict[str, Any] = {
+            "container": self.name,
+            "status": status,
+            "digest": self.digest,
+            "applied": [],
+            "kept": [],
+            "rolled_back": [],
+            "unrolled": [],
+            "error": None,
+            "seconds": 0.0,
+        }
+        out.update(fields)
+        return out
+
+    def _apply(
+        self, descriptor: str, expected: str, remote: dict[str, str], reset: bool
+    ) -> dict[str, Any]:
+        from acordcs.descriptor import DescriptorError, from_xml
+        from acordcs.descriptor.diff import diff
+
+        if expected != self.digest:
+            return self._reply(
+                "refused",
+                error=f"it runs descriptor {self.digest[:12]}, not {expected[:12]}: it changed "
+                "since the plan was made; run the update again",
+            )
+        data = descriptor.encode("utf-8")
+        try:
+            new = from_xml(data, file=f"the descriptor sent to container {self.name}")
+        except DescriptorError as err:
+            return self._reply("refused", error=str(err))
+        part = diff(self.application, new).part(self.name)
+        fixed = [c for c in part if not c.live]
+        if fixed:
+            return self._reply(
+                "refused", error=f"{fixed[0].line}: cannot apply live ({fixed[0].why})"
+            )
+        # What its start script would give it (the containers it reaches in the new model),
+        # those it was started with winning.
+        mine = next((c for c in new.containers if c.name == self.name), None)
+        reaches = set(mine.reaches) if mine is not None else set()
+        remotes = {n: u for n, u in remote.items() if n in reaches}
+        remotes.update(self.remote)
+        sets = {c.element for c in part if c.kind == "policy set" and c.action in ("add", "replan")}
+        started = self.container.clock.now()
+        before = {n: self._last_fired(n) for n in sets}
+        self._applying = threading.get_ident()
+        try:
+            outcome = apply_part(
+                self.running,
+                self.name,
+                self.application,
+                new,
+                part,
+                classes=self.classes,
+                touched=self.touched,
+                remote=remotes,
+                reset=reset,
+                remote_timeout=self.remote_timeout,
+                token=self.token,
+            )
+        except UpdateFailed as err:
+            return self._reply(
+                "rolled back",
+                error=err.message,
+                rolled_back=list(err.rolled_back),
+                unrolled=list(err.unrolled),
+            )
+        finally:
+            self._applying = None
+        self.application, self.data, self.digest = new, data, digest(data)
+        self.updates += 1
+        self._watch(started, before)
+        if self.on_applied is not None:
+            self.on_applied(self.digest)
+        return self._reply(
+            "applied" if part else "unchanged",
+            applied=outcome.applied,
+            kept=outcome.kept,
+            seconds=outcome.seconds,
+        )
+
+    # ------------------------------------------------------------ when an update took effect
+    def _last_fired(self, name: str) -> float | None:
+        try:
+            firing = self.container.policy_set(name).last_firing
+        except RuntimeFailure:
+            return None
+        return firing.time if firing is not None else None
+
+    def _watch(self, started: float, before: dict[str, float | None]) -> None:
+        """Note when the update started and was applied (the container's clock) and, for each
+        policy set it gave a plan, when it fired last before and first after (``status``'s
+        ``last_update``): listening to ``policy.fired`` only until each has fired."""
+        self.container.unsubscribe("management:fired")
+        first: dict[str, float] = {}
+        self.last_update = {
+            "started": started,
+            "applied": self.container.clock.now(),
+            "fired_before": before,
+            "first_fired": first,
+        }
+        if not before:
+            return
+
+        def fired(event: Event) -> None:
+            if event.element in before and event.element not in first:
+                first[event.element] = event.time
+                if len(first) == len(before):
+                    self.container.unsubscribe("management:fired")
+
+        self.container.subscribe(ev.POLICY_FIRED, fired, name="management:fired")
+
+
+def _plain(values: Mapping[str, object]) -> dict[str, Any]:
+    """``values`` as serpent carries them: numbers, text and booleans as they are, others shown."""
+    return {
+        str(k): v if isinstance(v, bool | int | float | str) or v is None else repr(v)
+        for k, v in values.items()
+    }
+
+
+class ManagementEndpoint:
+    """:class:`Management` over Pyro5 (see the module docstring); failures come back as
+    :class:`~.connectors.remote.RemoteFault`."""
+
+    def __init__(self, management: Management) -> None:
+        self._management = management
+
+    @serpent_only
+    def status(self) -> dict[str, Any]:
+        return self._guarded(self._management.status)
+
+    @serpent_only
+    def properties(self, elements: list[str]) -> dict[str, dict[str, Any]]:
+        if not isinstance(elements, list | tuple):
+            raise RemoteFault("TypeError", "elements is a list of element names", None)
+        return self._guarded(lambda: self._management.properties(list(elements)))
+
+    @serpent_only
+    def descriptor(self) -> str:
+        """The descriptor the container runs, as XML text."""
+        return self._guarded(lambda: self._management.data.decode("utf-8"))
+
+    @serpent_only
+    def apply(
+        self, descriptor: str, expected: str, remote: dict[str, str], reset: bool
+    ) -> dict[str, Any]:
+        if not isinstance(descriptor, str) or not isinstance(expected, str):
+            raise RemoteFault("TypeError", "the descriptor and digest are text", None)
+        if not isinstance(remote, dict) or not all(
+            isinstance(k, str) and isinstance(v, str) for k, v in remote.items()
+        ):
+            raise RemoteFault("TypeError", "remote maps container names to URIs (text)", None)
+        return self._guarded(
+            lambda: self._management.apply(descriptor, expected, remote, bool(reset))
+        )
+
+    @serpent_only
+    def hold(self, component: str, seconds: float) -> dict[str, Any]:
+        if not isinstance(component, str) or isinstance(seconds, bool):
+            raise RemoteFault("TypeError", "hold(component name, seconds)", None)
+        if not isinstance(seconds, int | float) or not math.isfinite(seconds):
+            raise RemoteFault("TypeError", "seconds is a finite number", None)
+        return self._guarded(lambda: self._management.hold(component, float(seconds)))
+
+    @serpent_only
+    def release(self, component: str) -> dict[str, Any]:
+        if not isinstance(component, str):
+            raise RemoteFault("TypeError", "release(component name)", None)
+        return self._guarded(lambda: self._management.release(component))
+
+    @staticmethod
+    def _guarded(call: Any) -> Any:
+        try:
+            return call()
+        except Exception as exc:  # including faults of our own: the worker must survive
+            hint = exc.hint if isinstance(exc, RuntimeFailure) else None
+            raise RemoteFault(type(exc).__name__, str(exc), hint) from None
+
+
+def manage(
+    running: RunningApplication,
+    container: str,
+    server: ContainerServer,
+    descriptor: bytes,
+    classes: Classes,
+    remote: Mapping[str, str] | None = None,
+    *,
+    without_token: bool = False,
+    timeout: float = 5.0,
+) -> Management:
+    """Serve the management of ``container`` (run from ``descriptor``, its new code from
+    ``classes``: the launcher gives its package's, :class:`~.reloading.PackageClasses`) on
+    ``server``'s daemon, as the launcher does; the log (standard output) gets a line with the
+    digest of the descriptor it runs, at start and after each update, and one per change applied
+    (``model.updated``). Without a token, it takes updates only on a loopback host and with
+    ``without_token``. Its observer interface (:class:`~.observer.Observer`) is served beside it,
+    at ``acordcs.observe.<container>``: ``management.observer``."""
+    from acordcs.runtime.connectors.pyrogate import is_loopback
+
+    refusal = None
+    if not server.token_required and not (without_token and is_loopback(server.host)):
+        refusal = (
+            f"container {container!r} was started without a token (ACORDCS_TOKEN): it takes no "
+            "update; start it with the application's token (bin/<container>-start sets it), or "
+            "on a loopback host with --updates-without-token"
+        )
+    management = Management(
+        running,
+        container,
+        descriptor,
+        classes=classes,
+        remote=remote,
+        refusal=refusal,
+        remote_timeout=timeout,
+    )
+    server.daemon.register(ManagementEndpoint(management), MANAGE_OBJECT.format(container))
+    management.observer = Observer(running.container(container), management.policy_sets)
+    server.daemon.register(ObserverEndpoint(management.observer), OBSERVE_OBJECT.format(container))
+    box = running.container(container)
+
+    def updated(event: Event) -> None:
+        print(f"{container}: t={box.clock.now():.3f} s: model.updated: {event.value}", flush=True)
+
+    box.subscribe(ev.MODEL_UPDATED, updated, name="log")
+    management.on_applied = lambda value: say_digest(container, value, "now runs")
+    say_digest(container, management.digest, "runs")
+    return management
+
+
+def say_digest(container: str, value: str, verb: str) -> None:
+    """The log line giving the digest of the descriptor a container runs."""
+    print(f"{container}: {verb} descriptor sha256 {value}", flush=True)
