@@ -1,6 +1,6 @@
 """The house's rules, read from the code itself: the import graph of ``src/acordcs`` has no cycle
-(imports inside functions included, and the built-in tables' ``"module:attribute"`` references,
-which are imports made later; only ``if TYPE_CHECKING:`` blocks, never run, are left out); the
+(imports inside functions and ``if TYPE_CHECKING:`` blocks included, and the built-in tables'
+``"module:attribute"`` references, which are imports made later); the
 generator and the engines import nothing of the runtime; no two modules share a name for
 different things; no package holds more than 25 modules.
 
@@ -33,10 +33,6 @@ def modules() -> dict[str, Path]:
     return found
 
 
-def _type_checking(node: ast.AST) -> bool:
-    return isinstance(node, ast.If) and "TYPE_CHECKING" in ast.unparse(node.test)
-
-
 def _imported(tree: ast.AST, name: str, is_package: bool, known: dict[str, Path]) -> set[str]:
     """The modules of the package the module ``name`` imports (resolved to the longest module
     that exists: ``from pkg import submodule`` is an import of the submodule)."""
@@ -44,10 +40,6 @@ def _imported(tree: ast.AST, name: str, is_package: bool, known: dict[str, Path]
     wanted: set[str] = set()
 
     def visit(node: ast.AST) -> None:
-        if _type_checking(node):
-            for child in node.orelse:  # the else branch runs
-                visit(child)
-            return
         if isinstance(node, ast.Import):
             wanted.update(alias.name for alias in node.names)
         elif isinstance(node, ast.ImportFrom):

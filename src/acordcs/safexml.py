@@ -107,7 +107,7 @@ class _NothingExternal(etree.Resolver):
     """Answers every external resource libxml2 asks for (a DTD named by a DOCTYPE) with nothing,
     before libxml2's own loader could open a file or a URL."""
 
-    def resolve(self, system_url, public_id, context):
+    def resolve(self, system_url, _public_id, context):
         return self.resolve_string("", context)
 
 

@@ -52,6 +52,9 @@ def literals(enum: str) -> tuple[str, ...]:
 PORT_KINDS = literals("PortKind")
 PORT_ROLES = literals("PortRole")
 ENGINES = literals("EngineKind")
+FUZZY_ENGINE, CLIPS_ENGINE = ENGINES
+"""The metamodel's two engine kinds by name, for code that treats one apart (a literal added to or
+renamed in ``EngineKind`` fails here, at import, not in some comparison that no longer matches)."""
 SEMANTICS = literals("FuzzySemantics")
 TRIGGERS = literals("PolicyTrigger")
 LANGUAGES = literals("ImplementationLanguage")

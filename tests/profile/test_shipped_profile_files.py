@@ -1,6 +1,6 @@
 """The shipped profile files (BOUML XMI and Papyrus .profile.uml) say what the declaration says.
 
-The content checks read the files with plain lxml XPath, not with anything from export.py, so a
+The content checks read the files with plain lxml XPath, not with anything from profile_files.py, so a
 bug in the exporter cannot hide itself. Shape checks compare with real files in
 ../shared/reference/xmi-samples (a Papyrus-made profile and a BOUML in-model profile).
 """
@@ -13,11 +13,11 @@ from pathlib import Path
 import pytest
 from lxml import etree
 
-from acordcs.profile import export
+from acordcs.profile import profile_files
 from acordcs.profile.declaration import PROFILE_NAME, Stereotype, Tag, profile
 from tests.support.toolchain import xmi_sample
 
-PACKAGE_DIR = Path(export.__file__).resolve().parent
+PACKAGE_DIR = Path(profile_files.__file__).resolve().parent
 SHIPPED_BOUML = PACKAGE_DIR / "ACORDCS.xmi"
 SHIPPED_ECLIPSE = PACKAGE_DIR / "ACORDCS.profile.uml"
 CODEGEN_SAMPLE = "pyuml2-codegen__Codegen.profile.uml"  # in ../shared/reference/xmi-samples
@@ -53,7 +53,7 @@ def _tags() -> Iterator[tuple[Stereotype, Tag]]:
 
 
 def test_shipped_files_are_up_to_date(tmp_path):
-    written = export.write_profiles(tmp_path)
+    written = profile_files.write_profiles(tmp_path)
     assert {p.name for p in written} == {SHIPPED_BOUML.name, SHIPPED_ECLIPSE.name}
     for shipped in (SHIPPED_BOUML, SHIPPED_ECLIPSE):
         assert shipped.is_file(), f"{shipped} is missing: run `python -m acordcs.profile`"
@@ -64,33 +64,35 @@ def test_shipped_files_are_up_to_date(tmp_path):
 
 
 def test_output_is_byte_identical_on_rerun(tmp_path):
-    assert export.bouml_xmi() == export.bouml_xmi()
-    assert export.eclipse_profile() == export.eclipse_profile()
-    export.write_profiles(tmp_path)
+    assert profile_files.bouml_xmi() == profile_files.bouml_xmi()
+    assert profile_files.eclipse_profile() == profile_files.eclipse_profile()
+    profile_files.write_profiles(tmp_path)
     before = {p.name: (p.read_bytes(), p.stat().st_mtime_ns) for p in tmp_path.iterdir()}
-    assert export.write_profiles(tmp_path) == [], "an unchanged profile must not be rewritten"
+    assert profile_files.write_profiles(tmp_path) == [], (
+        "an unchanged profile must not be rewritten"
+    )
     after = {p.name: (p.read_bytes(), p.stat().st_mtime_ns) for p in tmp_path.iterdir()}
     assert before == after
 
 
 def test_changed_file_is_rewritten(tmp_path):
-    export.write_profiles(tmp_path)
+    profile_files.write_profiles(tmp_path)
     (tmp_path / SHIPPED_ECLIPSE.name).write_bytes(b"stale")
-    assert export.write_profiles(tmp_path) == [tmp_path / SHIPPED_ECLIPSE.name]
-    assert (tmp_path / SHIPPED_ECLIPSE.name).read_bytes() == export.eclipse_profile()
+    assert profile_files.write_profiles(tmp_path) == [tmp_path / SHIPPED_ECLIPSE.name]
+    assert (tmp_path / SHIPPED_ECLIPSE.name).read_bytes() == profile_files.eclipse_profile()
 
 
 def test_write_into_missing_directory_says_what_to_do(tmp_path):
     with pytest.raises(NotADirectoryError, match="not a directory"):
-        export.write_profiles(tmp_path / "nowhere")
+        profile_files.write_profiles(tmp_path / "nowhere")
 
 
 def test_undeclarable_tag_type_is_refused():
     bad = Stereotype("X", ("Class",), (Tag("t", "Complex", None, (), "t"),))
-    with pytest.raises(export.ProfileExportError, match=r"X\.t has type 'Complex'"):
-        export.eclipse_profile([bad])
-    with pytest.raises(export.ProfileExportError, match="metaclass"):
-        export.bouml_xmi([Stereotype("Y", (), ())])
+    with pytest.raises(profile_files.ProfileExportError, match=r"X\.t has type 'Complex'"):
+        profile_files.eclipse_profile([bad])
+    with pytest.raises(profile_files.ProfileExportError, match="metaclass"):
+        profile_files.bouml_xmi([Stereotype("Y", (), ())])
 
 
 # --- BOUML XMI -----------------------------------------------------------------------------------

@@ -28,6 +28,7 @@ from acordcs.engines.rule_engine import RuleEngine
 from acordcs.errors import ConfigurationError
 from acordcs.plugins import PluginTable, Refused
 from acordcs.rules.binding import rule_syntax
+from acordcs.vocabularies import CLIPS_ENGINE, FUZZY_ENGINE
 
 if TYPE_CHECKING:
     from acordcs.engines.plan import PolicyPlan
@@ -144,13 +145,13 @@ ENTRY_POINT_GROUP = "acordcs.engines"
 rules by default, defined one by one with ``defrule``)."""
 
 BUILTIN = {
-    "fuzzy": "acordcs.engines.engine_registry:FUZZY",
-    "clips": "acordcs.engines.engine_registry:CLIPS",
+    FUZZY_ENGINE: "acordcs.engines.engine_registry:FUZZY",
+    CLIPS_ENGINE: "acordcs.engines.engine_registry:CLIPS",
 }
 """The built-in engine kinds (the metamodel's): kind -> ``"module:attribute"`` of a
 :class:`Registered`; the engine's own package is imported when a policy set first needs it."""
 
-_PACKAGES = {"fuzzy": "acordcs.engines.fuzzy", "clips": "acordcs.engines.clips"}
+_PACKAGES = {FUZZY_ENGINE: "acordcs.engines.fuzzy", CLIPS_ENGINE: "acordcs.engines.clips"}
 
 
 def _accept(kind: str, loaded: Any, origin: str) -> Registered:

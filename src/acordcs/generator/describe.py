@@ -67,6 +67,7 @@ from acordcs.model.queries import (
 from acordcs.rules import RuleSyntaxError, parse_rule
 from acordcs.rules.binding import bind, default_label
 from acordcs.typed_values import parse_integer, parse_real, typed_default, value_kind
+from acordcs.vocabularies import FUZZY_ENGINE
 from acordcs.xmi.uml import Classifier, Element
 from acordcs.xmi.uml import Operation as UmlOperation
 from acordcs.xmi.uml import Property as UmlProperty
@@ -325,7 +326,7 @@ class _Describer:
             role.id,
             role.name,
             role.element.qualified_name(),
-            role.tag("engine") or "fuzzy",
+            role.tag("engine") or FUZZY_ENGINE,
             role.tag("semantics") or "mamdani",
             role.tag("trigger") or "event",
             parse_real(role.tag("frequency") or ""),

@@ -45,7 +45,7 @@ from collections.abc import Iterator, Mapping
 from functools import cache
 from importlib import resources
 from pathlib import Path
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Protocol
 from urllib.parse import unquote, urlsplit
 
 from acordcs.generator.errors import BuildError
@@ -53,8 +53,20 @@ from acordcs.generator.paths import path_problem
 from acordcs.generator.regions import PREFIXES
 
 if TYPE_CHECKING:
-    from acordcs.generator.target import Target
     from acordcs.generator.target_context import TargetContext
+
+
+class Target(Protocol):
+    """What running a stylesheet needs of a target (:class:`acordcs.generator.target.Target` is
+    one; named by its fields, so that this module does not import the one that imports it)."""
+
+    @property
+    def name(self) -> str: ...
+    @property
+    def stylesheet(self) -> Path | None: ...
+    @property
+    def origin(self) -> str: ...
+
 
 LISTING_NAMESPACE = "http://acordcs.org/codegen/1.0"
 _YES = ("yes", "true", "1")

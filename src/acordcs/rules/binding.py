@@ -22,10 +22,11 @@ from dataclasses import dataclass, field
 from typing import Literal
 
 from acordcs.rules.tree import Assign, Call, Name, Rule, RuleKind, names_in
+from acordcs.vocabularies import CLIPS_ENGINE, FUZZY_ENGINE
 
 MemberKind = Literal["attribute", "operation"]
 
-RULE_SYNTAX: dict[str, RuleKind] = {"fuzzy": "fuzzy", "clips": "crisp"}
+RULE_SYNTAX: dict[str, RuleKind] = {FUZZY_ENGINE: "fuzzy", CLIPS_ENGINE: "crisp"}
 """How the rules of a policy set are written, by its engine: the metamodel's two engines (an
 engine registered at run time says its own: :func:`acordcs.engines.engine_registry.register_engine`)."""
 
@@ -33,7 +34,7 @@ engine registered at run time says its own: :func:`acordcs.engines.engine_regist
 def rule_syntax(engine: str | None) -> RuleKind:
     """The rule syntax of ``engine``: fuzzy for the fuzzy engine (and when none is given), crisp
     for any other."""
-    return RULE_SYNTAX.get(engine or "fuzzy", "crisp")
+    return RULE_SYNTAX.get(engine or FUZZY_ENGINE, "crisp")
 
 
 @dataclass(frozen=True, slots=True)

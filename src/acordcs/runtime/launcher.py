@@ -402,7 +402,7 @@ def _under(filename: str, root: Path) -> bool:
         return False
 
 
-def _interrupt(signum: int, frame: FrameType | None) -> None:
+def _interrupt(signum: int, _frame: FrameType | None) -> None:
     raise KeyboardInterrupt
 
 

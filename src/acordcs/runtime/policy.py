@@ -43,7 +43,7 @@ from acordcs.runtime.policy_binding import (
     scope,
     split,
 )
-from acordcs.vocabularies import TRIGGERS
+from acordcs.vocabularies import FUZZY_ENGINE, TRIGGERS
 
 if TYPE_CHECKING:
     from acordcs.runtime.clock import Timer
@@ -91,7 +91,7 @@ class PolicySet:
         name: str,
         policies: Mapping[str, Sequence[str] | str] | None = None,
         *,
-        engine: str = "fuzzy",
+        engine: str = FUZZY_ENGINE,
         trigger: str = "event",
         frequency: float | None = None,
         semantics: str = "mamdani",
@@ -346,7 +346,7 @@ class PolicySet:
             fired: dict[tuple[str, str], float] | None = None
             for policy in bound.plan.policies:
                 engine.fire(policy)
-                if self.trace_rules and bound.plan.engine != "fuzzy":
+                if self.trace_rules and bound.plan.engine != FUZZY_ENGINE:
                     fired = fired if fired is not None else {}
                     fired.update(_explained(engine, policy))
             self.fires += 1
@@ -381,7 +381,7 @@ class PolicySet:
             when, values, written, fired = self._last
             inputs = dict(values)
             engine = self.engine
-            if self.engine_kind == "fuzzy" and engine is not None:
+            if self.engine_kind == FUZZY_ENGINE and engine is not None:
                 explain = lambda: self._fuzzy_degrees(engine, inputs)  # noqa: E731
             else:
                 explain = None if fired is None else (lambda: fired)

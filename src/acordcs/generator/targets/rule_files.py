@@ -16,6 +16,7 @@ from __future__ import annotations
 
 from acordcs.generator.target import target
 from acordcs.generator.targets.refused_names import NameRefused, refused
+from acordcs.vocabularies import CLIPS_ENGINE, FUZZY_ENGINE
 
 
 def _what(ps) -> str:
@@ -33,14 +34,14 @@ def rules(context) -> None:
     for ps in app.policy_sets:
         ids = (ps.id, *(p.id for p in ps.policies), *(b.id for b in ps.bound))
         try:
-            if ps.engine == "fuzzy":
+            if ps.engine == FUZZY_ENGINE:
                 path, text = f"rules/{ps.name}.fcl", _fcl(context, ps)
-            elif ps.engine == "clips":
+            elif ps.engine == CLIPS_ENGINE:
                 path, text = f"rules/{ps.name}.clp", _clips(context, ps)
             else:
                 continue
         except NameRefused as err:
-            raise refused(context, err, "FCL" if ps.engine == "fuzzy" else "CLIPS") from None
+            raise refused(context, err, "FCL" if ps.engine == FUZZY_ENGINE else "CLIPS") from None
         except (RuleError, RuntimeFailure) as err:  # a rule or binding an engine refuses
             raise BuildError(
                 f"target rules: policy set {ps.name}: {err.message}",

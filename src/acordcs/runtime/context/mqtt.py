@@ -192,12 +192,12 @@ class MqttContextProvider(ProviderCore):
         self._update_topics()
 
     # -- paho callbacks (network thread) ------------------------------------------------------------
-    def _on_socket_open(self, client: mqtt.Client, userdata: object, sock: object) -> None:
+    def _on_socket_open(self, client: mqtt.Client, _userdata: object, sock: object) -> None:
         # paho never sets TCP_NODELAY: with delayed ACKs small messages wait ~20-40 ms
         if isinstance(sock, socket.socket):
             sock.setsockopt(socket.IPPROTO_TCP, socket.TCP_NODELAY, 1)
 
-    def _on_connect(self, client, userdata, flags, reason_code, properties) -> None:
+    def _on_connect(self, client, _userdata, flags, reason_code, properties) -> None:
         if reason_code.is_failure:
             self._connect_error = str(reason_code)
             self._connected.set()
@@ -217,7 +217,7 @@ class MqttContextProvider(ProviderCore):
             client.subscribe(topic, qos=self.qos)
         self._connected.set()
 
-    def _on_disconnect(self, client, userdata, flags, reason_code, properties) -> None:
+    def _on_disconnect(self, client, _userdata, flags, reason_code, properties) -> None:
         if not self._closed:
             log.warning(
                 "lost the MQTT broker at %s:%d (%s); reconnecting",
@@ -226,7 +226,7 @@ class MqttContextProvider(ProviderCore):
                 reason_code,
             )
 
-    def _on_subscribe(self, client, userdata, mid, reason_codes, properties) -> None:
+    def _on_subscribe(self, client, _userdata, mid, _reason_codes, properties) -> None:
         with self._ack_lock:
             event = self._acks.pop(mid, None)
             if event is None:
@@ -236,7 +236,7 @@ class MqttContextProvider(ProviderCore):
         if event is not None:
             event.set()
 
-    def _on_message(self, client, userdata, message: mqtt.MQTTMessage) -> None:
+    def _on_message(self, client, _userdata, message: mqtt.MQTTMessage) -> None:
         # an exception escaping a paho callback would end the network thread, silently
         try:
             self._receive(message)

@@ -46,6 +46,7 @@ from acordcs.runtime import events as ev
 from acordcs.runtime.connectors.pyrogate import serpent_only
 from acordcs.runtime.connectors.remote import RemoteFault
 from acordcs.runtime.errors import ConfigurationError, RuntimeFailure
+from acordcs.vocabularies import FUZZY_ENGINE
 
 if TYPE_CHECKING:
     from acordcs.runtime.container import Container
@@ -356,7 +357,7 @@ class Observer:
                 found = self.container.policy_set(name)
             except RuntimeFailure:
                 continue
-            if on and found.engine_kind != "fuzzy" and not found.trace_rules:
+            if on and found.engine_kind != FUZZY_ENGINE and not found.trace_rules:
                 found.trace_rules = True
                 changed.add(name)
             elif not on:
