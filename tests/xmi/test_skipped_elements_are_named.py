@@ -150,7 +150,7 @@ def test_the_same_type_from_an_unknown_tool_is_a_warning_naming_it(tmp_path: Pat
     assert (
         "model.xmi:7:1: warning: R201 unknown xmi:type uml:activitySwimlane2 on 'Lanes'; the "
         "element is skipped: it holds no ACORD-CS element and relates none, so nothing ACORD-CS "
-        "reads is lost: correct the type if it matters to you [(sw1)]"
+        "reads is lost: correct the type if it matters to you [Lanes (sw1)]"
     ) in out
     assert ": R211 1 uml:TaggedValue element skipped" in out  # UML all the same
     # what was skipped makes the unknown exporter's reading doubtful: a warning, not R209's info
@@ -180,7 +180,7 @@ def test_several_of_one_unknown_type_are_one_warning(tmp_path: Path) -> None:
         "model.xmi:6:1: warning: R201 unknown xmi:type uml:collaborationOccurrence (did you mean "
         "uml:CollaborationOccurrence?); 3 elements skipped, the first ('Use0') at this line: they "
         "hold no ACORD-CS element and relate none, so nothing ACORD-CS reads is lost: correct the "
-        "type if it matters to you [(o0)]"
+        "type if it matters to you [Use0 (o0)]"
     ), line
 
 

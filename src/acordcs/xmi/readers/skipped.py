@@ -68,6 +68,25 @@ def closest_metaclass(name: str) -> str | None:
     return close[0] if close else None
 
 
+def qualified_name(el: etree._Element | None) -> str | None:
+    """``Package::Element`` for an element the reader skipped (so has no object in the view): the
+    names of it and its named ancestors below the model, as :meth:`Element.qualified_name` says
+    them; None when it has no name."""
+    if el is None or not el.get("name"):
+        return None
+    parts = []
+    node: etree._Element | None = el
+    while node is not None:
+        local = node.tag.rpartition("}")[2] if isinstance(node.tag, str) else ""
+        typed = next((v for k, v in node.items() if k.endswith("}type")), "")
+        if local in ("Model", "XMI") or typed.endswith(":Model"):
+            break
+        if node.get("name"):
+            parts.append(node.get("name"))
+        node = node.getparent()
+    return "::".join(reversed(parts))
+
+
 @dataclass
 class _Seen:
     count: int = 0
@@ -169,6 +188,7 @@ class Skipped:
                     "which ACORD-CS reads: correct the type (or export the model again)",
                     file=model.file,
                     line=line,
+                    element=qualified_name(el),
                     xmi_id=ident,
                     severity=Severity.ERROR,
                 )
@@ -191,6 +211,7 @@ class Skipped:
                 "lost: correct the type if it matters to you",
                 file=model.file,
                 line=line,
+                element=qualified_name(el),
                 xmi_id=ident,
             )
         )
