@@ -99,8 +99,14 @@ CODES: dict[str, tuple[Severity, str]] = {
     "X109": (E, "not an XMI/UML file"),
     "X110": (W, "the file declares a single-byte encoding but its bytes are UTF-8"),
     # R: reading XMI as UML
-    "R201": (E, "unknown xmi:type (the element is skipped)"),
-    "R202": (E, "reference to an id that does not exist"),
+    "R201": (
+        W,
+        "unknown xmi:type or element, skipped (an error when it holds or relates an ACORD-CS element)",
+    ),
+    "R202": (
+        W,
+        "reference to an id that is not in the file (an error when an ACORD-CS element makes it)",
+    ),
     "R203": (E, "id defined more than once"),
     "R204": (E, "stereotype application whose base element does not exist"),
     "R205": (
@@ -111,7 +117,7 @@ CODES: dict[str, tuple[Severity, str]] = {
     "R207": (W, "element without an id"),
     "R208": (E, "the file holds class-like elements but the reader found no classifier"),
     "R209": (INFO, "exporter not among the known tools; the file read cleanly"),
-    "R210": (W, "exporter not among the known tools, and reading it found errors"),
+    "R210": (W, "exporter not among the known tools, and reading it found problems"),
     "R211": (INFO, "elements of a UML metaclass the reader does not read (skipped)"),
     # T: stereotypes and tagged values
     "T301": (E, "ACORDCS stereotype applied to the wrong metaclass"),
@@ -161,6 +167,8 @@ CODES: dict[str, tuple[Severity, str]] = {
     "A513": (W, "policy set adapts nothing and no monitor feeds it"),
     "A514": (E, "monitor lacks what its acquisition needs (source, xpath, operation, frequency)"),
     "A515": (W, "monitor tag that its acquisition does not read"),
+    "A516": (E, "connector the deployment cannot honour (in-process between two containers)"),
+    "A517": (E, "port connection joins a port that belongs to no component"),
     # N: names that become identifiers
     "N601": (E, "name is not a valid identifier"),
     "N602": (E, "name is a reserved word in Python or Java"),
@@ -266,9 +274,12 @@ def diagnostic(
     element: str | None = None,
     xmi_id: str | None = None,
     subject: str | None = None,
+    severity: Severity | None = None,
 ) -> Diagnostic:
-    """A diagnostic with the severity its code declares; long quoted values in ``message`` cut."""
-    severity = CODES[code][0]
+    """A diagnostic with the severity its code declares (or ``severity``, for the codes whose
+    severity depends on what the finding touches: R201, R202); long quoted values in ``message``
+    cut."""
+    severity = CODES[code][0] if severity is None else severity
     return Diagnostic(
         code,
         severity,

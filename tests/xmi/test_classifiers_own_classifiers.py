@@ -7,6 +7,7 @@ from __future__ import annotations
 import json
 from pathlib import Path
 
+import pytest
 from lxml import etree
 
 from tests.support.toolchain import no_crash, run_main
@@ -67,14 +68,27 @@ def test_owned_use_cases_know_their_owner(tmp_path: Path) -> None:
     assert mission.generals == ["fly"] and [c.name for c in mission.nested] == ["Mission3Flow"]
 
 
-def test_enterprise_architects_owned_ports_are_attributes(tmp_path: Path) -> None:
-    text = """<?xml version="1.0" encoding="UTF-8"?>
+@pytest.mark.parametrize(
+    ("exporter", "port"),
+    [
+        # Enterprise Architect writes a class's ports apart from its attributes
+        ("Enterprise Architect", '<ownedPort xmi:type="uml:Port" xmi:id="p" name="power"/>'),
+        # as Papyrus, BOUML and MagicDraw write them: owned attributes of type uml:Port
+        ("Bouml", '<ownedAttribute xmi:type="uml:Port" xmi:id="p" name="power"/>'),
+        # an ownedPort is a port whatever its xmi:type says
+        ("Enterprise Architect", '<ownedPort xmi:id="p" name="power"/>'),
+    ],
+)
+def test_ports_are_read_as_ports_never_as_attributes(
+    tmp_path: Path, exporter: str, port: str
+) -> None:
+    text = f"""<?xml version="1.0" encoding="UTF-8"?>
 <xmi:XMI xmi:version="2.1" xmlns:uml="http://schema.omg.org/spec/UML/2.1" xmlns:xmi="http://schema.omg.org/spec/XMI/2.1">
- <xmi:Documentation exporter="Enterprise Architect" exporterVersion="6.5"/>
+ <xmi:Documentation exporter="{exporter}" exporterVersion="6.5"/>
  <uml:Model xmi:type="uml:Model" name="EA_Model">
   <packagedElement xmi:type="uml:Class" xmi:id="c" name="Lamp">
    <ownedAttribute xmi:type="uml:Property" xmi:id="a" name="level"/>
-   <ownedPort xmi:type="uml:Port" xmi:id="p" name="power"/>
+   {port}
   </packagedElement>
  </uml:Model>
 </xmi:XMI>
@@ -85,5 +99,8 @@ def test_enterprise_architects_owned_ports_are_attributes(tmp_path: Path) -> Non
 
     uml = read_uml(str(path))
     (lamp,) = uml.classifiers
-    assert [(a.name, a.kind) for a in lamp.attributes] == [("level", "Property"), ("power", "Port")]
+    assert [(a.name, a.kind) for a in lamp.attributes] == [("level", "Property")]
+    assert [(p.name, p.kind, p.owner) for p in lamp.ports] == [("power", "Port", lamp)]
+    assert uml.elements["p"] is lamp.ports[0]
+    assert (uml.counts()["attributes"], uml.counts()["ports"]) == (1, 1)
     assert not uml.diagnostics

@@ -130,14 +130,25 @@ CASES = [
         1,
         message="BOUML_0x1f402_1",
     ),
-    Case(
+    Case(  # a component: what ACORD-CS reads of it is lost, an error
         "unknown-xmi-type",
+        lambda tmp: WEBLAB_BYTES.replace(
+            b'xmi:type="uml:Class" name="Locomotion"', b'xmi:type="uml:Clas" name="Locomotion"'
+        ),
+        "R201",
+        1,
+        message="did you mean uml:Class?) on 'Locomotion'; the element is skipped, and it holds "
+        "<<CtxComponent>> 'Locomotion'",
+    ),
+    Case(  # a class no ACORD-CS element is: a warning (its name, a parameter's type, is kept)
+        "unknown-xmi-type-of-a-plain-class",
         lambda tmp: WEBLAB_BYTES.replace(
             b'xmi:type="uml:Class" name="Image"', b'xmi:type="uml:Clas" name="Image"'
         ),
         "R201",
         1,
-        message="did you mean uml:Class?",
+        fail_on="warning",
+        message="did you mean uml:Class?) on 'Image'; the element is skipped: it holds no ACORD-CS",
     ),
     Case(
         "unescaped-lt-in-name",

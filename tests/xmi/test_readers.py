@@ -2,9 +2,10 @@
 
 ``inspect --format json`` is compared with an independent count made here with lxml XPath over the raw
 file, following the definitions of the issue (attributes are owned properties that are not association
-ends; associations are Association and AssociationClass; a stereotype application counts once per
-(element, stereotype) whichever of BOUML's two places states it; BOUML's ``<<profile>>`` keyword on a
-Profile and ``<<stereotype>>`` on a Stereotype are not applications).
+ends nor ports; ports are owned ``uml:Port``s; associations are Association and AssociationClass; a
+stereotype application counts once per (element, stereotype) whichever of BOUML's two places states
+it; BOUML's ``<<profile>>`` keyword on a Profile and ``<<stereotype>>`` on a Stereotype are not
+applications).
 """
 
 from __future__ import annotations
@@ -121,11 +122,16 @@ def _oracle_xmi2(root: etree._Element) -> dict:
     for el in root.xpath("//*[@memberEnd]"):
         member_ends.update(el.get("memberEnd").split())
     member_ends.update(root.xpath("//memberEnd/@x:idref", namespaces={"x": xmi}))
-    attributes = operations = generalizations = 0
+    attributes = ports = operations = generalizations = 0
     for cls in classifiers:
-        # Enterprise Architect writes a class's ports apart, as ownedPort: owned properties too
+        # Enterprise Architect writes a class's ports apart, as ownedPort; the other tools as an
+        # ownedAttribute of type uml:Port. A port is no attribute (UML makes it a Property).
         for attr in cls.iterchildren("ownedAttribute", "ownedPort"):
-            if attr.get("association") is None and attr.get(xid) not in member_ends:
+            if attr.get("association") is not None or attr.get(xid) in member_ends:
+                continue
+            if attr.tag == "ownedPort" or attr.get(xtype) == "uml:Port":
+                ports += 1
+            else:
                 attributes += 1
         operations += len(cls.findall("ownedOperation"))
         generalizations += len(cls.findall("generalization"))
@@ -150,6 +156,7 @@ def _oracle_xmi2(root: etree._Element) -> dict:
     return {
         "classifiers": dict(Counter(kind(c) for c in classifiers)),
         "attributes": attributes,
+        "ports": ports,
         "operations": operations,
         "associations": sum(kind(el) in ("Association", "AssociationClass") for el in members),
         "generalizations": generalizations,
@@ -174,6 +181,7 @@ def _oracle_xmi12(root: etree._Element) -> dict:
     return {
         "classifiers": {k: n for k, n in classifiers.items() if n},
         "attributes": len(defined("Attribute")),
+        "ports": 0,  # UML 1.x has no ports
         "operations": len(defined("Operation")),
         "associations": len(defined("Association")) + len(defined("AssociationClass")),
         "generalizations": len(defined("Generalization")),
@@ -244,6 +252,7 @@ def test_oracle_sees_what_the_samples_contain() -> None:
     assert tpb == {
         "classifiers": {"Class": 6, "DataType": 3},
         "attributes": 4,
+        "ports": 0,
         "operations": 0,
         "associations": 1,
         "generalizations": 3,
@@ -492,14 +501,31 @@ XMI12_ACORDCS = """<?xml version="1.0" encoding="UTF-8"?>
 
 
 def test_an_unknown_uml_element_in_xmi_1_2_is_reported(tmp_path):
+    """A warning naming it when it holds nothing ACORD-CS reads (TPB3D applies no ACORD-CS
+    stereotype): the model validates; an error when it has an ACORD-CS stereotype."""
     text = xmi_sample("TPB3D__tpb3d.xmi").read_text(encoding="utf-8")
     start = text.index('<UML:Class name="Panel"')
     end = text.index("</UML:Class>", start)
     text = text[:start] + "<UML:Klass" + text[start + 10 : end] + "</UML:Klass>" + text[end + 12 :]
     result = run_main(["validate", str(write_model(tmp_path, text))])
     no_crash(result)
-    assert "R201" in codes_in(result.out) and "did you mean UML:Class?" in result.out
-    assert result.code == 1
+    (line,) = [ln for ln in result.out.splitlines() if ": R201 " in ln]
+    assert ": warning: R201 unknown element UML:Klass (did you mean UML:Class?) on 'Panel'" in line
+    assert "nothing ACORD-CS reads is lost" in line
+    assert result.code == 0, result.out
+    hub = replace(XMI12_ACORDCS, '<UML:Class name="Hub"', '<UML:Klass name="Hub"')
+    hub = replace(hub, "</UML:Class>", "</UML:Klass>")
+    target = tmp_path / "hub.xmi"
+    target.write_text(hub)
+    result = run_main(["validate", str(target)])
+    no_crash(result)
+    assert result.code == 1, result.out
+    (line,) = [ln for ln in result.out.splitlines() if ": R201 " in ln]
+    assert f"{target}:7:1: error: R201 unknown element UML:Klass (did you mean UML:Class?) " in line
+    assert (
+        "on 'Hub'; it is skipped, and it has the stereotype <<CtxComponent>>, which ACORD-CS reads"
+        in line
+    )
 
 
 def test_xmi12_free_stereotype_named_like_ours_is_read_as_acordcs(tmp_path: Path) -> None:

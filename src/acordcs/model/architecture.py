@@ -15,6 +15,7 @@ from functools import cache
 
 from acordcs.diagnostics import diagnostic, suggestion
 from acordcs.profile import PROFILE_NAME, Stereotype, profile, stereotype
+from acordcs.xmi.readers.skipped import metamodel_of
 from acordcs.xmi.uml import (
     Classifier,
     Element,
@@ -247,6 +248,11 @@ def _role(uml: UmlModel, app: StereotypeApplication, misapplied: dict[str, Eleme
     else:
         return None
     if element.kind not in _covered(declared.metaclasses):
+        if metamodel_of(element.kind) is None:
+            # A type no UML version defines (uml:Clas): the reader said so (R201, an error for an
+            # element with a stereotype); rules naming it are not reported again either.
+            misapplied[element.id] = element
+            return None
         report(
             "T301",
             f"<<{declared.name}>> applies to {' or '.join(declared.metaclasses)}, not to a "

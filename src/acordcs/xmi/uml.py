@@ -79,7 +79,12 @@ class Classifier(Element):
     generals: list[str] = field(default_factory=list)  # ids of general classifiers
     nested: list[Classifier] = field(default_factory=list)
     member_ends: list[str] = field(default_factory=list)  # for AssociationClass
-    attributes: list[Property] = field(default_factory=list)  # owned, not association ends
+    attributes: list[Property] = field(
+        default_factory=list
+    )  # owned, not association ends nor ports
+    ports: list[Property] = field(
+        default_factory=list
+    )  # owned uml:Port (a Property in UML, never an attribute here)
     ends: list[Property] = field(default_factory=list)  # owned association ends
     operations: list[Operation] = field(default_factory=list)
 
@@ -175,10 +180,12 @@ class UmlModel:
     def counts(self) -> dict:
         """What ``acordcs-gen inspect`` reports (see the README for each count's definition)."""
         attributes = sum(len(c.attributes) for c in self.classifiers)
+        ports = sum(len(c.ports) for c in self.classifiers)
         operations = sum(len(c.operations) for c in self.classifiers)
         return {
             "classifiers": dict(sorted(Counter(c.kind for c in self.classifiers).items())),
             "attributes": attributes,
+            "ports": ports,
             "operations": operations,
             "associations": len(self.associations),
             "generalizations": len(self.generalizations),

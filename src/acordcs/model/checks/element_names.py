@@ -125,6 +125,19 @@ def unique_names(ctx: Context) -> Iterator[Diagnostic]:
                         member,
                     )
                 seen.setdefault(member.name, member)
+    for role in ctx.arch.of_kind(COMPONENT):
+        element = role.element
+        if not isinstance(element, Classifier):
+            continue
+        attributes = {a.name for a in element.attributes}
+        for port in ctx.arch.related(role, "owns_port"):
+            if port.name in attributes:
+                yield ctx.diag(
+                    "N603",
+                    f"{role.name} has a port and an attribute both named {port.name!r} (the "
+                    "generated Java class would have two fields of that name); rename one",
+                    port,
+                )
 
 
 def component_api_names(ctx: Context) -> Iterator[Diagnostic]:

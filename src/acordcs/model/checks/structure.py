@@ -13,6 +13,7 @@ from acordcs.model.architecture import (
     POLICY,
     POLICY_SET,
     PORT,
+    Role,
 )
 from acordcs.model.checks.check_context import Context
 
@@ -23,6 +24,8 @@ def connections(ctx: Context) -> Iterator[Diagnostic]:
     arch = ctx.arch
     for conn in arch.of_kind(CONNECTION):
         ports = arch.related(conn, "joins")
+        yield from _unowned_ends(ctx, conn, ports)
+        yield from _deployed_apart(ctx, conn, ports)
         if len(ports) != 2:
             names = ", ".join(p.name for p in ports) or "none"
             yield ctx.diag(
@@ -137,6 +140,59 @@ def ports(ctx: Context) -> Iterator[Diagnostic]:
                 f"port {port.name!r} belongs to {len(owners)} components ({names}); keep one",
                 port,
             )
+
+
+def _unowned_ends(ctx: Context, conn: Role, ports: list[Role]) -> Iterator[Diagnostic]:
+    """A517: a joined port that belongs to no component. A port alone may (A511, a warning), but a
+    connection's end is a component's port: the descriptor, and every generated file, name it so."""
+    for port in ports:
+        if not ctx.arch.related_to(port, "owns_port"):
+            yield ctx.diag(
+                "A517",
+                f"port connection {conn.name!r} joins port {port.name!r}, which belongs to no "
+                "component: a connection joins ports of components; relate the port to the "
+                "<<CtxComponent>> that owns it (Papyrus: make it a uml:Port of the component)",
+                conn,
+                subject=port.name,
+            )
+
+
+def _deployed_apart(ctx: Context, conn: Role, ports: list[Role]) -> Iterator[Diagnostic]:
+    """A516: a connector the deployment cannot honour. The generated deployment runs each container
+    in a process of its own (bin/<C>-start), so an ``inprocess`` connection, a direct call in one
+    process, cannot join components of two containers; ``remote`` and ``shaped`` go over the
+    containers' endpoints there (and stay direct calls within one container)."""
+    if conn.tag("connector") != "inprocess" or len(ports) != 2:
+        return
+    placed = []
+    for port in ports:
+        owners = ctx.arch.related_to(port, "owns_port")
+        hosts = ctx.arch.related_to(owners[0], "hosts") if len(owners) == 1 else []
+        if len(hosts) != 1:
+            return  # reported as A511/A517, A506 or A507: where it runs is unknown
+        placed.append((owners[0], port, hosts[0]))
+    (comp_a, port_a, host_a), (comp_b, port_b, host_b) = placed
+    if host_a.id == host_b.id:
+        return
+
+    def where(comp: Role, port: Role, host: Role) -> str:
+        return f"{comp.name}.{port.name} (container {host.name!r}, host {host.tag('host')!r})"
+
+    written = (
+        "its tag connector is 'inprocess'"
+        if conn.tags.get("connector", "").strip()
+        else ("its tag connector is unset, which means 'inprocess'")
+    )
+    yield ctx.diag(
+        "A516",
+        f"port connection {conn.name!r} is in-process ({written}) but joins "
+        f"{where(comp_a, port_a, host_a)} and {where(comp_b, port_b, host_b)}: each container runs "
+        "in a process of its own, which an in-process call cannot leave; set the tag connector to "
+        "remote (or shaped), or deploy both components in one container",
+        conn,
+        line=conn.tag_line("connector"),
+        subject="connector",
+    )
 
 
 CHECKS = (connections, policy_sets, monitors, deployment, ports)

@@ -13,8 +13,8 @@ Every XMI writer names itself somewhere, in one of four forms:
 
 :func:`review` runs after a reader: when the file holds class-like elements and the reader found no
 classifier, it is an error naming the exporter (R208), never an empty model that validates clean; an
-exporter this project does not know is named with an info (R209) when the file read cleanly, else a
-warning (R210).
+exporter this project does not know is named with an info (R209) when the file read cleanly, else
+(errors, or elements skipped or references unresolved: R201, R202) a warning (R210).
 """
 
 from __future__ import annotations
@@ -210,7 +210,10 @@ def review(model: UmlModel, root: etree._Element, exporter: Exporter, dialect_ru
             return
     if exporter.tool is not None or (exporter.text is None and dialect_rules == "Eclipse UML2"):
         return  # Papyrus names nothing: the Eclipse namespace speaks for it
-    clean = not any(d.severity is Severity.ERROR for d in model.diagnostics)
+    # What the reader skipped or could not resolve counts against the reading, error or not
+    clean = not any(
+        d.severity is Severity.ERROR or d.code in ("R201", "R202") for d in model.diagnostics
+    )
     if clean:
         model.diagnostics.append(
             diagnostic(
@@ -226,7 +229,7 @@ def review(model: UmlModel, root: etree._Element, exporter: Exporter, dialect_ru
             diagnostic(
                 "R210",
                 f"{named} is not one of the tools this reader was written against, and reading it with "
-                f"the {dialect_rules} rules found the errors reported here: they may come from the "
+                f"the {dialect_rules} rules found the problems reported here: they may come from the "
                 f"exporter's dialect rather than the model; {_WHAT_TO_DO}",
                 file=model.file,
                 line=exporter.line or 1,

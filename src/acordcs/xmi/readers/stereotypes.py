@@ -136,6 +136,15 @@ class StereotypeApplications:
             profile = owner.name if owner is not None and owner.kind == "Profile" else None
             self.application(profile, stereo.name, base, line).places.add("extension")
 
+    def profile_of(self, tag: str) -> str | None:
+        """The profile a stereotype application's namespace names (``{http:///schemas/P/1}St``:
+        P), None when it names none."""
+        ns = tag[1:].rpartition("}")[0] if tag[0] == "{" else ""
+        if ns not in self._profiles:
+            match = _PROFILE_NS.match(ns)
+            self._profiles[ns] = next((g for g in match.groups() if g), None) if match else None
+        return self._profiles[ns]
+
     def root_application(self, el: etree._Element) -> None:
         """A stereotype application written at the document root (``Profile:Stereotype base_X=..``)."""
         items = el.items()
@@ -155,12 +164,9 @@ class StereotypeApplications:
                 )
             )
             return
-        ns, _, name = tag[1:].rpartition("}") if tag[0] == "{" else ("", "", tag)
-        if ns not in self._profiles:
-            match = _PROFILE_NS.match(ns)
-            self._profiles[ns] = next((g for g in match.groups() if g), None) if match else None
+        name = tag[1:].rpartition("}")[2] if tag[0] == "{" else tag
         # The namespace names the profile; a prefix is the writer's choice (xmlns:acs= works too).
-        profile = self._profiles[ns] or el.prefix
+        profile = self.profile_of(tag) or el.prefix
         app = self.application(profile, name, base, line)
         app.id = el.get(self.XID)
         app.line = line or app.line

@@ -27,7 +27,15 @@ from __future__ import annotations
 from lxml import etree
 
 from acordcs.xmi.readers import ea
-from acordcs.xmi.readers.common import check_ids, dangling, primitive_from_href
+from acordcs.xmi.readers.common import (
+    acordcs_roles,
+    check_ids,
+    dangling,
+    described,
+    primitive_from_href,
+    relates,
+    touched,
+)
 from acordcs.xmi.readers.skipped import Skipped
 from acordcs.xmi.source import XmlInput
 from acordcs.xmi.uml import (
@@ -104,6 +112,7 @@ class _Reader:
         self.profiled: set[tuple[str, str]] = set()  # (element, stereotype) EA gave a profile
         self.ea_twins: list[tuple[str, str, int]] = []  # (package id, $ea_xref_property, line)
         self.skipped = Skipped(self.model, "UML:")
+        self._roles: dict[str, str] | None = None  # ids of ACORD-CS elements, for R201
 
     def read(self) -> UmlModel:
         root = self.xml.root
@@ -123,7 +132,7 @@ class _Reader:
             self._element(el, None)
         self._resolve()
         if self.skipped:
-            self.skipped.report(self.tool)
+            self.skipped.report(self.tool, self._acordcs_in)
         return self.model
 
     def _new(
@@ -199,7 +208,7 @@ class _Reader:
         elif local == "ClassifierRole" and self.ea and self._ea_package_twin(el):
             pass  # read for its package's stereotypes
         elif local != "Diagram":  # a diagram is a view of the model, not model content
-            self.skipped.add(local, el.sourceline, el.get("xmi.id"))
+            self.skipped.add(local, el.sourceline, el.get("xmi.id"), el)
 
     def _ref(self, el: etree._Element, *names: str) -> str | None:
         """The id a UML 1.x reference names: ``<UML:X.name><UML:Y xmi.idref=..>`` (UML 1.4) or an
@@ -267,7 +276,7 @@ class _Reader:
                 elif (
                     isinstance(f.tag, str) and f.tag.startswith(U) and not f.tag.startswith("XMI.")
                 ):
-                    self.skipped.add(f.tag[len(U) :], f.sourceline, f.get("xmi.id"))
+                    self.skipped.add(f.tag[len(U) :], f.sourceline, f.get("xmi.id"), f)
 
     def _type(self, el: etree._Element, obj, wrapper: str) -> None:
         if el.get("type"):
@@ -407,22 +416,78 @@ class _Reader:
             if obj is not None and tv.get("tag"):
                 obj.tagged_values[tv.get("tag")] = tv.get("value", "")
 
+    def _acordcs_in(self, el: etree._Element) -> str | None:
+        """What ACORD-CS reads in a skipped element ``el`` (R201): an element in it (or it) with an
+        ACORD-CS stereotype, by name (``<UML:Stereotype name="CtxComponent"/>``, EA's
+        ``FQName=ACORDCS::...``) or by reference to a stereotype so named, or references from it
+        to two elements that have one (a relation ACORD-CS would read). None when there is none."""
+        from acordcs.profile import stereotype
+
+        if self._roles is None:  # once per file: thousands of skipped elements are possible
+            self._roles = acordcs_roles(self.model)
+        roles = self._roles
+        named = {i for i, n in self.stereotype_names.items() if stereotype(n) is not None}
+        related: list[str] = []
+        for node in el.iter(etree.Element):
+            ident = node.get("xmi.id")
+            if ident in roles:
+                return "holds " + described(self.model, roles, ident, node.get("name", ""))
+            local = node.tag.rpartition("}")[2]
+            if local == "Stereotype" and stereotype(node.get("name", "")) is not None:
+                return f"has the stereotype <<{node.get('name')}>>"
+            if local == "TaggedValue" and "FQName=ACORDCS::" in node.get("value", ""):
+                return "has an ACORDCS stereotype (Enterprise Architect's $ea_xref_property)"
+            for key, value in node.attrib.items():
+                if key in ("xmi.id", "name"):
+                    continue
+                for token in value.split():
+                    if token in named:
+                        return f"has the stereotype <<{self.stereotype_names[token]}>>"
+                    if token in roles:
+                        related.append(token)
+        return relates(self.model, roles, related)
+
+    def _joined(self, source: Element) -> list[str]:
+        """The ids a relation joins: a dependency's clients and suppliers, a generalization's
+        classes, an association end's association's ends and their types."""
+        if isinstance(source, Dependency):
+            return source.clients + source.suppliers
+        if isinstance(source, Generalization):
+            return [source.specific, source.general]
+        if isinstance(source, Property) and isinstance(source.owner, Association):
+            ends = source.owner.owned_ends
+            return [e.type_ref for e in ends if e.type_ref and e is not source]
+        return []
+
     def _resolve(self) -> None:
         model = self.model
         self._resolve_stereotypes()
         known = check_ids(model, self.ids)
         known |= set(model.elements)
+        roles = acordcs_roles(model)  # what makes a reference out of the file an error
         for obj in self.typed:
             target = model.elements.get(obj.type_ref)
             if target is not None:
                 obj.type_name = target.name
             else:
                 dangling(
-                    model, obj.type_ref, f"type of {obj.name!r}", obj.line, obj.qualified_name()
+                    model,
+                    obj.type_ref,
+                    f"type of {obj.name!r}",
+                    obj.line,
+                    obj.qualified_name(),
+                    touched(model, roles, obj, self._joined(obj)),
                 )
         for ident, what, line, source in self.refs:
             if ident not in known:
-                dangling(model, ident, what, line, source.qualified_name())
+                dangling(
+                    model,
+                    ident,
+                    what,
+                    line,
+                    source.qualified_name(),
+                    touched(model, roles, source, self._joined(source)),
+                )
         generals: dict[str, list[str]] = {}
         for gen in model.generalizations:
             if gen.general:

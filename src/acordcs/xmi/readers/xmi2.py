@@ -18,8 +18,17 @@ import re
 from lxml import etree
 
 from acordcs.diagnostics import diagnostic
+from acordcs.profile import PROFILE_NAME
 from acordcs.xmi.readers import unread
-from acordcs.xmi.readers.common import check_ids, dangling, primitive_from_href
+from acordcs.xmi.readers.common import (
+    acordcs_roles,
+    check_ids,
+    dangling,
+    described,
+    primitive_from_href,
+    relates,
+    touched,
+)
 from acordcs.xmi.readers.skipped import Skipped, metamodel_of
 from acordcs.xmi.readers.stereotypes import StereotypeApplications, local_name
 from acordcs.xmi.source import XmlInput
@@ -113,6 +122,7 @@ class _Reader:
         self.model = UmlModel(file=xml.path, dialect=dialect)
         self.stereotypes = StereotypeApplications(self.model, self.XID)
         self.skipped = Skipped(self.model, "uml:")
+        self._roles: dict[str, str] | None = None  # ids of ACORD-CS elements, for R201
         self._handlers = {
             "ownedAttribute": self._on_attribute,
             "ownedPort": self._on_attribute,  # Enterprise Architect: ports apart from attributes
@@ -179,7 +189,7 @@ class _Reader:
         ids = self.xml.ids(self.xmi_ns)
         self._resolve(ids, set(ids))
         if self.skipped:
-            self.skipped.report(self.tool if self.tool != "acordcs" else None)
+            self.skipped.report(self.tool if self.tool != "acordcs" else None, self._acordcs_in)
         return model
 
     # ------------------------------------------------------------------ structure
@@ -252,9 +262,9 @@ class _Reader:
             self._base(el, kind, owner)  # kept for its id: instances, events, extensions, ...
             # A profile's extensions are read from its stereotypes' applications (base_Class)
             if kind != "Extension" or owner is None or owner.kind != "Profile":
-                self.skipped.add(kind, el.sourceline, el.get(self.XID))
+                self.skipped.add(kind, el.sourceline, el.get(self.XID), el)
         else:
-            self.skipped.add(kind, el.sourceline, el.get(self.XID))
+            self.skipped.add(kind, el.sourceline, el.get(self.XID), el)
 
     def _profile_application(self, el: etree._Element, owner: Element) -> None:
         """Not model content; the profile it references is noted (the checks look for its file)."""
@@ -291,7 +301,7 @@ class _Reader:
         if local in _NOT_CONTENT:
             return
         kind = xtype.rpartition(":")[2] if xtype else f"<{local}>"
-        self.skipped.add(kind, el.sourceline, el.get(self.XID))
+        self.skipped.add(kind, el.sourceline, el.get(self.XID), el)
 
     def _inner_application(self, el: etree._Element) -> None:
         """An element of a profile's namespace inside the model: Enterprise Architect writes its
@@ -301,9 +311,19 @@ class _Reader:
             self.stereotypes.root_application(el)
 
     def _on_attribute(self, child: etree._Element, owner: Element) -> None:
+        """An owned property: an association end, a port (``xmi:type="uml:Port"``, in
+        ``ownedAttribute`` as Papyrus, BOUML and MagicDraw write it, or in Enterprise Architect's
+        ``ownedPort``), or an attribute. A port is a Property in UML, but never an attribute of
+        the application: the architecture reads it as a port (owned by its classifier) only."""
         if isinstance(owner, Classifier):
             prop = self._property(child, owner)
-            (owner.ends if prop.association else owner.attributes).append(prop)
+            if prop.association:
+                owner.ends.append(prop)
+            elif prop.kind == "Port" or local_name(child.tag) == "ownedPort":
+                prop.kind = "Port"  # an ownedPort is one whatever its xmi:type says
+                owner.ports.append(prop)
+            else:
+                owner.attributes.append(prop)
 
     def _on_end(self, child: etree._Element, owner: Element) -> None:
         if isinstance(owner, Association | Classifier):
@@ -456,17 +476,30 @@ class _Reader:
         outside = self._outside(
             {o.type_ref for o in self.type_refs if o.type_ref not in model.elements} & known
         )
+        roles = acordcs_roles(model)  # what makes a reference out of the file an error
         for obj in self.type_refs:
             target = model.elements.get(obj.type_ref) or outside.get(obj.type_ref)
             if target is not None:
                 obj.type_name = target.name
             elif obj.type_ref not in known:
                 dangling(
-                    model, obj.type_ref, f"type of {obj.name!r}", obj.line, obj.qualified_name()
+                    model,
+                    obj.type_ref,
+                    f"type of {obj.name!r}",
+                    obj.line,
+                    obj.qualified_name(),
+                    touched(model, roles, obj),
                 )
         for ident, what, line, source in self.refs:
             if ident not in known:
-                dangling(model, ident, what, line, source.qualified_name())
+                dangling(
+                    model,
+                    ident,
+                    what,
+                    line,
+                    source.qualified_name(),
+                    touched(model, roles, source, self._joined(source)),
+                )
         for assoc in model.associations:
             for ident in assoc.member_ends:
                 if ident not in known:
@@ -476,6 +509,7 @@ class _Reader:
                         f"member end of {assoc.name!r}",
                         assoc.line,
                         assoc.qualified_name(),
+                        touched(model, roles, assoc, self._joined(assoc)),
                     )
         for ident, body in self.annotated:
             target = model.elements.get(ident)
@@ -502,8 +536,59 @@ class _Reader:
                     )
                 )
 
+    def _acordcs_in(self, el: etree._Element) -> str | None:
+        """What ACORD-CS reads in a skipped element ``el`` (R201): an element in it (or it) with an
+        ACORD-CS stereotype applied, an application of one written inside it, or references from
+        it to two elements that have one (a relation ACORD-CS would read). None when there is
+        none."""
+        if self._roles is None:  # once per file: thousands of skipped elements are possible
+            self._roles = acordcs_roles(self.model)
+        roles = self._roles
+        xid = self.XID
+        related: list[str] = []
+        for node in el.iter(etree.Element):
+            ident = node.get(xid)
+            if ident in roles:
+                return "holds " + described(self.model, roles, ident, node.get("name", ""))
+            if (
+                node is not el
+                and node.tag[0] == "{"
+                and any(k.startswith("base_") for k in node.attrib)
+                and self.stereotypes.profile_of(node.tag) == PROFILE_NAME
+            ):
+                return f"holds an application of <<{local_name(node.tag)}>>"
+            related += _references(node, xid, roles)
+        return relates(self.model, roles, related)
+
+    def _joined(self, source: Element) -> list[str]:
+        """The ids a relation joins: a dependency's clients and suppliers, an association's (or an
+        end's association's) ends and their types."""
+        if isinstance(source, Dependency):
+            return source.clients + source.suppliers
+        assoc = source
+        if isinstance(source, Property) and source.association:
+            assoc = self.model.elements.get(source.association) or source
+        found = [source.type_ref] if isinstance(source, Property) and source.type_ref else []
+        for ident in getattr(assoc, "member_ends", ()):
+            end = self.model.elements.get(ident)
+            found.append(ident)
+            if isinstance(end, Property) and end.type_ref:
+                found.append(end.type_ref)
+        return found
+
     def _outside(self, wanted: set[str]) -> dict[str, Element]:
         return unread.elements_by_id(self.xml.root, self.XID, self.XTYPE, wanted)
+
+
+def _references(node: etree._Element, xid: str, roles: dict[str, str]) -> list[str]:
+    """The ids of ACORD-CS elements ``node``'s attributes name (space-separated id lists)."""
+    return [
+        token
+        for key, value in node.attrib.items()
+        if key != xid and key != "name"
+        for token in value.split()
+        if token in roles
+    ]
 
 
 def _by_local_name(table: dict, tag: object):
