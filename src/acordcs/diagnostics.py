@@ -189,6 +189,7 @@ CODES: dict[str, tuple[Severity, str]] = {
     "G704": (W, "your code implements an operation or port the model renamed or removed"),
     # Z: the toolchain itself
     "Z901": (E, "internal error in a check (a bug in acordcs: please report it)"),
+    "Z902": (W, "a check another package declares could not be loaded"),
 }
 
 

@@ -165,7 +165,13 @@ def _accept(kind: str, loaded: Any, origin: str) -> Registered:
     )
 
 
-ENGINES: PluginTable[Registered] = PluginTable(ENTRY_POINT_GROUP, "engine", BUILTIN, _accept)
+def table(**options: Any) -> PluginTable[Registered]:
+    """A table of the built-in engine kinds and the entry points of :data:`ENTRY_POINT_GROUP`
+    (``options``: ``entry_points``, ``extra``, as :class:`~acordcs.plugins.PluginTable` takes)."""
+    return PluginTable(ENTRY_POINT_GROUP, "engine", BUILTIN, _accept, **options)
+
+
+ENGINES: PluginTable[Registered] = table()
 """The engine kinds installed: the built-in ones and other packages' (loaded on first use)."""
 
 

@@ -39,14 +39,21 @@ def _accept(name: str, loaded: Any, origin: str) -> tuple[Check, ...]:
     return found
 
 
-CHECKS: PluginTable[tuple[Check, ...]] = PluginTable(ENTRY_POINT_GROUP, "check", BUILTIN, _accept)
+def table(**options: Any) -> PluginTable[tuple[Check, ...]]:
+    """A table of the built-in checks and the entry points of :data:`ENTRY_POINT_GROUP`
+    (``options``: ``entry_points``, ``extra``, as :class:`~acordcs.plugins.PluginTable` takes)."""
+    return PluginTable(ENTRY_POINT_GROUP, "check", BUILTIN, _accept, **options)
+
+
+CHECKS: PluginTable[tuple[Check, ...]] = table()
 """The checks of this process: loaded on the first :func:`run_checks`."""
 
 
 def run_checks(ctx: Context) -> list[Diagnostic]:
-    """Every check's diagnostics; a check that raises gives Z901 and the others run."""
+    """Every check's diagnostics; a check that raises gives Z901 and the others run, a plug-in
+    check that could not be loaded Z902."""
     table = CHECKS.load()
-    out: list[Diagnostic] = []
+    out = [diagnostic("Z902", problem, file=ctx.uml.file) for problem in CHECKS.problems]
     for name in (*BUILTIN, *(n for n in table if n not in BUILTIN)):
         for fn in table[name]:
             try:
@@ -63,4 +70,4 @@ def run_checks(ctx: Context) -> list[Diagnostic]:
     return out
 
 
-__all__ = ["BUILTIN", "CHECKS", "ENTRY_POINT_GROUP", "Check", "Context", "run_checks"]
+__all__ = ["BUILTIN", "CHECKS", "ENTRY_POINT_GROUP", "Check", "Context", "run_checks", "table"]
