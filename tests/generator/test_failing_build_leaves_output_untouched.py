@@ -78,14 +78,17 @@ def test_a_stylesheet_that_does_not_compile(built: Path, tmp_path: Path):
     assert snapshot(built) == before
 
 
-def test_a_stylesheet_writing_a_file_it_does_not_list(built: Path, tmp_path: Path):
-    body = '<xsl:result-document href="x.txt" method="text">x</xsl:result-document><files/>'
+def test_a_stylesheet_listing_a_file_it_does_not_write(built: Path, tmp_path: Path):
+    body = (
+        '<xsl:result-document href="x.txt" method="text">x</xsl:result-document>'
+        '<files><file path="y.txt"/></files>'
+    )
     sly = xslt_target("sly", _stylesheet(tmp_path, "sly", body))
     before = snapshot(built)
     with registered(sly):
         result = build(WEBLAB, built, "--force")
     assert result.code == 1
-    assert "the stylesheet wrote 'x.txt' without listing it" in result.err
+    assert "the stylesheet lists 'y.txt' but did not write it (it wrote: 'x.txt')" in result.err
     assert snapshot(built) == before
 
 

@@ -1,7 +1,10 @@
 """``acordcs-gen build MODEL -o DIR -t path/to/mine.xsl`` runs the user's XSLT 3.0 stylesheet over
 the descriptor as a built-in target runs: its files in the manifest under the file's name, checked
-paths, all or nothing, up to date when nothing changed. The complete example of docs/build.md
-(a systemd unit per container) writes what the page shows, and systemd itself accepts the units."""
+paths, all or nothing, up to date when nothing changed. Every result document is a file, listed or
+not; a listing, when the principal result is one, adds each file's provenance and flags; a listing
+naming a file not written, or a principal result neither empty nor a listing, fails the target.
+The complete example of docs/build.md (a systemd unit per container, with no listing) writes what
+the page shows, and systemd itself accepts the units."""
 
 from __future__ import annotations
 
@@ -46,6 +49,7 @@ def project(tmp_path: Path, monkeypatch) -> Path:
 
 
 def test_the_pages_example_writes_what_the_page_shows(project: Path):
+    assert "<files" not in _stylesheet()  # it needs no listing
     (build_command, said), (cat_command, unit) = _transcript()
     assert build_command.startswith("acordcs-gen build ") and cat_command.startswith("cat ")
     result = run_main(build_command.split()[1:])
@@ -198,3 +202,62 @@ def test_a_listing_says_once_regions_and_executable(project: Path):
     assert (
         result.code == 1 and "regions='semicolon', not a syntax of protected regions" in result.err
     )
+
+
+def test_files_need_no_listing_and_a_listing_adds_their_provenance(project: Path):
+    out = project / "out"
+    mine = _mine(
+        project,
+        '<xsl:result-document href="a/unlisted.txt" method="text">a</xsl:result-document>'
+        '<xsl:result-document href="b.txt" method="text">b</xsl:result-document>'
+        '<files><file path="b.txt" element="WebLab" ids="i1 i2"/></files>',
+    )
+    result = build(WEBLAB, out, "-t", str(mine))
+    assert result.code == 0, result.both
+    assert (out / "a" / "unlisted.txt").read_text() == "a" and (out / "b.txt").read_text() == "b"
+    files = json.loads((out / MANIFEST).read_text(encoding="utf-8"))["files"]
+    assert files["a/unlisted.txt"]["element"] == "" and files["a/unlisted.txt"]["ids"] == []
+    assert files["b.txt"]["element"] == "WebLab" and files["b.txt"]["ids"] == ["i1", "i2"]
+    assert {e["target"] for e in files.values()} == {"mine.xsl"}
+    # An unlisted file is the build's like any other: deleted when no longer written.
+    _mine(project, '<xsl:result-document href="b.txt" method="text">b</xsl:result-document>')
+    result = build(WEBLAB, out, "-t", str(mine))
+    assert result.code == 0, result.both
+    assert not (out / "a" / "unlisted.txt").exists() and (out / "b.txt").exists()
+
+
+@pytest.mark.parametrize(
+    ("principal", "said"),
+    [
+        ("hello", "it holds text, 'hello'"),
+        ("<other/>", "it is <other>, in namespace 'http://acordcs.org/codegen/1.0'"),
+        ('<files xmlns=""/>', "it is <files>, in no namespace"),
+    ],
+)
+def test_a_principal_result_neither_empty_nor_a_listing_fails(project: Path, principal, said):
+    mine = _mine(
+        project,
+        f'<xsl:result-document href="a.txt" method="text">a</xsl:result-document>{principal}',
+    )
+    result = build(WEBLAB, project / "out", "-t", str(mine))
+    no_crash(result)
+    assert result.code == 1
+    assert (
+        "target mine.xsl: the stylesheet's principal result is neither empty nor a file listing: "
+        + said
+    ) in result.err
+    assert "leave the principal result empty" in result.err
+    assert not (project / "out").exists()
+
+
+def test_a_listing_naming_a_file_not_written_fails(project: Path):
+    mine = _mine(
+        project,
+        '<xsl:result-document href="a.txt" method="text">a</xsl:result-document>'
+        '<files><file path="a.txt"/><file path="b.txt"/></files>',
+    )
+    result = build(WEBLAB, project / "out", "-t", str(mine))
+    no_crash(result)
+    assert result.code == 1
+    assert "the stylesheet lists 'b.txt' but did not write it (it wrote: 'a.txt')" in result.err
+    assert not (project / "out").exists()

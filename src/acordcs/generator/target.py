@@ -5,7 +5,8 @@ A target is run as ``target.run(context)`` (:class:`~acordcs.generator.target_co
 - a Python target is a function ``def my_target(context) -> None`` that calls ``context.emit``,
   registered with the :func:`target` decorator;
 - an XSLT 3.0 target is a stylesheet run by Saxon over the descriptor XML (:func:`xslt_target`):
-  its result documents are the files, its principal result lists them (:mod:`.xslt`).
+  its result documents are the files; its principal result is empty, or a listing that says
+  more of them (:mod:`.xslt`).
 
 The built-in targets are the table :data:`acordcs.generator.targets.BUILTIN`; other packages add
 theirs through the

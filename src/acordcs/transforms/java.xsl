@@ -413,6 +413,7 @@
       '',
       '/** Component ' || j:code($c/@name) || ': its operations. Properties and ports are in {@link ' || $class || 'Base}. */',
       'public class ' || $class || ' extends ' || $class || 'Base {',
+      j:required-ports($c),
       '    public ' || $class || '() {',
       '        super();',
       '    }',
@@ -423,5 +424,42 @@
         '        throw new java.lang.UnsupportedOperationException(' || j:string($c/@name || '.' || @name) || ');',
         '    }'),
       '}'"/>
+  </xsl:function>
+
+  <!-- Comment lines of the user's subclass of component $c: its required ports, and what each
+       reaches (the operations a call through a synchronous one runs, from the component it is
+       connected to); none without required ports. The Java API makes no calls: the lines say so,
+       and how the Python class calls them (acordcs.runtime.ports: Port.call). -->
+  <xsl:function name="j:required-ports" as="xs:string*">
+    <xsl:param name="c" as="element(d:component)"/>
+    <xsl:variable name="app" select="$c/ancestor::d:application"/>
+    <xsl:variable name="required" select="$c/d:port[@role = 'required']"/>
+    <xsl:if test="$required">
+      <xsl:sequence select="
+        '    // Its required ports. This Java API holds them (port(name)) and calls nothing through them:',
+        '    // the application runs on the Python runtime, where components/' || j:doc($c/@name) || '.py calls one',
+        '    // as self.port(name).call(operation, arguments...). What each reaches:'"/>
+      <xsl:for-each select="$required">
+        <xsl:variable name="port" select="."/>
+        <xsl:variable name="links" select="$app/d:connections/d:connection[d:required/@ref = $port/@id]"/>
+        <xsl:variable name="peers" select="string-join($links ! (d:provided/@component || '.' || d:provided/@port || ' (connection ' || @name || ')'), ', ')"/>
+        <xsl:variable name="name" select="j:doc($port/@name || ' (' || $port/@kind || ')')"/>
+        <xsl:choose>
+          <xsl:when test="empty($links)">
+            <xsl:sequence select="'    //   ' || $name || ': not connected in the model'"/>
+          </xsl:when>
+          <xsl:when test="$port/@kind = 'synchronous'">
+            <xsl:variable name="provider" select="$app/d:components/d:component[@name = $links[1]/d:provided/@component]"/>
+            <xsl:sequence select="'    //   ' || $name || ', to ' || j:doc($peers) || ':',
+              if (empty($provider/d:operation)) then '    //     (no operation to call)' else (),
+              $provider/d:operation ! ('    //     ' || j:signature(.))"/>
+          </xsl:when>
+          <xsl:otherwise>
+            <xsl:sequence select="'    //   ' || $name || ', from ' || j:doc($peers) || ': receives what it sends'"/>
+          </xsl:otherwise>
+        </xsl:choose>
+      </xsl:for-each>
+      <xsl:sequence select="''"/>
+    </xsl:if>
   </xsl:function>
 </xsl:stylesheet>

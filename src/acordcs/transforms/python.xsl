@@ -535,8 +535,67 @@ class {@name}({@name}Base):
     <xsl:if test="some $o in d:operation satisfies contains(py:parameters($o) || py:returns-type($o), 'model_types.')">
       <xsl:text>    # The model's other types: from {$package} import model_types&#10;</xsl:text>
     </xsl:if>
+    <xsl:if test="d:port[@role = 'required']">
+      <xsl:text>    # Its required ports, and how to use each (self.port(name) is the running port):&#10;</xsl:text>
+      <xsl:sequence select="string-join(d:port[@role = 'required'] ! py:port-use(.))"/>
+    </xsl:if>
     <xsl:text>    pass&#10;</xsl:text>
   </xsl:template>
+
+  <!-- Comment lines of a user class saying how to use required port $port: for a synchronous one,
+       the call of each operation of the component it is connected to (acordcs.runtime.ports:
+       Port.call runs the provider's operation, whatever container it is in); for an asynchronous
+       or stream one, where what its peers send arrives (a handler on_<port>, else the queue). -->
+  <xsl:function name="py:port-use" as="xs:string">
+    <xsl:param name="port" as="element(d:port)"/>
+    <xsl:variable name="app" select="$port/ancestor::d:application"/>
+    <xsl:variable name="links" select="$app/d:connections/d:connection[d:required/@ref = $port/@id]"/>
+    <xsl:variable name="peers" select="string-join($links ! (d:provided/@component || '.' || d:provided/@port || ' (connection ' || @name || ')'), ', ')"/>
+    <xsl:variable name="at" select="'self.port(' || py:str($port/@name) || ')'"/>
+    <xsl:variable name="name" select="py:comment($port/@name) || ' (' || $port/@kind || ')'"/>
+    <xsl:variable name="lines" as="xs:string*">
+    <xsl:choose>
+      <xsl:when test="empty($links)">
+        <xsl:sequence select="'    #   ' || $name || ': not connected in the model (using it raises PortError until a connection joins it to a provided port)&#10;'"/>
+      </xsl:when>
+      <xsl:when test="$port/@kind = 'synchronous'">
+        <xsl:variable name="provider" select="$app/d:components/d:component[@name = $links[1]/d:provided/@component]"/>
+        <xsl:sequence select="'    #   ' || $name || ', to ' || py:comment($peers) || ':&#10;'"/>
+        <xsl:if test="empty($provider/d:operation)">
+          <xsl:sequence select="'    #     (' || py:comment($provider/@name) || ' has no operation to call)&#10;'"/>
+        </xsl:if>
+        <xsl:for-each-group select="$provider/d:operation" group-by="@name">
+          <xsl:variable name="overloads" select="current-group()"/>
+          <xsl:variable name="returns" select="substring-after(py:returns-type($overloads), ' -> ')"/>
+          <xsl:variable name="typed" select="if (count($overloads) gt 1)
+              then string-join($overloads ! py:signature(.), ' or ')
+              else string-join((string-join($overloads[1]/d:parameter[@direction = ('in', 'inout')] ! (@name || ': ' || py:type(@type)), ', ')[. ne ''],
+                if ($returns ne 'None') then '-> ' || $returns else ()), ' ')"/>
+          <xsl:variable name="args" select="if (count($overloads) gt 1) then ', ...'
+              else string-join($overloads[1]/d:parameter[@direction = ('in', 'inout')] ! (', ' || @name))"/>
+          <xsl:sequence select="'    #     ' || (if ($returns ne 'None') then 'result = ' else '') || $at
+              || '.call(' || py:str(current-grouping-key()) || $args || ')'
+              || (if ($typed) then '  # ' || py:comment($typed) else '') || '&#10;'"/>
+        </xsl:for-each-group>
+      </xsl:when>
+      <xsl:otherwise>
+        <xsl:variable name="what" select="if ($port/@kind = 'stream') then 'item' else 'message'"/>
+        <xsl:sequence select="'    #   ' || $name || ', from ' || py:comment($peers) || ':&#10;'"/>
+        <xsl:if test="matches($port/@name, '^[A-Za-z_][A-Za-z0-9_]*$')">
+          <xsl:sequence select="'    #     def on_' || $port/@name || '(self, ' || $what || ': object) -&gt; None:  # gets each ' || $what || ' sent, or:&#10;'"/>
+        </xsl:if>
+        <xsl:sequence select="'    #     ' || $what || ' = ' || $at || '.take()  # the oldest queued, or None&#10;'"/>
+      </xsl:otherwise>
+    </xsl:choose>
+    </xsl:variable>
+    <xsl:sequence select="string-join($lines)"/>
+  </xsl:function>
+
+  <!-- $s in a '#' comment: on one line (what py:escaped escapes in headers, escaped). -->
+  <xsl:function name="py:comment" as="xs:string">
+    <xsl:param name="s" as="xs:string?"/>
+    <xsl:sequence select="py:escaped(string($s), '[\p{C}\p{Zl}\p{Zp}]')"/>
+  </xsl:function>
 
   <!-- ", a: T, b: U" for the Python parameters of an operation, annotated (its overloads:
        *args: object, **kwargs: object). -->
