@@ -96,6 +96,8 @@ RUNS = {
     "smartroom/smartroom.xmi": Run("Room", "Lighting", "Lights.dimmer"),
     # The thermostat's room cools by 1 °C a second; Comfort turns the heater up.
     "papyrus/thermostat.uml": Run("Home", "Comfort", "Heater.power"),
+    # The ventilation's office gets stale by 100 ppm of CO2 a second; Airflow speeds the fan up.
+    "papyrus/ventilation.uml": Run("Plant", "Airflow", "Fan.speed"),
 }
 
 
