@@ -61,4 +61,11 @@ LANGUAGES = literals("ImplementationLanguage")
 CONNECTORS = literals("ConnectorKind")
 SHAPES = literals("MembershipShape")
 DIRECTIONS = literals("ParameterDirection")
+IN, OUT, INOUT, RETURN = DIRECTIONS
+ARGUMENT_DIRECTIONS = (IN, INOUT)
+"""The parameters a caller passes, in the model's order: the operation's Python arguments."""
+RESULT_DIRECTIONS = (OUT, INOUT)
+"""The parameters whose final values come back, after the return value, in the model's order: an
+operation with any returns the tuple (return value, their values...). One mapping, read by the
+runtime (:mod:`acordcs.runtime.operations`) and given to the ``python`` target's stylesheet."""
 ACQUISITIONS = literals("MonitorAcquisition")

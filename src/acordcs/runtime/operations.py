@@ -41,6 +41,7 @@ from acordcs.runtime.errors import (
 )
 from acordcs.runtime.interceptors import Interceptor, Invocation
 from acordcs.runtime.ports import PortSpec
+from acordcs.vocabularies import ARGUMENT_DIRECTIONS, RESULT_DIRECTIONS
 
 if TYPE_CHECKING:
     from acordcs.descriptor.model import Component, Operation, Port
@@ -73,7 +74,7 @@ def signature(op: Operation) -> inspect.Signature:
     Raises ConfigurationError for a parameter name Python cannot take (``from``, ``x y``)."""
     params = []
     for p in op.parameters:
-        if p.direction not in ("in", "inout"):
+        if p.direction not in ARGUMENT_DIRECTIONS:
             continue
         try:
             params.append(inspect.Parameter(p.name, inspect.Parameter.POSITIONAL_OR_KEYWORD))
@@ -89,7 +90,7 @@ def signature(op: Operation) -> inspect.Signature:
 def out_parameters(op: Operation) -> tuple[str, ...]:
     """Names of the ``out`` and ``inout`` parameters of ``op``, in order: the values its result
     carries after its return value (none: the result is the return value itself)."""
-    return tuple(p.name for p in op.parameters if p.direction in ("out", "inout"))
+    return tuple(p.name for p in op.parameters if p.direction in RESULT_DIRECTIONS)
 
 
 def result_shape(op: Operation) -> str:

@@ -42,6 +42,12 @@
        annotation, for the properties that become typed attributes), "aliases" (the UML types
        model_types.py declares). -->
   <xsl:param name="typing" as="xs:string" required="yes"/>
+  <!-- Which parameters are an operation's arguments and which come back in its result, as the
+       runtime maps them (acordcs.vocabularies.ARGUMENT_DIRECTIONS, RESULT_DIRECTIONS). -->
+  <xsl:param name="argument-directions" as="xs:string" required="yes"/>
+  <xsl:param name="result-directions" as="xs:string" required="yes"/>
+  <xsl:variable name="arguments" select="tokenize($argument-directions)"/>
+  <xsl:variable name="results" select="tokenize($result-directions)"/>
   <xsl:variable name="plan" as="map(*)" select="parse-json($typing)"/>
 
   <xsl:output method="xml" encoding="UTF-8" indent="no"/>
@@ -484,7 +490,7 @@ class {@name}Base(CtxComponent):
     <xsl:param name="overloads" as="element()+"/>
     <xsl:variable name="op" select="$overloads[1]"/>
     <xsl:variable name="r" select="(map:get(map:get($plan, 'returns'), string($op/@returns)), 'object')[1]"/>
-    <xsl:variable name="outs" select="$op/d:parameter[@direction = ('out', 'inout')]"/>
+    <xsl:variable name="outs" select="$op/d:parameter[@direction = $results]"/>
     <xsl:sequence select="' -> ' || (if (count($overloads) gt 1) then 'object'
         else if ($outs) then 'tuple[' || string-join(($r, $outs ! py:type(@type)), ', ') || ']'
         else $r)"/>
@@ -501,7 +507,7 @@ class {@name}Base(CtxComponent):
   <!-- What a call returns, by acordcs.runtime.operations' mapping of out parameters. -->
   <xsl:function name="py:returns" as="xs:string">
     <xsl:param name="op" as="element()"/>
-    <xsl:variable name="outs" select="$op/d:parameter[@direction = ('out', 'inout')]/@name"/>
+    <xsl:variable name="outs" select="$op/d:parameter[@direction = $results]/@name"/>
     <xsl:sequence select="if ($outs) then 'Returns the tuple (return value, ' || string-join($outs, ', ') || ').'
         else if ($op/@returns) then 'Returns a ' || $op/@returns || '.' else 'Returns None.'"/>
   </xsl:function>
@@ -569,10 +575,10 @@ class {@name}({@name}Base):
           <xsl:variable name="returns" select="substring-after(py:returns-type($overloads), ' -> ')"/>
           <xsl:variable name="typed" select="if (count($overloads) gt 1)
               then string-join($overloads ! py:signature(.), ' or ')
-              else string-join((string-join($overloads[1]/d:parameter[@direction = ('in', 'inout')] ! (@name || ': ' || py:type(@type)), ', ')[. ne ''],
+              else string-join((string-join($overloads[1]/d:parameter[@direction = $arguments] ! (@name || ': ' || py:type(@type)), ', ')[. ne ''],
                 if ($returns ne 'None') then '-> ' || $returns else ()), ' ')"/>
           <xsl:variable name="args" select="if (count($overloads) gt 1) then ', ...'
-              else string-join($overloads[1]/d:parameter[@direction = ('in', 'inout')] ! (', ' || @name))"/>
+              else string-join($overloads[1]/d:parameter[@direction = $arguments] ! (', ' || @name))"/>
           <xsl:sequence select="'    #     ' || (if ($returns ne 'None') then 'result = ' else '') || $at
               || '.call(' || py:str(current-grouping-key()) || $args || ')'
               || (if ($typed) then '  # ' || py:comment($typed) else '') || '&#10;'"/>
@@ -602,7 +608,7 @@ class {@name}({@name}Base):
   <xsl:function name="py:parameters" as="xs:string">
     <xsl:param name="overloads" as="element()+"/>
     <xsl:variable name="params" select="if (count($overloads) gt 1) then '*args: object, **kwargs: object'
-        else string-join($overloads[1]/d:parameter[@direction = ('in', 'inout')] ! (@name || ': ' || py:type(@type)), ', ')"/>
+        else string-join($overloads[1]/d:parameter[@direction = $arguments] ! (@name || ': ' || py:type(@type)), ', ')"/>
     <xsl:sequence select="if ($params) then ', ' || $params else ''"/>
   </xsl:function>
 

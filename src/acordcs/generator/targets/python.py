@@ -50,6 +50,7 @@ from acordcs.model.generated_names import (
     Named,
     python_name_problem,
 )
+from acordcs.vocabularies import ARGUMENT_DIRECTIONS, RESULT_DIRECTIONS
 
 if TYPE_CHECKING:
     from acordcs.descriptor import Application, Component
@@ -193,6 +194,8 @@ def python(context) -> None:
         {
             "package": package_name(context.application.name),
             "typing": json.dumps(typing_plan(context.application)),
+            "argument-directions": " ".join(ARGUMENT_DIRECTIONS),
+            "result-directions": " ".join(RESULT_DIRECTIONS),
         },
     )
 
