@@ -160,7 +160,7 @@ class PolicySetScope:
         self.arch = arch
         self.policy_set = policy_set
         self.scope = policy_scope(arch, policy_set)
-        self._answers: dict[tuple[str, MemberKind], Resolution] = {}
+        self._answers: dict[tuple[str, MemberKind, bool], Resolution] = {}
 
     def describe(self) -> str:
         """The scope's element names, for messages."""
@@ -267,9 +267,9 @@ class PolicySetScope:
                     hint += f", or use one of its {kind}s: {', '.join(found.known[:10])}"
             return Unresolved(f"{found.element} has no {kind} {found.member!r}{hint}", because)
         if not hint and outside:
-            shown = ", ".join(self.arch.element_name(r) for r in outside[:3])
+            having = ", ".join(self.arch.element_name(r) for r in outside[:3])
             hint = (
-                f"; {shown} {'has' if len(outside) == 1 else 'have'} it but "
+                f"; {having} {'has' if len(outside) == 1 else 'have'} it but "
                 f"{'is' if len(outside) == 1 else 'are'} not in the scope ({relate})"
             )
         elif not hint:

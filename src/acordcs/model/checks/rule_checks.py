@@ -223,7 +223,7 @@ class _RuleChecker:
             var_role, terms, known = info
             if var_role is None:
                 # the attribute's <<CtxVariable>> unread (misspelt), or put on its class (T301)
-                because = (causes.unread(attr.id),)
+                because: tuple[str, ...] = (causes.unread(attr.id),)
                 if attr.owner is not None:
                     because += (causes.variable_of(attr.owner.id),)
                 yield self.problem(
