@@ -54,6 +54,15 @@ def suggestion(word: str, names: list[str]) -> str:
     return f" (did you mean {close[0]!r}?)" if close else ""
 
 
+def article(word: str) -> str:
+    """The indefinite article before ``word`` in a message: ``an`` before a vowel sound
+    (``an asynchronous port``, ``an Operation``, ``an unset``), else ``a`` (``a UML``, ``a Usage``)."""
+    lower = word.lower()
+    if lower[:1] == "u":
+        return "a" if lower.startswith(("uml", "us", "uni", "uti", "ure")) else "an"
+    return "an" if lower[:1] in ("a", "e", "i", "o") else "a"
+
+
 def within_edits(a: str, b: str, limit: int) -> bool:
     """Whether ``a`` becomes ``b`` in at most ``limit`` single-character insertions, deletions or
     substitutions (Levenshtein distance, case-insensitive), without computing more than needed."""
@@ -231,6 +240,11 @@ class Diagnostic:
     # What within the element the finding is about (a tag name, a rule's label or "Rule#2"): with
     # the code and the element's id, the finding's identity across runs (SARIF fingerprints).
     subject: str | None = None
+    # Causes and consequences (:mod:`acordcs.model.causes`): the keys of what would explain this
+    # finding (a stereotype not read, a relation lost), and the keys this finding explains. A
+    # finding another reported one explains is not printed; the cause counts it.
+    because: tuple[str, ...] = ()
+    explains: tuple[str, ...] = ()
 
     def location(self) -> str:
         """``file:line:col`` (column 1 when unknown), or ``file`` when the line is unknown."""
@@ -276,10 +290,12 @@ def diagnostic(
     xmi_id: str | None = None,
     subject: str | None = None,
     severity: Severity | None = None,
+    because: tuple[str, ...] = (),
+    explains: tuple[str, ...] = (),
 ) -> Diagnostic:
     """A diagnostic with the severity its code declares (or ``severity``, for the codes whose
     severity depends on what the finding touches: R201, R202); long quoted values in ``message``
-    cut."""
+    cut. ``because`` and ``explains``: see :class:`Diagnostic`."""
     severity = CODES[code][0] if severity is None else severity
     return Diagnostic(
         code,
@@ -292,4 +308,6 @@ def diagnostic(
         xmi_id,
         unreadable=code.startswith("X") and code != "X107" and severity is Severity.ERROR,
         subject=subject,
+        because=because,
+        explains=explains,
     )

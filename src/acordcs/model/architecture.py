@@ -13,7 +13,8 @@ from collections import defaultdict
 from dataclasses import dataclass, field
 from functools import cache
 
-from acordcs.diagnostics import diagnostic, suggestion
+from acordcs.diagnostics import article, diagnostic, suggestion
+from acordcs.model import causes
 from acordcs.profile import PROFILE_NAME, Stereotype, profile, stereotype
 from acordcs.xmi.readers.skipped import metamodel_of
 from acordcs.xmi.uml import (
@@ -108,9 +109,28 @@ class Architecture:
     inverse: dict[str, dict[str, list[Role]]] = field(
         default_factory=lambda: defaultdict(lambda: defaultdict(list))
     )
-    # Elements with an ACORDCS stereotype the profile does not have (T302): what rules name of
-    # them is not reported again (the stereotype is the cause).
+    # Elements that play no role because their ACORD-CS stereotype was not read (T302 misspelt,
+    # T301 on the wrong metaclass and the classifier owning such an element, R201 of an unknown
+    # type, R204 applied to a misspelt id): what rules name of them is counted by that cause
+    # instead of reported again (acordcs.model.causes).
     misapplied: dict[str, Element] = field(default_factory=dict)
+    _by_member: dict[tuple[str, str], list[Role]] | None = field(default=None, repr=False)
+
+    def roles_with(self, kind: str, name: str) -> list[Role]:
+        """The roles whose element has an attribute (``kind`` "attribute") or an operation
+        named ``name``, or (``kind`` "element") that are named ``name`` (a port also as
+        ``Component.Port``); indexed on the first question, for a model's failed names."""
+        if self._by_member is None:
+            index: dict[tuple[str, str], list[Role]] = defaultdict(list)
+            for role in self.roles.values():
+                for member in getattr(role.element, "attributes", ()):
+                    index[("attribute", member.name)].append(role)
+                for member in getattr(role.element, "operations", ()):
+                    index[("operation", member.name)].append(role)
+                for shown in dict.fromkeys((role.name, self.element_name(role))):
+                    index[("element", shown)].append(role)
+            self._by_member = dict(index)
+        return self._by_member.get((kind, name), [])
 
     def of_kind(self, kind: str) -> list[Role]:
         return [r for r in self.roles.values() if r.kind == kind]
@@ -156,34 +176,49 @@ class Architecture:
         return role.name
 
     def _link(self, a: Role, b: Role, *, directed: bool) -> None:
-        """Record the relation between ``a`` and ``b``; ``directed`` when it goes from ``a`` to ``b``.
-
-        Two pairs read both ways (a container and a policy set: hosts or adapts; a container and a
-        monitor: hosts or sources). A relation that starts at the policy set or monitor is adapts or
-        sources; any other (from the container, or undirected) is deployment.
-        """
-        forward = _RELATIONS.get((a.kind, b.kind))
-        backward = _RELATIONS.get((b.kind, a.kind))
-        if forward is None and backward is None:
+        """Record the relation between ``a`` and ``b``; ``directed`` when it goes from ``a`` to ``b``
+        (:func:`relation_between`)."""
+        found = relation_between(a.kind, b.kind, directed=directed)
+        if found is None:
             return
-        if forward is not None and backward is not None and not directed:
-            if backward == "hosts":
-                a, b = b, a
-                forward = backward
-        elif forward is None:
-            a, b, forward = b, a, backward
-        relation = forward
+        relation, a_first = found
+        if not a_first:
+            a, b = b, a
         targets = self.relations[relation][a.id]
         if b not in targets:
             targets.append(b)
             self.inverse[relation][b.id].append(a)
 
 
+def relation_between(a: str, b: str, *, directed: bool) -> tuple[str, bool] | None:
+    """The relation a UML relation between elements of stereotypes ``a`` and ``b`` means, and
+    whether ``a`` is its source; None when it means none. ``directed``: it goes from ``a`` to ``b``.
+
+    Two pairs read both ways (a container and a policy set: hosts or adapts; a container and a
+    monitor: hosts or sources). A relation that starts at the policy set or monitor is adapts or
+    sources; any other (from the container, or undirected) is deployment.
+    """
+    forward = _RELATIONS.get((a, b))
+    backward = _RELATIONS.get((b, a))
+    if forward is None and backward is None:
+        return None
+    if forward is not None and backward is not None and not directed:
+        return ("hosts", False) if backward == "hosts" else (forward, True)
+    if forward is None:
+        return backward, False  # type: ignore[return-value]
+    return forward, True
+
+
+STEREOTYPES = (CONTAINER, COMPONENT, PORT, CONNECTION, POLICY_SET, POLICY, MONITOR, VARIABLE)
+"""The profile's stereotypes that :func:`relation_between` knows, in a stable order."""
+
+
 def interpret(uml: UmlModel) -> Architecture:
     """Find the roles and classify the relations between them; diagnostics go to ``uml.diagnostics``."""
     arch = Architecture(uml)
+    misplaced: list[Element] = []  # T301: a stereotype on the wrong metaclass
     for app in uml.applications.values():
-        role = _role(uml, app, arch.misapplied)
+        role = _role(uml, app, arch.misapplied, misplaced)
         if role is None:
             continue
         if role.id in arch.roles:
@@ -200,14 +235,37 @@ def interpret(uml: UmlModel) -> Architecture:
             )
             continue
         arch.roles[role.id] = role
+    # An element with its stereotype on the wrong metaclass plays no role unless another of its
+    # stereotypes gives it one; nor does the classifier owning it, unless it has one of its own
+    # (the stereotype was meant for it: <<CtxComponent>> on an attribute of the component).
+    for element in misplaced:
+        for unread in (element, owning_classifier(element)):
+            if unread is not None and unread.id not in arch.roles:
+                arch.misapplied.setdefault(unread.id, unread)
     _link_relations(arch)
     return arch
 
 
-def _role(uml: UmlModel, app: StereotypeApplication, misapplied: dict[str, Element]) -> Role | None:
+def owning_classifier(element: Element) -> Classifier | None:
+    """The classifier ``element`` is a member of (an attribute's, a port's, a parameter's
+    operation's class), or None for a classifier or an element of no classifier."""
+    if isinstance(element, Classifier):
+        return None
+    node = element.owner
+    while node is not None and not isinstance(node, Classifier):
+        node = node.owner
+    return node
+
+
+def _role(
+    uml: UmlModel,
+    app: StereotypeApplication,
+    misapplied: dict[str, Element],
+    misplaced: list[Element],
+) -> Role | None:
     element = uml.elements[app.base]
 
-    def report(code: str, message: str) -> None:
+    def report(code: str, message: str, explains: tuple[str, ...] = ()) -> None:
         uml.diagnostics.append(
             diagnostic(
                 code,
@@ -216,6 +274,7 @@ def _role(uml: UmlModel, app: StereotypeApplication, misapplied: dict[str, Eleme
                 line=app.line or element.line,
                 element=element.qualified_name(),
                 xmi_id=element.id,
+                explains=explains,
             )
         )
 
@@ -235,7 +294,8 @@ def _role(uml: UmlModel, app: StereotypeApplication, misapplied: dict[str, Eleme
             report(
                 "T302",
                 f"ACORDCS has no stereotype {app.name!r}{suggestion(app.name, names)}; use one of "
-                f"{', '.join(names)} (rules naming this element are checked once it is fixed)",
+                f"{', '.join(names)}",
+                (causes.unread(element.id),),
             )
             misapplied[element.id] = element
             return None
@@ -253,11 +313,27 @@ def _role(uml: UmlModel, app: StereotypeApplication, misapplied: dict[str, Eleme
             # element with a stereotype); rules naming it are not reported again either.
             misapplied[element.id] = element
             return None
+        owner = owning_classifier(element)
+        explains = [causes.unread(element.id)]
+        if owner is not None:
+            explains.append(causes.unread(owner.id))
+        if declared.name == VARIABLE:  # meant for an attribute of this classifier, or of its owner
+            explains.append(causes.variable_of((owner or element).id))
+        covered = _covered(declared.metaclasses)
+        if declared.name == VARIABLE:
+            meant = f" (an attribute of {(owner or element).name!r})"
+        elif owner is not None and owner.kind in covered:
+            meant = f" (perhaps {owner.name!r}, the {owner.kind} it belongs to)"
+        else:
+            meant = ""
         report(
             "T301",
-            f"<<{declared.name}>> applies to {' or '.join(declared.metaclasses)}, not to a "
-            f"{element.kind}; move the stereotype to the right element",
+            f"<<{declared.name}>> applies to {' or '.join(declared.metaclasses)}, not to "
+            f"{article(element.kind)} {element.kind}; move the stereotype to the right "
+            f"element{meant}",
+            tuple(explains),
         )
+        misplaced.append(element)
         return None
     return Role(declared, element, app, tags)
 

@@ -13,13 +13,14 @@ from dataclasses import dataclass
 
 from acordcs import vocabularies
 from acordcs.diagnostics import suggestion
-from acordcs.model.architecture import Architecture, Role
+from acordcs.model import causes
+from acordcs.model.architecture import MONITOR, PORT, Architecture, Role
 from acordcs.rules import Name, RuleKind, RuleSyntaxError, TermDef, parse_terms, split_rules
 from acordcs.rules.binding import RULE_SYNTAX, Scope, ScopeElement, Target, rule_syntax
 from acordcs.rules.binding import Ambiguous as BoundAmbiguous
 from acordcs.rules.binding import Unresolved as BoundUnresolved
 from acordcs.typed_values import parse_integer, parse_real
-from acordcs.xmi.uml import Operation, Property
+from acordcs.xmi.uml import Element, Operation, Property
 
 
 # ------------------------------------------------------------------------------------- rules
@@ -138,20 +139,16 @@ class Ambiguous:
 
 @dataclass(frozen=True)
 class Unresolved:
-    """A name that denotes nothing in the scope; ``reason`` says why, for a person."""
+    """A name that denotes nothing in the scope; ``reason`` says why and what to do, for a
+    person; ``because``: the keys of what would explain it (:mod:`acordcs.model.causes`: the
+    element it names plays no role because its stereotype was not read, or a lost relation would
+    have put it in the scope)."""
 
     reason: str
+    because: tuple[str, ...] = ()
 
 
-@dataclass(frozen=True)
-class Unchecked:
-    """A name that may denote a member of an element whose stereotype is misspelt (T302): not
-    reported again, the stereotype is the cause."""
-
-    element: str
-
-
-Resolution = Resolved | Ambiguous | Unresolved | Unchecked
+Resolution = Resolved | Ambiguous | Unresolved
 MemberKind = str  # "attribute" or "operation"
 
 
@@ -163,7 +160,7 @@ class PolicySetScope:
         self.arch = arch
         self.policy_set = policy_set
         self.scope = policy_scope(arch, policy_set)
-        self._answers: dict[tuple[str, MemberKind], Resolution] = {}
+        self._answers: dict[tuple[str, MemberKind, bool], Resolution] = {}
 
     def describe(self) -> str:
         """The scope's element names, for messages."""
@@ -172,52 +169,115 @@ class PolicySetScope:
             or "nothing: relate monitors and adapted elements to it"
         )
 
-    def resolve(self, name: Name, kind: MemberKind) -> Resolution:
-        """What ``name`` denotes among the scope's attributes (``kind`` "attribute") or operations."""
-        key = (name.text, kind)
+    def resolve(self, name: Name, kind: MemberKind, *, written: bool = False) -> Resolution:
+        """What ``name`` denotes among the scope's attributes (``kind`` "attribute") or operations;
+        ``written``: the rule writes it (a fuzzy conclusion, an assignment), which decides where a
+        missing attribute belongs (an element the set adapts, not a monitor)."""
+        key = (name.text, kind, written)
         answer = self._answers.get(key)
         if answer is None:
-            answer = self._answers[key] = self._worded(self.scope.resolve(name.text, kind), kind)  # type: ignore[arg-type]
+            found = self.scope.resolve(name.text, kind)  # type: ignore[arg-type]
+            answer = self._answers[key] = self._worded(found, kind, written)
         return answer
 
-    def _misapplied(self, found: BoundUnresolved, kind: MemberKind) -> str | None:
-        """The element with a misspelt stereotype the name may refer to, if any."""
+    def _misapplied(self, found: BoundUnresolved, kind: MemberKind) -> Element | None:
+        """The element playing no role (its stereotype not read) the name may refer to, if any."""
         for element in self.arch.misapplied.values():
             if found.element is not None and found.element != element.name:
                 continue
             members = getattr(element, "attributes" if kind == "attribute" else "operations", ())
             if found.element is not None or any(m.name == found.member for m in members):
-                return element.name
+                return element
         return None
 
-    def _worded(self, found: object, kind: MemberKind) -> Resolution:
+    def _out_of_scope(self, found: BoundUnresolved, kind: MemberKind) -> list[Role]:
+        """The roles outside the scope the name would denote were they in it."""
+        inside = {e.origin.id for e in self.scope.elements}  # type: ignore[attr-defined]
+        if found.element is not None:
+            named = self.arch.roles_with("element", found.element)
+        else:
+            named = self.arch.roles_with(kind, found.member)
+        return list({r.id: r for r in named if r.id not in inside}.values())
+
+    def _scope_keys(self, role: Role) -> tuple[str, ...]:
+        """What would have put ``role`` in the scope: a monitor feeding the set, or the set adapting
+        it (or, for a port, the component owning it)."""
+        ps = self.policy_set.id
+        if role.kind == MONITOR:
+            return (
+                causes.pair("feeds", role.id, ps),
+                causes.maybe("feeds", ps, causes.TARGET),
+                causes.maybe("feeds", role.id, causes.SOURCE),
+            )
+        adapted = [role, *(self.arch.related_to(role, "owns_port") if role.kind == PORT else ())]
+        keys = [causes.maybe("adapts", ps, causes.SOURCE)]
+        for target in adapted:
+            keys += [
+                causes.pair("adapts", ps, target.id),
+                causes.maybe("adapts", target.id, causes.TARGET),
+            ]
+        if role.kind == PORT:
+            keys.append(causes.lacks("owns_port", role.id, causes.TARGET))
+        return tuple(keys)
+
+    def _next_step(self, member: str, kind: MemberKind, written: bool) -> str:
+        """Where a missing member belongs: the one monitor feeding the set (what a rule reads), or
+        the one element it adapts (what a rule writes or calls); else any element of the scope."""
+        if not self.scope.elements:
+            return ""  # the scope's description says to relate elements to the set
+        name = self.policy_set.name
+        if written or kind == "operation":
+            where = self.arch.related(self.policy_set, "adapts")
+            what = f"what policy set {name!r} adapts"
+        else:
+            where = self.arch.related_to(self.policy_set, "feeds")
+            what = f"the monitor feeding policy set {name!r}"
+        if len(where) == 1:
+            return f"; add {kind} {member!r} to {self.arch.element_name(where[0])} ({what})"
+        return (
+            f"; add {kind} {member!r} to the element of the scope it belongs to, or qualify the "
+            "name with it"
+        )
+
+    def _worded(self, found: object, kind: MemberKind, written: bool) -> Resolution:
         if isinstance(found, Target):
             return Resolved(found.element.origin, found.payload)  # type: ignore[arg-type]
         if isinstance(found, BoundAmbiguous):
             return Ambiguous(tuple(f"{t.element.shown}.{t.member}" for t in found.candidates))
         assert isinstance(found, BoundUnresolved)
-        cause = self._misapplied(found, kind)
-        if cause is not None:
-            return Unchecked(cause)
+        unread = self._misapplied(found, kind)
+        because: tuple[str, ...] = (causes.unread(unread.id),) if unread is not None else ()
+        outside = self._out_of_scope(found, kind)
+        for role in outside:
+            because += self._scope_keys(role)
         name = self.policy_set.name
+        relate = "relate it: a monitor feeding the set, or an element the set adapts"
         if found.element is not None and not found.owners:
-            exists = any(r.name == found.element for r in self.arch.roles.values())
-            why = (
-                f"{found.element!r} is not in the scope of policy set {name!r} "
-                "(relate it: a monitor feeding the set, or an element the set adapts)"
-                if exists
-                else f"no element named {found.element!r}"
-            )
-            return Unresolved(f"{why}; scope: {self.describe()}")
+            if outside:
+                why = f"{found.element!r} is not in the scope of policy set {name!r} ({relate})"
+            else:
+                shown = [e.shown for e in self.scope.elements]
+                why = f"no element named {found.element!r}{suggestion(found.element, shown)}"
+            return Unresolved(f"{why}; scope: {self.describe()}", because)
+        hint = suggestion(found.member, list(found.known))
         if found.element is not None:
-            return Unresolved(
-                f"{found.element} has no {kind} {found.member!r}"
-                f"{suggestion(found.member, list(found.known))}"
+            if not hint:
+                hint = f"; add {kind} {found.member!r} to {found.element}"
+                if found.known:
+                    hint += f", or use one of its {kind}s: {', '.join(found.known[:10])}"
+            return Unresolved(f"{found.element} has no {kind} {found.member!r}{hint}", because)
+        if not hint and outside:
+            having = ", ".join(self.arch.element_name(r) for r in outside[:3])
+            hint = (
+                f"; {having} {'has' if len(outside) == 1 else 'have'} it but "
+                f"{'is' if len(outside) == 1 else 'are'} not in the scope ({relate})"
             )
+        elif not hint:
+            hint = self._next_step(found.member, kind, written)
         return Unresolved(
             f"no element in the scope of policy set {name!r} has {kind} "
-            f"{found.member!r}{suggestion(found.member, list(found.known))}; "
-            f"scope: {self.describe()}"
+            f"{found.member!r}{hint}; scope: {self.describe()}",
+            because,
         )
 
 
@@ -228,7 +288,6 @@ __all__ = [
     "PolicySetScope",
     "Resolution",
     "Resolved",
-    "Unchecked",
     "Unresolved",
     "monitor_acquisition",
     "parse_integer",

@@ -6,7 +6,9 @@ from dataclasses import dataclass, field
 
 from acordcs.diagnostics import Diagnostic, Severity
 from acordcs.model.architecture import Architecture, interpret
+from acordcs.model.causes import settled
 from acordcs.model.checks import Context, run_checks
+from acordcs.model.lost_references import explain_lost_references
 from acordcs.xmi.readers import read_uml
 from acordcs.xmi.uml import UmlModel
 
@@ -27,34 +29,17 @@ class ModelReading:
 
 
 def read_model(path: str, *, check: bool = True) -> ModelReading:
-    """Read ``path`` (any supported XMI), interpret it and, with ``check``, run every model check."""
+    """Read ``path`` (any supported XMI), interpret it and, with ``check``, run every model check.
+
+    The findings come causes first, and a finding another one explains (a rule naming an element
+    whose stereotype was not read, a component whose deployment refers to an id the file lacks)
+    is counted by its cause instead of printed (:mod:`acordcs.model.causes`)."""
     uml = read_uml(path)
     if uml.dialect == "unreadable":
         return ModelReading(path, uml, None, list(uml.diagnostics))
     arch = interpret(uml)
+    explain_lost_references(arch)
     found = list(uml.diagnostics)
     if check:
         found += run_checks(Context(uml, arch))
-    return ModelReading(path, uml, arch, in_reading_order(found))
-
-
-# What a finding's code is about, from reading the file to generating code: a finding of an
-# earlier stage about an element can cause findings of later stages about it, never the reverse.
-_STAGES = {letter: n for n, letter in enumerate("XRTNLAGZ")}
-
-
-def in_reading_order(found: list[Diagnostic]) -> list[Diagnostic]:
-    """``found`` by source position, causes before consequences: the findings about one element
-    together, where its first one is in the file, in the order of their stages (a misspelt tag
-    of a monitor, at the stereotype application near the file's end, before what the monitor
-    then lacks, at the monitor itself), then by line and column."""
-    first: dict[str, int] = {}
-    for d in found:
-        if d.xmi_id:
-            first[d.xmi_id] = min(first.get(d.xmi_id, d.line), d.line)
-
-    def key(d: Diagnostic) -> tuple:
-        where = first.get(d.xmi_id, d.line) if d.xmi_id else d.line
-        return (where, d.xmi_id or "", _STAGES.get(d.code[:1], 9), d.line, d.column, d.code)
-
-    return sorted(found, key=key)
+    return ModelReading(path, uml, arch, settled(found))

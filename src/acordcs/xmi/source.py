@@ -215,6 +215,32 @@ def _at_end(data: bytes, line: int, col: int) -> bool:
     return line > end_line or (line == end_line and col >= end_col - 1)
 
 
+_BOUML = re.compile(rb'exporter\s*=\s*"Bouml"|<XMI\.exporter>\s*Bouml', re.I)
+_OPEN_VALUE = re.compile(r"""([\w:.-]+)\s*=\s*(?:"[^"]*|'[^']*)\Z""")
+
+
+def _unescaped_hint(data: bytes, line: int, col: int, message: str) -> str:
+    """What to do about a '<' or '&' the strict parse stopped at: BOUML writes names unescaped (so
+    a name is renamed in BOUML); anywhere else (another tool's file, a hand-written one, a tag's
+    value or a rule's text) the character is written as XML writes it, ``&lt;`` or ``&amp;``."""
+    char = "&" if "EntityRef" in message or "'&'" in message else "<" if "<" in message else None
+    lines = data.split(b"\n", line)
+    text = lines[line - 1].decode("utf-8", "replace") if 0 < line <= len(lines) else ""
+    opened = _OPEN_VALUE.search(text[: max(col - 1, 0)])
+    attribute = opened.group(1) if opened else None
+    recovered = "the rest was read in recovery mode so that every other check could run, but"
+    if _BOUML.search(data[:8192]) and attribute == "name":
+        return (
+            f"{recovered} names near this place may be cut short (BOUML writes names unescaped: "
+            "rename the element, e.g. no '<' or '&', and export again)"
+        )
+    escaped = {"<": "'<' as &lt;", "&": "'&' as &amp;"}
+    how = escaped[char] if char else "'<' as &lt; and '&' as &amp;"
+    where = f"in the value of {attribute!r}" if attribute else "in the text of an element"
+    example = " (a rule's 'a < b' as 'a &lt; b')" if char != "&" else ""
+    return f"{where}, write {how}{example}; {recovered} what is near this place may be cut short"
+
+
 def _after_strict_failure(
     data: bytes, path: str, err: etree.XMLSyntaxError, parser: etree.XMLParser
 ) -> XmlInput:
@@ -253,11 +279,7 @@ def _after_strict_failure(
     if root is None:
         msg = f"not well-formed XML: {message}; fix the file at this place"
         return XmlInput(path, None, [diagnostic("X108", msg, file=path, line=line, column=col)])
-    msg = (
-        f"not well-formed XML: {message}; the rest was read in recovery mode so that every other check "
-        "could run, but names near this place may be cut short (BOUML writes names unescaped: rename "
-        "the element, e.g. no '<' or '&', and export again)"
-    )
+    msg = f"not well-formed XML: {message}; {_unescaped_hint(data, line, col, message)}"
     return XmlInput(
         path,
         root,

@@ -11,7 +11,7 @@ from __future__ import annotations
 
 from typing import Any
 
-from acordcs.diagnostics import Diagnostic, diagnostic
+from acordcs.diagnostics import Diagnostic, article, diagnostic
 from acordcs.model.checks.check_context import Check, Context
 from acordcs.plugins import PluginTable, Refused
 
@@ -33,8 +33,8 @@ def _accept(name: str, loaded: Any, origin: str) -> tuple[Check, ...]:
     found = tuple(loaded) if isinstance(loaded, (tuple, list)) else (loaded,)
     if not found or not all(callable(fn) for fn in found):
         raise Refused(
-            f"is a {type(loaded).__name__}, not a check; point it at a function taking the "
-            "check context, or a tuple of them"
+            f"is {article(type(loaded).__name__)} {type(loaded).__name__}, not a check; point it "
+            "at a function taking the check context, or a tuple of them"
         )
     return found
 

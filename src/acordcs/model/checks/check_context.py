@@ -28,7 +28,10 @@ class Context:
         line: int | None = None,
         column: int | None = None,
         subject: str | None = None,
+        because: tuple[str, ...] = (),
     ) -> Diagnostic:
+        """``code`` at ``where``; ``because``: the keys of the causes that would explain it
+        (:mod:`acordcs.model.causes`)."""
         element = where.element if isinstance(where, Role) else where
         return diagnostic(
             code,
@@ -39,4 +42,5 @@ class Context:
             element=element.qualified_name(),
             xmi_id=element.id,
             subject=subject,
+            because=because,
         )

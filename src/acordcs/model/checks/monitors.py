@@ -15,6 +15,7 @@ from lxml import etree
 
 from acordcs.diagnostics import Diagnostic
 from acordcs.model.architecture import COMPONENT, CONTAINER, MONITOR, PORT, Role
+from acordcs.model.causes import SOURCE, lacks
 from acordcs.model.checks.check_context import Context
 from acordcs.model.queries import (
     ACQUISITIONS,
@@ -62,6 +63,7 @@ def monitor_acquisition_data(ctx: Context) -> Iterator[Diagnostic]:
                     "component: add a dependency from it to the <<CtxPort>> (or <<CtxComponent>>) "
                     "whose calls it sees",
                     monitor,
+                    because=(lacks("sources", monitor.id, SOURCE),),
                 )
         elif kind == "subscribe":
             yield from _xpath(ctx, monitor)
@@ -110,6 +112,7 @@ def _polled(
             f"monitor {monitor.name!r} polls an operation and needs exactly one source "
             f"<<CtxComponent>> (has {found}): keep one dependency to the component it polls",
             monitor,
+            because=(lacks("sources", monitor.id, SOURCE),) if not components else (),
         )
         return
     component = components[0]

@@ -6,6 +6,7 @@ from __future__ import annotations
 from collections.abc import Iterator
 
 from acordcs.diagnostics import Diagnostic
+from acordcs.model import causes
 from acordcs.model.architecture import POLICY_SET, Role
 from acordcs.model.checks.check_context import Context
 from acordcs.model.queries import (
@@ -13,7 +14,6 @@ from acordcs.model.queries import (
     PolicyRule,
     PolicySetScope,
     Resolved,
-    Unchecked,
     Unresolved,
     policy_rules,
     rule_kind,
@@ -90,17 +90,55 @@ def rules(ctx: Context) -> Iterator[Diagnostic]:
                 else:
                     yield from checker.crisp(rule, prule)
         # The set is one rule block: its engine fires all its policies' rules together.
-        for attr_id, name, prule in checker.outputs:
-            if attr_id in checker.inputs:
-                yield ctx.diag(
-                    "L405",
-                    f"{name.text!r} is an output of rule {prule.index} of tag {prule.tag!r} and an "
-                    f"input of policy set {policy_set.name!r}: a fuzzy rule block must not feed back "
-                    "into itself",
-                    prule.policy,
-                    line=prule.line,
-                    subject=f"{_subject(prule)}:{name.text}",
-                )
+        yield from _feedback(ctx, policy_set, checker)
+
+
+def _feedback(ctx: Context, policy_set: Role, checker: _RuleChecker) -> Iterator[Diagnostic]:
+    """L405 once per output that is also an input of the set, with the rules concluding it."""
+    concluding: dict[str, list[tuple[Name, PolicyRule]]] = {}
+    for attr_id, name, prule in checker.outputs:
+        if attr_id in checker.inputs:
+            concluding.setdefault(attr_id, []).append((name, prule))
+    for attr_id, found in concluding.items():
+        name, first = found[0]
+        read, reading = checker.inputs[attr_id]
+        rules = [prule for _, prule in found]
+        count = f"{len(rules)} rules" if len(rules) > 1 else "rule"
+        written = f" (as {read.text!r})" if read.text != name.text else ""
+        yield ctx.diag(
+            "L405",
+            f"{name.text!r} is an output of {count} ({_rules_named(rules)}) and an input of "
+            f"{_rules_named([reading])}{written} in policy set {policy_set.name!r}: a fuzzy rule "
+            "block must not feed back into itself; read it in another policy set, or conclude "
+            "another attribute",
+            first.policy,
+            line=first.line,
+            subject=name.text,
+        )
+
+
+def _rules_named(rules: list[PolicyRule]) -> str:
+    """``rules 1-3, 5 of tag 'Rule' of policy 'P'; rule 2 of ...``: rules by tag and policy."""
+    groups: dict[tuple[str, str], list[int]] = {}
+    for prule in rules:
+        groups.setdefault((prule.policy.name, prule.tag), []).append(prule.index)
+    parts = []
+    for (policy, tag), indexes in groups.items():
+        numbers = _ranges(sorted(set(indexes)))
+        word = "rules" if len(set(indexes)) > 1 else "rule"
+        parts.append(f"{word} {numbers} of tag {tag!r} of policy {policy!r}")
+    return "; ".join(parts)
+
+
+def _ranges(numbers: list[int]) -> str:
+    """``1-6, 8``: sorted numbers with runs shortened."""
+    runs: list[list[int]] = []
+    for n in numbers:
+        if runs and n == runs[-1][-1] + 1:
+            runs[-1].append(n)
+        else:
+            runs.append([n])
+    return ", ".join(f"{r[0]}-{r[-1]}" if len(r) > 2 else ", ".join(map(str, r)) for r in runs)
 
 
 class _RuleChecker:
@@ -110,10 +148,17 @@ class _RuleChecker:
         self.ctx = ctx
         self.scope = scope
         self.terms = terms
-        self.inputs: dict[str, Name] = {}
+        self.inputs: dict[str, tuple[Name, PolicyRule]] = {}  # by attribute id, the first read
         self.outputs: list[tuple[str, Name, PolicyRule]] = []
 
-    def problem(self, prule: PolicyRule, code: str, message: str, name: Name) -> Diagnostic:
+    def problem(
+        self,
+        prule: PolicyRule,
+        code: str,
+        message: str,
+        name: Name,
+        because: tuple[str, ...] = (),
+    ) -> Diagnostic:
         # The column is in the rule text, not in the XML line: it goes in the message, not the location.
         return self.ctx.diag(
             code,
@@ -121,21 +166,25 @@ class _RuleChecker:
             prule.policy,
             line=prule.line,
             subject=f"{_subject(prule)}:{name.text}",
+            because=because,
         )
 
-    def variable(self, prule: PolicyRule, name: Name) -> Resolved | Diagnostic | None:
-        """What ``name`` denotes, or the diagnostic saying why it denotes nothing (None: it may
-        denote a member of an element whose stereotype is misspelt, reported as such: T302)."""
-        found = self.scope.resolve(name, "attribute")
-        if isinstance(found, Unchecked):
-            return None
+    def variable(
+        self, prule: PolicyRule, name: Name, *, written: bool = False
+    ) -> Resolved | Diagnostic:
+        """What ``name`` denotes, or the diagnostic saying why it denotes nothing (with the keys
+        of what would explain it: an element whose stereotype was not read, a lost relation);
+        ``written``: the rule writes it."""
+        found = self.scope.resolve(name, "attribute", written=written)
         if isinstance(found, Ambiguous):
             options = ", ".join(found.candidates)
             return self.problem(
                 prule, "L403", f"{name.text!r} is ambiguous: it may be {options}; qualify it", name
             )
         if isinstance(found, Unresolved):
-            return self.problem(prule, "L402", f"variable {name.text!r}: {found.reason}", name)
+            return self.problem(
+                prule, "L402", f"variable {name.text!r}: {found.reason}", name, found.because
+            )
         return found
 
     def _terms_of(self, attr: Property) -> tuple[Role | None, list[str], set[str]]:
@@ -163,10 +212,9 @@ class _RuleChecker:
         atoms += rule.actions
         for index, atom in enumerate(atoms):
             var = atom.var
-            found = self.variable(prule, var)
+            found = self.variable(prule, var, written=index >= inputs)
             if not isinstance(found, Resolved):
-                if found is not None:
-                    yield found
+                yield found
                 continue
             attr = found.member
             info = self.terms.get(attr.id)
@@ -174,12 +222,17 @@ class _RuleChecker:
                 info = self._terms_of(attr)
             var_role, terms, known = info
             if var_role is None:
+                # the attribute's <<CtxVariable>> unread (misspelt), or put on its class (T301)
+                because: tuple[str, ...] = (causes.unread(attr.id),)
+                if attr.owner is not None:
+                    because += (causes.variable_of(attr.owner.id),)
                 yield self.problem(
                     prule,
                     "L408",
                     f"{var.text!r} is not a linguistic variable: apply <<CtxVariable>> to the "
                     "attribute with tags min, max and terms",
                     var,
+                    because,
                 )
                 continue
             if terms and atom.term.text not in known:
@@ -194,7 +247,7 @@ class _RuleChecker:
                     atom.term,
                 )
             if index < inputs:
-                self.inputs.setdefault(attr.id, var)
+                self.inputs.setdefault(attr.id, (var, prule))
             else:
                 self.outputs.append((attr.id, var, prule))
 
@@ -205,7 +258,7 @@ class _RuleChecker:
                 yield found
         for action in rule.actions:
             if isinstance(action, Assign):
-                found = self.variable(prule, action.var)
+                found = self.variable(prule, action.var, written=True)
                 if isinstance(found, Diagnostic):
                     yield found
                 for name in names_in(action.value):
@@ -226,7 +279,11 @@ class _RuleChecker:
             )
         elif isinstance(found, Unresolved):
             yield self.problem(
-                prule, "L406", f"operation {call.target.text!r}: {found.reason}", call.target
+                prule,
+                "L406",
+                f"operation {call.target.text!r}: {found.reason}",
+                call.target,
+                found.because,
             )
         elif isinstance(found, Resolved):
             op = found.member

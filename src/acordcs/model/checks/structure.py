@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from collections.abc import Iterator
 
-from acordcs.diagnostics import Diagnostic
+from acordcs.diagnostics import Diagnostic, article
 from acordcs.model.architecture import (
     COMPONENT,
     CONNECTION,
@@ -15,6 +15,7 @@ from acordcs.model.architecture import (
     PORT,
     Role,
 )
+from acordcs.model.causes import SOURCE, TARGET, lacks, unread
 from acordcs.model.checks.check_context import Context
 
 _ADAPTABLE = {CONTAINER, COMPONENT, PORT, CONNECTION}
@@ -31,8 +32,9 @@ def connections(ctx: Context) -> Iterator[Diagnostic]:
             yield ctx.diag(
                 "A503",
                 f"port connection {conn.name!r} joins {len(ports)} port(s) ({names}); relate it to "
-                "exactly two <<CtxPort>> classes",
+                "exactly two <<CtxPort>> elements (ports of components)",
                 conn,
+                because=(lacks("joins", conn.id, SOURCE),) if len(ports) < 2 else (),
             )
             continue
         a, b = ports
@@ -47,8 +49,9 @@ def connections(ctx: Context) -> Iterator[Diagnostic]:
         if a.tag("kind") != b.tag("kind"):
             yield ctx.diag(
                 "A502",
-                f"port connection {conn.name!r} joins a {a.tag('kind')} port ({a.name!r}) and a "
-                f"{b.tag('kind')} port ({b.name!r}); both must be of the same kind",
+                f"port connection {conn.name!r} joins {_a(a.tag('kind'))} port ({a.name!r}) and "
+                f"{_a(b.tag('kind'))} port ({b.name!r}); both must be of the same kind: set the tag "
+                "kind of one to the other's",
                 conn,
             )
 
@@ -69,6 +72,7 @@ def policy_sets(ctx: Context) -> Iterator[Diagnostic]:
                 "A509",
                 f"policy set {ps.name!r} has no policies: relate <<CtxPolicy>> classes to it",
                 ps,
+                because=(lacks("contains", ps.id, SOURCE),),
             )
         if not arch.related(ps, "adapts") and not arch.related_to(ps, "feeds"):
             yield ctx.diag(
@@ -76,6 +80,7 @@ def policy_sets(ctx: Context) -> Iterator[Diagnostic]:
                 f"policy set {ps.name!r} adapts nothing and no monitor feeds it: its rules can refer "
                 "to no variable",
                 ps,
+                because=(lacks("adapts", ps.id, SOURCE), lacks("feeds", ps.id, TARGET)),
             )
         if ps.tag("trigger") == "periodic" and not ps.tags.get("frequency", "").strip():
             yield ctx.diag(
@@ -92,7 +97,12 @@ def policy_sets(ctx: Context) -> Iterator[Diagnostic]:
                 if not owners
                 else f"policy {policy.name!r} belongs to {len(owners)} policy sets ({names}); keep one"
             )
-            yield ctx.diag("A508", msg, policy)
+            yield ctx.diag(
+                "A508",
+                msg,
+                policy,
+                because=(lacks("contains", policy.id, TARGET),) if not owners else (),
+            )
 
 
 def monitors(ctx: Context) -> Iterator[Diagnostic]:
@@ -103,6 +113,7 @@ def monitors(ctx: Context) -> Iterator[Diagnostic]:
                 f"monitor {monitor.name!r} feeds no policy set: relate it to the <<CtxPolicySet>> that "
                 "uses its attributes",
                 monitor,
+                because=(lacks("feeds", monitor.id, SOURCE),),
             )
 
 
@@ -116,6 +127,7 @@ def deployment(ctx: Context) -> Iterator[Diagnostic]:
                     "A506",
                     f"{kind} {role.name!r} is not deployed: relate it to the <<CtxContainer>> that hosts it",
                     role,
+                    because=(lacks("hosts", role.id, TARGET),),
                 )
             elif len(hosts) > 1:
                 names = ", ".join(h.name for h in hosts)
@@ -131,7 +143,10 @@ def ports(ctx: Context) -> Iterator[Diagnostic]:
         owners = ctx.arch.related_to(port, "owns_port")
         if not owners:
             yield ctx.diag(
-                "A511", f"port {port.name!r} belongs to no component: relate it to one", port
+                "A511",
+                f"port {port.name!r} belongs to no component: relate it to one",
+                port,
+                because=_unowned(port),
             )
         elif len(owners) > 1:
             names = ", ".join(o.name for o in owners)
@@ -140,6 +155,19 @@ def ports(ctx: Context) -> Iterator[Diagnostic]:
                 f"port {port.name!r} belongs to {len(owners)} components ({names}); keep one",
                 port,
             )
+
+
+def _unowned(port: Role) -> tuple[str, ...]:
+    """What would explain that ``port`` belongs to no component: a lost relation to its
+    component, or the class owning it (a Papyrus port's) not read as one."""
+    owner = port.element.owner
+    keys = (lacks("owns_port", port.id, TARGET),)
+    return (*keys, unread(owner.id)) if owner is not None else keys
+
+
+def _a(word: str | None) -> str:
+    word = word or "unset"
+    return f"{article(word)} {word}"
 
 
 def _unowned_ends(ctx: Context, conn: Role, ports: list[Role]) -> Iterator[Diagnostic]:
@@ -154,6 +182,7 @@ def _unowned_ends(ctx: Context, conn: Role, ports: list[Role]) -> Iterator[Diagn
                 "<<CtxComponent>> that owns it (Papyrus: make it a uml:Port of the component)",
                 conn,
                 subject=port.name,
+                because=_unowned(port),
             )
 
 

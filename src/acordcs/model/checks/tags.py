@@ -6,7 +6,7 @@ import math
 from collections.abc import Iterator
 from itertools import pairwise
 
-from acordcs.diagnostics import Diagnostic, within_edits
+from acordcs.diagnostics import Diagnostic, article, within_edits
 from acordcs.model.architecture import MONITOR, POLICY_SET, VARIABLE
 from acordcs.model.checks.check_context import Context
 from acordcs.model.queries import (
@@ -61,7 +61,7 @@ def tag_values(ctx: Context) -> Iterator[Diagnostic]:
             if parser is not None and parser(value) is None:
                 yield ctx.diag(
                     "T304",
-                    f"tag {name!r} must be a {declared.type}, not {value!r}",
+                    f"tag {name!r} must be {article(declared.type)} {declared.type}, not {value!r}",
                     role,
                     line=line,
                     subject=name,
