@@ -23,6 +23,7 @@ from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any, NamedTuple
 
+from acordcs.diagnostics import article
 from acordcs.engines.errors import EngineNotAvailableError
 from acordcs.engines.rule_engine import RuleEngine
 from acordcs.errors import ConfigurationError
@@ -160,7 +161,7 @@ def _accept(kind: str, loaded: Any, origin: str) -> Registered:
     if callable(loaded):
         return Registered(loaded, rule_syntax(kind))
     raise Refused(
-        f"is a {type(loaded).__name__}, not an engine; point it at a Registered(constructor, "
+        f"is {article(type(loaded).__name__)} {type(loaded).__name__}, not an engine; point it at a Registered(constructor, "
         "syntax, loads_plan) or a constructor taking an EngineSetup"
     )
 

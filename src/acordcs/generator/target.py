@@ -26,6 +26,7 @@ from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Any
 
+from acordcs.diagnostics import article
 from acordcs.plugins import Refused
 
 ENTRY_POINT_GROUP = "acordcs.targets"
@@ -158,6 +159,6 @@ def accept(name: str, loaded: Any, origin: str) -> Target:
         doc = (loaded.__doc__ or "").strip().splitlines()
         return Target(name, doc[0] if doc else name, function=loaded, origin=origin)
     raise Refused(
-        f"is a {type(loaded).__name__}, not a target; point it at a function "
+        f"is {article(type(loaded).__name__)} {type(loaded).__name__}, not a target; point it at a function "
         "decorated with acordcs.generator.target or made by xslt_target"
     )

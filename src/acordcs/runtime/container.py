@@ -29,6 +29,7 @@ from collections.abc import Iterator
 from contextlib import contextmanager
 from typing import TYPE_CHECKING, Any
 
+from acordcs.diagnostics import article
 from acordcs.runtime import events as ev
 from acordcs.runtime.calls import OperationCalls
 from acordcs.runtime.clock import Clock, RealClock, Timer, VirtualClock
@@ -323,7 +324,7 @@ class Container(OperationCalls, Wiring):
                         f"cannot replace {name!r} by a {type_name!r}: connected port "
                         f"{port.name!r} ({port.kind}) has no counterpart",
                         where=self._where,
-                        hint=f"give {factory.cls.__name__} a {port.kind} port named {port.name!r}",
+                        hint=f"give {factory.cls.__name__} {article(port.kind)} {port.kind} port named {port.name!r}",
                     )
             state = old.save_state()
             new = self._build(factory, name, None, config)
