@@ -1,7 +1,8 @@
-"""The rule parser reads rules as lark itself reads rules.lark: lark is the oracle, through its public
-``Lark(..., transformer=...)`` with the parser's builders and no cache; for every input, both build
-the same tree (columns included) or stop at the same place with the same message. Inputs are
-generated: token soup from the grammar's vocabulary (mostly errors, at every position) and
+"""The rule parser reads rules as lark itself reads rules.lark. lark is the oracle, through its public
+``Lark(..., transformer=...)`` with the parser's builders and no cache: for every input, the parser
+(its fast reader, or lark where the reader declines) builds the same tree, columns included, or stops
+at the same place with the same message; the fast reader reads every well-formed rule itself. Inputs
+are generated: token soup from the grammar's vocabulary (mostly errors, at every position) and
 well-formed rules (mostly successes). And lark's analysed grammar is cached only where nobody else
 can write, and a cache file that cannot be loaded changes nothing.
 """
@@ -20,8 +21,9 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from acordcs.cachedir import lark_cache
-from acordcs.rules import lark_parser
+from acordcs.rules import fast, lark_parser
 from acordcs.rules import parser as rules
+from tests.support.toolchain import ROOT
 
 STARTS = list(lark_parser.STARTS)
 
@@ -53,6 +55,14 @@ def _outcome_ours(text: str, start: str):
         return ("error", err.column, err.message)
 
 
+def _outcome_fast(text: str, start: str):
+    """What the fast reader alone builds, or None where it declines."""
+    try:
+        return ("ok", plain(fast.read(start, text)))
+    except fast.Decline:
+        return None
+
+
 def _outcome_lark(parser: lark.Lark, text: str, start: str):
     try:
         return ("ok", plain(parser.parse(text, start=start).children))
@@ -68,6 +78,9 @@ WORDS = [
     "trape", "trian", "gauss", "gbell", "sigm", "speed", "Robot.speed", "a.b.c", "x1", "_y",
     "ifx", "isn", "0", "12", "-3", "+4.5", "1e3", ".5", "2.", "(", ")", ",", ":", ";", ":=", "=",
     "==", "!=", "<=", ">=", "<", ">", "+", "-", "*", "/", '"s"', "'t'", "?", "#", "&", "é", "",
+    # what lark's contextual lexer reads by where it is: keywords beside dots, digits and letters
+    # beyond ASCII (a \\b ends a keyword, ASCII a name), signs before digits
+    "Very.x", "true.x", "is.x", "then2", "a.", "1.2.3", "1e", "--1", "-x", "+", "iſ", "ifé", "1٣",
 ]  # fmt: skip
 SEPARATORS = ["", " ", "  ", "\t", " \t "]
 
@@ -81,8 +94,12 @@ def token_soup(draw) -> str:
     return out
 
 
-VARS = st.sampled_from(["speed", "Robot.speed", "angle", "Camera.rate", "cycleRate"])
-TERMS = st.sampled_from(["slow", "fast", "narrow", "small", "Idle_2"])
+# Names spelled like the keywords that are keywords only where they fit (true, very, trape, ...).
+VARS = st.sampled_from(
+    ["speed", "Robot.speed", "angle", "Camera.rate", "cycleRate", "true", "very", "trape", "If2"]
+)
+TERMS = st.sampled_from(["slow", "fast", "narrow", "small", "Idle_2", "true", "trape", "FALSE"])
+OUTPUT_TERMS = st.one_of(TERMS, st.sampled_from(["very", "somewhat"]))  # no hedge after then
 
 
 @st.composite
@@ -103,9 +120,13 @@ def fuzzy_rule(draw) -> str:
     def cond(depth: int) -> str:
         return atom(depth)
 
-    label = draw(st.sampled_from(["", "r1: ", "Slow_down : "]))
-    outs = " and ".join(f"{draw(VARS)} is {draw(TERMS)}" for _ in range(draw(st.integers(1, 3))))
-    weight = draw(st.sampled_from(["", " with 0.5", " with 1", " WITH .25"]))
+    label = draw(st.sampled_from(["", "r1: ", "Slow_down : ", "very:"]))
+    outs = " and ".join(
+        f"{draw(VARS)} is {draw(OUTPUT_TERMS)}" for _ in range(draw(st.integers(1, 3)))
+    )
+    weight = draw(
+        st.sampled_from(["", " with 0.5", " with 1", " WITH .25", " with +1", " with 1e-1"])
+    )
     return f"{label}if {cond(0)} then {outs}{weight}"
 
 
@@ -116,13 +137,15 @@ def crisp_rule(draw) -> str:
         if choice == 0:
             return draw(VARS)
         if choice == 1:
-            return draw(st.sampled_from(["0", "3", "-1", "2.5", "1e2", '"on"', "true", "FALSE"]))
+            literals = ["0", "3", "-1", "2.5", "1e2", '"on"', "'a b'", "true", "FALSE", "+4", "-.5"]
+            return draw(st.sampled_from([*literals, "007", "1.", "2.e3", "- 1"]))
         if choice == 2:
             return f"-{draw(VARS)}"
         if choice == 3:
             return f"({expr(depth + 1)})"
         op = draw(st.sampled_from(["+", "-", "*", "/"]))
-        return f"{operand(depth + 1)} {op} {operand(depth + 1)}"
+        space = draw(st.sampled_from(["", " "]))  # 1-2 subtracts, where 1 -2 would not
+        return f"{operand(depth + 1)}{space}{op}{space}{operand(depth + 1)}"
 
     def comparison(depth: int) -> str:
         op = draw(st.sampled_from(["==", "!=", "<", "<=", ">", ">="]))
@@ -156,8 +179,13 @@ def term_list(draw) -> str:
         "sigm 2 -1",
         "(0, 0) (5, 1) (10, 0)",
         "42",
+        "TRIAN 1-2 3",
+        "(0,-1)(+2,1)",
+        "-.5e3",
     ]
-    parts = [f"t{i} := {draw(st.sampled_from(shapes))}" for i in range(draw(st.integers(1, 4)))]
+    names = st.sampled_from(["t", "trape", "very", "true"])
+    count = draw(st.integers(1, 4))
+    parts = [f"{draw(names)}{i} := {draw(st.sampled_from(shapes))}" for i in range(count)]
     return "; ".join(parts) + draw(st.sampled_from(["", ";", " ; "]))
 
 
@@ -169,7 +197,9 @@ ORACLE_SETTINGS = settings(
 @ORACLE_SETTINGS
 @given(text=token_soup(), start=st.sampled_from(STARTS))
 def test_token_soup_stops_where_lark_stops(oracle, text, start):
-    assert _outcome_ours(text, start) == _outcome_lark(oracle, text, start)
+    outcome = _outcome_lark(oracle, text, start)
+    assert _outcome_ours(text, start) == outcome
+    assert _outcome_fast(text, start) in (None, outcome)
 
 
 @ORACLE_SETTINGS
@@ -178,6 +208,7 @@ def test_fuzzy_rules_build_what_lark_builds(oracle, text):
     outcome = _outcome_ours(text, "start_fuzzy")
     assert outcome[0] == "ok", (text, outcome)
     assert outcome == _outcome_lark(oracle, text, "start_fuzzy")
+    assert _outcome_fast(text, "start_fuzzy") == outcome  # read without lark
 
 
 @ORACLE_SETTINGS
@@ -186,6 +217,7 @@ def test_crisp_rules_build_what_lark_builds(oracle, text):
     outcome = _outcome_ours(text, "start_crisp")
     assert outcome[0] == "ok", (text, outcome)
     assert outcome == _outcome_lark(oracle, text, "start_crisp")
+    assert _outcome_fast(text, "start_crisp") == outcome
 
 
 @ORACLE_SETTINGS
@@ -194,6 +226,70 @@ def test_term_lists_build_what_lark_builds(oracle, text):
     outcome = _outcome_ours(text, "start_terms")
     assert outcome[0] == "ok", (text, outcome)
     assert outcome == _outcome_lark(oracle, text, "start_terms")
+    assert _outcome_fast(text, "start_terms") == outcome
+
+
+@pytest.mark.parametrize(
+    ("text", "start"),
+    [
+        ("if x == -1 then y = 1", "start_crisp"),  # the constant -1
+        ("if x -1 > 0 then y = 1", "start_crisp"),  # x minus 1
+        ("if x == - 1 then y = 1 --2", "start_crisp"),  # - (1), and 1 minus -2
+        ("if x == --1 then y = +2", "start_crisp"),
+        ("if (a > 1 and b) + 1 then f() and g(1, -x, (b or not c))", "start_crisp"),
+        ("true: if true == TRUE then true = false", "start_crisp"),
+        ("very: if very is not very slow then true is very", "start_fuzzy"),
+        ("IF A IS NOT B THEN C IS D WITH .5", "start_fuzzy"),
+        ("if If2 is x or (a is b) and not (c is d) then then2 is y with +1", "start_fuzzy"),
+        (
+            "trape := trape 1 2 3 4; x := trian 1-2 3; p := (0,-1)(+2, 1); s := -.5e3;",
+            "start_terms",
+        ),
+        ("t := trian 1.2.3 4", "start_terms"),  # 1.2, .3 and 4, as lark reads them
+    ],
+)
+def test_what_lark_reads_by_where_it_is_the_fast_reader_reads_alike(oracle, text, start):
+    outcome = _outcome_lark(oracle, text, start)
+    assert outcome[0] == "ok"
+    assert _outcome_fast(text, start) == outcome
+
+
+@pytest.mark.parametrize(
+    ("text", "start"),
+    [
+        ("if a iſ b then c is d", "start_fuzzy"),  # lark's /is\\b/i matches iſ (a long s)
+        ("if " + "not (" * 50 + "x is low" + ")" * 50 + " then y is high", "start_fuzzy"),
+        ("if x > " + "-" * 50 + "1 then y = 1", "start_crisp"),
+        ("if x > 1 then y = 1" + "0" * 70, "start_crisp"),  # lark's builder words it
+    ],
+)
+def test_what_the_fast_reader_declines_lark_reads(oracle, text, start):
+    assert _outcome_fast(text, start) is None
+    assert _outcome_ours(text, start) == _outcome_lark(oracle, text, start)
+
+
+def test_reading_well_formed_rules_never_imports_lark():
+    """The fast reader reads every rule of the samples; lark comes in for a rule it declines (an
+    error here, which lark words)."""
+    code = (
+        "import sys\n"
+        "from acordcs.model.reading import read_model\n"
+        "from acordcs.rules import RuleSyntaxError, parse_rule\n"
+        "print(len(read_model('samples/weblab/weblab.xmi').diagnostics), 'lark' in sys.modules)\n"
+        "try:\n"
+        "    parse_rule('if a is then')\n"
+        "except RuleSyntaxError as err:\n"
+        "    print(err.column, err.message)\n"
+        "print('lark' in sys.modules)\n"
+    )
+    done = subprocess.run(
+        [sys.executable, "-c", code], capture_output=True, text=True, cwd=ROOT, check=True
+    )
+    assert done.stdout.splitlines() == [
+        "0 False",
+        "9 unexpected 'then'; expected 'not', a hedge, a name",
+        "True",
+    ]
 
 
 @pytest.mark.parametrize(

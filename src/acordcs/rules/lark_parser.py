@@ -1,9 +1,9 @@
 """lark's LALR(1) parser of ``rules.lark``, through lark's public API, building the rule tree.
 
-:mod:`acordcs.rules.parser` asks it for what its fast reader declines: every error is worded here,
-from lark's own view of the grammar (the column, what was found, what was expected). The analysed
-grammar is cached by lark in the private cache directory (:mod:`acordcs.cachedir`): building it
-afresh takes about 50 ms, loading it about 3.
+:mod:`acordcs.rules.parser` asks it for what its fast reader declines: so every error is worded
+here, from lark's own view of the grammar (the column, what was found, what was expected). The
+analysed grammar is cached by lark in the private cache directory (:mod:`acordcs.cachedir`):
+analysing it takes about 50 ms, loading it about 3.
 """
 
 from __future__ import annotations
@@ -23,8 +23,9 @@ from lark import (
 )
 
 from acordcs.cachedir import lark_cache
-from acordcs.rules.parser import RuleSyntaxError, number_text, number_value
+from acordcs.rules.parser import RuleSyntaxError
 from acordcs.rules.tree import (
+    MAX_NUMBER,
     Arith,
     Assign,
     BoolOp,
@@ -38,6 +39,7 @@ from acordcs.rules.tree import (
     Not,
     TermDef,
     VarRef,
+    number_value,
 )
 
 STARTS = ("start_fuzzy", "start_crisp", "start_terms")
@@ -57,10 +59,9 @@ def _name(tok: Token) -> Name:
 
 
 def _number(tok: Token) -> str:
-    text = number_text(tok.value)
-    if text is None:
+    if len(tok.value) > MAX_NUMBER:
         raise RuleSyntaxError(f"number {tok.value[:12]}... is too long", column=tok.column)
-    return text
+    return tok.value
 
 
 def _num(tok: Token) -> float:

@@ -8,10 +8,11 @@ Two rule syntaxes share keywords and layout:
   variable or call an operation: ``if speed == 0 and retries < 3 then recovery.recover()``.
 
 Variables are ``attribute`` or ``Element.attribute``. Linguistic terms of a variable are written FCL
-style: ``slow := trape 0 0 40 80; fast := trian 60 200 200``. One parser serves the validator and the
-engines: lark's LALR(1) parser of ``rules.lark`` (:mod:`acordcs.rules.lark_parser`, through lark's
-public API, its analysed grammar cached); every error is a :class:`RuleSyntaxError` with the column
-in the rule text.
+style: ``slow := trape 0 0 40 80; fast := trian 60 200 200``. One grammar serves the validator and
+the engines: a text is read by the fast reader (:mod:`acordcs.rules.fast`, a recursive descent
+without lark) or, where it declines (every error, and a few rare forms), by lark's LALR(1) parser of
+``rules.lark`` (:mod:`acordcs.rules.lark_parser`, through lark's public API), which builds the same
+tree and words every error: a :class:`RuleSyntaxError` with the column in the rule text.
 """
 
 from __future__ import annotations
@@ -19,6 +20,7 @@ from __future__ import annotations
 from typing import Any
 
 from acordcs.errors import AcordError
+from acordcs.rules import fast
 from acordcs.rules.tree import (
     MAX_DEPTH,
     Arith,
@@ -82,28 +84,17 @@ class RuleSyntaxError(AcordError):
     """Rule text that does not parse; ``column`` is 1-based in the rule text."""
 
 
-# Numbers: int() refuses 4,300+ digits, and no rule needs more than a double's range.
-MAX_NUMBER = 64
-
-
-def number_text(text: str) -> str | None:
-    """A NUMBER token's text, or None when it is too long to read."""
-    return text if len(text) <= MAX_NUMBER else None
-
-
-def number_value(text: str) -> int | float:
-    """A crisp literal's value: integer literals stay integers (``retries + 1`` must not turn a
-    count into 1.0)."""
-    return int(text) if text.lstrip("+-").isdigit() else float(text)
-
-
 def _parse(start: str, text: str) -> list[Any]:
     """The children ``start`` derives ``text`` into, as built (the keywords' tokens left out)."""
     if "\n" in text or "\r" in text:
         raise RuleSyntaxError(
             "a rule is one line; put each rule on its own line", column=text.find("\n") + 1
         )
-    from acordcs.rules import lark_parser  # here: it imports lark
+    try:
+        return fast.read(start, text)
+    except fast.Decline:  # an error, or a form the fast reader leaves to lark, which words errors
+        pass
+    from acordcs.rules import lark_parser  # here: it imports lark, which most processes never need
 
     # a keyword's token (IF, THEN, AND) is a str; what the builders made never is
     return [c for c in lark_parser.parse(start, text).children if not isinstance(c, str)]
