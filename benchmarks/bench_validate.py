@@ -5,7 +5,7 @@ Prints, measured in one run on the same file:
   ``acordcs-gen validate`` on it, interpreter start included, as a multiple of B (target: at most
   3 B), with the executable's one speed device on and off (:func:`acordcs.cli.run`'s exit without
   the interpreter's teardown), and with the cyclic garbage collector off, a device measured and not
-  kept (it saved 6 to 10%, under the 10% a device must save). The variants are alternated, 15 runs
+  kept (it saved about 8%, under the 10% a device must save). The variants are alternated, 15 runs
   each, and their medians compared: the host's speed drifts between minutes;
 - the same for a model with no classes (start-up alone), to show where the time goes;
 - in-process read + check time of an ISO-8859-1 BOUML export with over 1,000 stereotype

@@ -1,6 +1,6 @@
 """The rule reader's fast path: the rule tree of ``rules.lark`` built by one regular expression and a
-recursive descent, without lark (about 10 µs a rule; lark's LALR parser takes about 90, and reading
-the rules is what most of a large model's check is made of).
+recursive descent, without lark: about 20 µs a rule, against about 90 for lark's LALR parser, and a
+large model's check was mostly its rules' parse (docs/benchmarks.md).
 
 It builds exactly what lark's parser builds with :class:`~acordcs.rules.lark_parser.RuleTreeBuilder`
 (the same nodes, names and columns) or declines: anything it is not sure of (an error, a keyword
