@@ -5,7 +5,7 @@ Prints, measured in one run on the same file:
   ``acordcs-gen validate`` on it, interpreter start included, as a multiple of B (target: at most
   3 B), with the executable's one speed device on and off (:func:`acordcs.cli.run`'s exit without
   the interpreter's teardown), and with the cyclic garbage collector off, a device measured and not
-  kept (it saved 6 to 10%, under the 10% a device must save). The variants are alternated, 15 runs
+  kept (it saved about 8%, under the 10% a device must save). The variants are alternated, 15 runs
   each, and their medians compared: the host's speed drifts between minutes;
 - the same for a model with no classes (start-up alone), to show where the time goes;
 - in-process read + check time of an ISO-8859-1 BOUML export with over 1,000 stereotype
@@ -13,20 +13,22 @@ Prints, measured in one run on the same file:
 - reading (``read_uml``, in-process) a 3.5 MB Umbrello export and a 2 MB MagicDraw export, tiled
   from the real ones in ``../shared/reference/xmi-other-tools`` (see ``tiled_exports.py``), beside the
   BOUML reader on a synthetic BOUML export of the same size (target: no slower; alternated, 15 runs);
-- the model's 1,200 rules parsed by our parser (lark's standalone parser generated from the
-  grammar, the tree built by an inline transformer) and by lark's own parser on the same grammar
-  with the same builders (each a median of 7 in a fresh interpreter; medians of 5 such runs,
-  alternated), and what a fresh interpreter takes to parse its first rule (imports included);
+- the model's 1,200 rules parsed by our parser (its fast reader, lark's LALR parser for what it
+  declines) and by lark's own parser on the same grammar with the same builders (each a median of
+  7 in a fresh interpreter; medians of 5 such runs, alternated), and what a fresh interpreter takes
+  to parse its first rule (imports included);
 - with ``--before SRC`` (the ``src`` directory of another checkout, e.g. ``git worktree add
-  /tmp/before <commit>``), the same figures for that checkout's code in the same run, on the same
-  interpreter and packages: its ``validate`` alternated with B and ours, its parse of the same rules.
+  /tmp/before <commit>``; may be given more than once), the same figures for that checkout's code
+  in the same run, on the same interpreter and packages, its sources byte-compiled as ours are:
+  its ``validate`` alternated with B and ours, its parse of the same rules.
 
-Run: ``.venv/bin/python benchmarks/bench_validate.py [--before SRC]``
+Run: ``.venv/bin/python benchmarks/bench_validate.py [--before SRC]...``
 """
 
 from __future__ import annotations
 
 import argparse
+import compileall
 import gc
 import json
 import os
@@ -111,12 +113,16 @@ def main() -> int:
     from acordcs.model.reading import read_model
 
     options = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    options.add_argument("--before", type=Path, help="src directory of a checkout to compare with")
-    before = options.parse_args().before
-    if before is not None and not (before / "acordcs" / "__init__.py").is_file():
-        raise SystemExit(f"--before {before}: not a src directory holding the acordcs package")
+    options.add_argument(
+        "--before", type=Path, action="append", default=[], help="src directory to compare with"
+    )
+    befores = options.parse_args().before
     variants = {name: (command, None) for name, command in VARIANTS.items()}
-    if before is not None:
+    for before in befores:
+        if not (before / "acordcs" / "__init__.py").is_file():
+            raise SystemExit(f"--before {before}: not a src directory holding the acordcs package")
+        # As make installs ours: with PYTHONDONTWRITEBYTECODE set, it would compile every run.
+        compileall.compile_dir(str(before), quiet=1)
         # the executable's own code path (run()), with that checkout's package
         command = [sys.executable, "-c", _RUN.format(entry="run"), "validate"]
         variants[f"before ({before})"] = (command, with_source(before))
@@ -168,7 +174,7 @@ def main() -> int:
         f"   ISO-8859-1 export, {latin_mb:.1f} MB, {len(reading.uml.applications)} stereotype "
         f"applications, {len(reading.diagnostics)} diagnostics: read + check {read_latin * 1e3:.1f} ms"
     )
-    _rule_parsers(reading, before)
+    _rule_parsers(reading, befores)
     _other_tools()
     return 0
 
@@ -229,9 +235,9 @@ texts = json.load(open(sys.argv[1], encoding="utf-8"))
 parse = parse_rule
 if sys.argv[2:] == ["lark"]:
     import lark
-    grammar = open(rules.__file__.replace("parser.py", "rules.lark"), encoding="utf-8").read()
-    own = lark.Lark(grammar, start=["start_fuzzy", "start_crisp", "start_terms"], parser="lalr",
-                    maybe_placeholders=True, transformer=rules.RuleTreeBuilder())
+    from acordcs.rules import lark_parser
+    own = lark.Lark(lark_parser.grammar(), start=list(lark_parser.STARTS), parser="lalr",
+                    maybe_placeholders=True, transformer=lark_parser.RuleTreeBuilder())
     parse = lambda text, kind: own.parse(text, start="start_" + kind)
 times = []
 for _ in range(8):
@@ -244,9 +250,9 @@ print(statistics.median(times[1:]), first)
 """
 
 
-def _rule_parsers(reading, before: Path | None) -> None:
+def _rule_parsers(reading, befores: list[Path]) -> None:
     """Every rule of the model parsed by our parser, by lark's own on the same grammar and
-    builders, and by ``before``'s: each in a fresh interpreter, alternated 5 times."""
+    builders, and by each of ``befores``: each in a fresh interpreter, alternated 5 times."""
     from acordcs.model.architecture import POLICY_SET
     from acordcs.model.queries import policy_rules, rule_kind
 
@@ -257,14 +263,14 @@ def _rule_parsers(reading, before: Path | None) -> None:
         for policy in arch.policies(policy_set):
             texts += [(prule.text, kind) for prule in policy_rules(policy)]
     runs: dict[str, list[tuple[float, float]]] = {"ours": [], "lark's own parser": []}
-    if before is not None:
-        runs[f"before ({before})"] = []
+    sources = {f"before ({before})": before for before in befores}
+    runs.update({name: [] for name in sources})
     with tempfile.TemporaryDirectory() as tmp:
         listed = Path(tmp, "rules.json")
         listed.write_text(json.dumps(texts), encoding="utf-8")
         for _ in range(5):
             for name in runs:
-                env = with_source(before) if name.startswith("before") else None
+                env = with_source(sources[name]) if name in sources else None
                 mode = ["lark"] if name == "lark's own parser" else []
                 done = subprocess.run(
                     [sys.executable, "-c", _PARSE_ALL, str(listed), *mode],

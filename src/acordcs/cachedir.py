@@ -4,14 +4,19 @@ lark's ``cache=True`` writes a pickle to a predictable name in the shared temp d
 whatever it finds there, so anyone able to write to /tmp could run code as our user. The cache goes to
 ``$XDG_CACHE_HOME/acordcs`` (default ``~/.cache/acordcs``), created with mode 0700 and used only while
 it belongs to us and nobody else can write to it; otherwise grammars are analysed afresh (slower
-start-up, same results). It serves the FCL reader; the rule language needs no cache (its parser is
-generated beforehand: :mod:`acordcs.rules.standalone_parser`).
+start-up, same results). It serves the FCL reader and the rule language's lark parser.
+
+A cache file is named by what lark's own check of it covers (lark's and Python's versions, the
+grammar): a file made by another Python is never read, so two Pythons sharing the directory do not
+take turns rewriting one file. lark rewrites in place a file it cannot load (truncated, corrupt):
+it builds the grammar afresh, as when there is no file.
 """
 
 from __future__ import annotations
 
 import os
 import stat
+import sys
 
 
 def private_dir() -> str | None:
@@ -37,7 +42,9 @@ def lark_cache(grammar: str, name: str) -> str | bool:
 
     import lark
 
-    digest = hashlib.sha256(f"{lark.__version__}\0{name}\0{grammar}".encode()).hexdigest()[:32]
+    python = f"{sys.implementation.name}{sys.version_info[0]}.{sys.version_info[1]}"
+    key = f"{lark.__version__}\0{python}\0{name}\0{grammar}"
+    digest = hashlib.sha256(key.encode()).hexdigest()[:32]
     path = os.path.join(directory, f"{name}-{digest}.lark-cache")
     try:
         info = os.lstat(path)

@@ -1,8 +1,9 @@
 """The wheel, not the editable install: it builds with the declared build requirement, installs in
 a fresh virtual environment (no system site-packages) on every Python version its classifiers
 name (``Programming Language :: Python :: 3.x`` in pyproject.toml: what it claims is what is
-tested), carries py.typed and the licences, pulls no WebLab package, and its ``acordcs-gen``
-runs: version, a clean sample, a refused diagram file, the profile and a model exported."""
+tested), carries py.typed, the rule grammar and the MIT licence, pulls no WebLab package, and its
+``acordcs-gen`` runs: version, a clean sample, a refused diagram file, the profile and a model
+exported."""
 
 from __future__ import annotations
 
@@ -80,8 +81,7 @@ def wheel(tmp_path_factory) -> Path:
     work = tmp_path_factory.mktemp("wheel")
     source = work / "source"
     source.mkdir()
-    for name in ("pyproject.toml", "README.md", "LICENSE", "LICENSES/MPL-2.0.txt"):
-        (source / name).parent.mkdir(parents=True, exist_ok=True)
+    for name in ("pyproject.toml", "README.md", "LICENSE"):
         shutil.copy2(ROOT / name, source / name)
     shutil.copytree(
         ROOT / "src", source / "src", ignore=shutil.ignore_patterns("__pycache__", "*.egg-info")
@@ -126,9 +126,11 @@ def test_the_installed_wheel_runs(wheel: Path, version: tuple[int, int], tmp_pat
     assert not names & {"pymunk", "opencv-python-headless", "matplotlib", "jinja2"}, names
     site = next((venv / "lib").glob("python3.*/site-packages"))
     assert (site / "acordcs" / "py.typed").is_file()
-    licenses = site / f"acordcs-{__version__}.dist-info" / "licenses"
-    assert (licenses / "LICENSE").is_file()
-    assert (licenses / "LICENSES" / "MPL-2.0.txt").is_file()  # the generated rule parser's
+    info = site / f"acordcs-{__version__}.dist-info"
+    assert [p.name for p in (info / "licenses").iterdir()] == ["LICENSE"]
+    metadata = (info / "METADATA").read_text(encoding="utf-8")
+    assert "\nLicense-Expression: MIT\n" in metadata and "\nLicense-File: LICENSE\n" in metadata
+    assert (site / "acordcs" / "rules" / "rules.lark").is_file()  # lark's parser is built from it
     assert (site / "acordcs" / "profile" / "ACORDCS.profile.uml").is_file()
 
     where = subprocess.run(

@@ -8,28 +8,19 @@ Two rule syntaxes share keywords and layout:
   variable or call an operation: ``if speed == 0 and retries < 3 then recovery.recover()``.
 
 Variables are ``attribute`` or ``Element.attribute``. Linguistic terms of a variable are written FCL
-style: ``slow := trape 0 0 40 80; fast := trian 60 200 200``. One parser serves the validator and the
-engines: :mod:`acordcs.rules.standalone_parser`, lark's LALR(1) parser generated from ``rules.lark``
-by lark's standalone generator (``tools/generate_rules_parser.py``), so that reading rules needs no
-lark; every error is a :class:`RuleSyntaxError` with the column in the rule text.
+style: ``slow := trape 0 0 40 80; fast := trian 60 200 200``. One grammar serves the validator and
+the engines: a text is read by the fast reader (:mod:`acordcs.rules.fast`, a recursive descent
+without lark) or, where it declines (every error, and a few rare forms), by lark's LALR(1) parser of
+``rules.lark`` (:mod:`acordcs.rules.lark_parser`, through lark's public API), which builds the same
+tree and words every error: a :class:`RuleSyntaxError` with the column in the rule text.
 """
 
 from __future__ import annotations
 
-from collections.abc import Callable, Iterable
-from functools import cache
+from typing import Any
 
 from acordcs.errors import AcordError
-from acordcs.rules.standalone_parser import (
-    Lark,
-    Lark_StandAlone,
-    Token,
-    Transformer,
-    Tree,
-    UnexpectedCharacters,
-    UnexpectedInput,
-    UnexpectedToken,
-)
+from acordcs.rules import fast
 from acordcs.rules.tree import (
     MAX_DEPTH,
     Arith,
@@ -82,7 +73,6 @@ __all__ = [
     "parse_terms",
     "rule_too_deep",
     "split_rules",
-    "syntax_error",
 ]
 HEDGES = ("not", "very", "somewhat")
 KEYWORDS = frozenset(
@@ -94,196 +84,32 @@ class RuleSyntaxError(AcordError):
     """Rule text that does not parse; ``column`` is 1-based in the rule text."""
 
 
-# ------------------------------------------------------------------------------ building the tree
-# One method per grammar rule (or alias), called by the parser with the rule's kept children as a
-# list, as it reduces (lark's inline transformer: no tree is built and walked afterwards); tokens
-# are lark Tokens (keyword tokens such as IF or IS arrive too and are skipped by position).
-def _name(tok: Token) -> Name:
-    return Name(tok.value, tok.column)
-
-
-def _number_text(tok: Token) -> str:
-    # int() refuses 4,300+ digits; no rule needs more than a double's range
-    if len(tok.value) > 64:
-        raise RuleSyntaxError(f"number {tok.value[:12]}... is too long", column=tok.column)
-    return tok.value
-
-
-def _num(tok: Token) -> float:
-    return float(_number_text(tok))
-
-
-def _mf(shape: str) -> Callable[[object, list], tuple[str, tuple[float, ...]]]:
-    return lambda _self, c: (shape, tuple(map(_num, c[1:])))
-
-
-class RuleTreeBuilder(Transformer):
-    """The rule tree's builders, one per rule of ``rules.lark`` (by its alias when it has one)."""
-
-    def label(self, c: list) -> tuple[str, str]:
-        return ("label", c[0].value)
-
-    def weight(self, c: list) -> tuple[str, float]:
-        return ("weight", _num(c[1]))
-
-    def f_is(self, c: list) -> Is:
-        var, _is, *hedges, term = c
-        return Is(_name(var), tuple(h.value.lower() for h in hedges), _name(term))
-
-    def f_and(self, c: list) -> BoolOp:
-        return BoolOp("and", c[0], c[2])
-
-    def f_or(self, c: list) -> BoolOp:
-        return BoolOp("or", c[0], c[2])
-
-    def f_not(self, c: list) -> Not:
-        return Not(c[1])
-
-    def consequent(self, c: list) -> Consequent:
-        return Consequent(_name(c[0]), _name(c[2]))
-
-    def c_or(self, c: list) -> BoolOp:
-        return BoolOp("or", c[0], c[2])
-
-    def c_and(self, c: list) -> BoolOp:
-        return BoolOp("and", c[0], c[2])
-
-    def c_not(self, c: list) -> Not:
-        return Not(c[1])
-
-    def c_cmp(self, c: list) -> Compare:
-        return Compare(c[1].value, c[0], c[2])
-
-    def c_arith(self, c: list) -> Arith:
-        return Arith(c[1].value, c[0], c[2])
-
-    def c_neg(self, c: list) -> Neg:
-        return Neg(c[0])
-
-    def c_num(self, c: list) -> Const:
-        # Integer literals stay integers: `retries + 1` must not turn a count into 1.0.
-        text = _number_text(c[0])
-        return Const(int(text) if text.lstrip("+-").isdigit() else float(text), c[0].column)
-
-    def c_str(self, c: list) -> Const:
-        return Const(c[0].value[1:-1], c[0].column)
-
-    def c_true(self, c: list) -> Const:
-        return Const(True, c[0].column)
-
-    def c_false(self, c: list) -> Const:
-        return Const(False, c[0].column)
-
-    def c_var(self, c: list) -> VarRef:
-        return VarRef(_name(c[0]))
-
-    def a_assign(self, c: list) -> Assign:
-        return Assign(_name(c[0]), c[1])
-
-    def a_call(self, c: list) -> Call:
-        return Call(_name(c[0]), tuple(a for a in c[1:] if a is not None))
-
-    def term_def(self, c: list) -> TermDef:
-        return TermDef(_name(c[0]), *c[1])
-
-    mf_trape = _mf("trapezoid")
-    mf_trian = _mf("triangle")
-    mf_gauss = _mf("gaussian")
-    mf_gbell = _mf("bell")
-    mf_sigm = _mf("sigmoid")
-
-    def mf_points(self, c: list) -> tuple[str, tuple[float, ...]]:
-        return ("points", tuple(v for point in c for v in point))
-
-    def point(self, c: list) -> tuple[float, float]:
-        return (_num(c[0]), _num(c[1]))
-
-    def mf_singleton(self, c: list) -> tuple[str, tuple[float]]:
-        return ("singleton", (_num(c[0]),))
-
-
-@cache
-def _parser() -> Lark:
-    """The generated parser (``standalone_parser``, made by lark's standalone generator from
-    ``rules.lark``: no lark at run time) building the tree with :class:`RuleTreeBuilder`."""
-    return Lark_StandAlone(transformer=RuleTreeBuilder())
-
-
-_EXPECT_WORDS = {
-    "IF": "'if'",
-    "THEN": "'then'",
-    "IS": "'is'",
-    "AND": "'and'",
-    "OR": "'or'",
-    "VAR": "a variable",
-    "NAME": "a name",
-    "NUMBER": "a number",
-    "HEDGE": "a hedge",
-    "NOT": "'not'",
-    "COMPARE": "a comparison",
-    "LPAR": "'('",
-    "RPAR": "')'",
-    "WITH": "'with'",
-    "COLON": "':'",
-    "EQUAL": "'='",
-    "SEMICOLON": "';'",
-    "ADDOP": "'+' or '-'",
-    "MULOP": "'*' or '/'",
-    "MINUS": "'-'",
-    "STRING": "a quoted string",
-    "TRUE": "true",
-    "FALSE": "false",
-    "COMMA": "','",
-    "$END": "end of rule",
-}
-
-
-def _describe_expected(expected: Iterable[str]) -> str:
-    words = sorted({_EXPECT_WORDS.get(e, e.lower()) for e in expected})
-    if len(words) > 6:
-        words = [*words[:6], "..."]
-    return ", ".join(words)
-
-
-def syntax_error(err: UnexpectedInput, text: str) -> RuleSyntaxError:
-    """The error a parse of ``text`` that stopped at ``err`` (lark's UnexpectedToken or
-    UnexpectedCharacters) reports, column 1-based in ``text``."""
-    token = getattr(err, "token", None)
-    if token is not None:  # a token of the grammar where it does not fit, or the end
-        if token.type == "$END":
-            found, column = "end of rule", len(text) + 1
-        else:
-            found, column = repr(token.value), token.column
-        return RuleSyntaxError(
-            f"unexpected {found}; expected {_describe_expected(err.expected)}", column=column
-        )
-    column = getattr(err, "column", None)
-    return RuleSyntaxError(f"unexpected character {text[column - 1]!r}", column=column or None)
-
-
-def _parse(start: str, text: str) -> Tree:
+def _parse(start: str, text: str) -> list[Any]:
+    """The children ``start`` derives ``text`` into, as built (the keywords' tokens left out)."""
     if "\n" in text or "\r" in text:
         raise RuleSyntaxError(
             "a rule is one line; put each rule on its own line", column=text.find("\n") + 1
         )
     try:
-        return _parser().parse(text, start=start)
-    except (UnexpectedToken, UnexpectedCharacters) as err:
-        raise syntax_error(err, text) from None
+        return fast.read(start, text)
+    except fast.Decline:  # an error, or a form the fast reader leaves to lark, which words errors
+        pass
+    from acordcs.rules import lark_parser  # here: it imports lark, which most processes never need
+
+    # a keyword's token (IF, THEN, AND) is a str; what the builders made never is
+    return [c for c in lark_parser.parse(start, text).children if not isinstance(c, str)]
 
 
-def _assemble(kind: RuleKind, tree: Tree, text: str) -> Rule:
+def _assemble(kind: RuleKind, children: list[Any], text: str) -> Rule:
     label = None
     weight = 1.0
     condition = None
     actions = []
-    for child in tree.children:
+    for child in children:
         if isinstance(child, tuple) and child[0] == "label":
             label = child[1]
         elif isinstance(child, tuple) and child[0] == "weight":
             weight = child[1]
-        elif isinstance(child, Token):
-            continue
         elif condition is None:
             condition = child
         else:
@@ -328,7 +154,7 @@ def _parse_rule(text: str, kind: str) -> Rule:
 def parse_terms(text: str) -> list[TermDef]:
     """Parse a term list ``name := mf; ...``. Raises RuleSyntaxError with the column."""
     flat = " ".join(text.splitlines())
-    return list(_parse("start_terms", flat).children)
+    return _parse("start_terms", flat)
 
 
 def split_rules(tag_value: str) -> list[RuleLine]:

@@ -354,6 +354,17 @@ MAX_DEPTH = 200
 # compiler stack).
 MAX_TERMS = 1000
 MAX_POINTS = 500
+# A number's longest text: int() refuses 4,300 digits and more, and no rule needs more than a
+# double's range.
+MAX_NUMBER = 64
+
+
+def number_value(text: str) -> int | float:
+    """A crisp literal's value: integer literals stay integers (``retries + 1`` must not turn a
+    count into 1.0)."""
+    return int(text) if text.lstrip("+-").isdigit() else float(text)
+
+
 _NESTING = (BoolOp, Compare, Arith, Not, Neg)
 
 
