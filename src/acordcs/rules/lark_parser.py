@@ -23,7 +23,7 @@ from lark import (
 )
 
 from acordcs.cachedir import lark_cache
-from acordcs.rules.parser import RuleSyntaxError
+from acordcs.rules.errors import RuleSyntaxError
 from acordcs.rules.tree import (
     MAX_NUMBER,
     Arith,

@@ -19,8 +19,8 @@ from __future__ import annotations
 
 from typing import Any
 
-from acordcs.errors import AcordError
 from acordcs.rules import fast
+from acordcs.rules.errors import RuleSyntaxError
 from acordcs.rules.tree import (
     MAX_DEPTH,
     Arith,
@@ -78,10 +78,6 @@ HEDGES = ("not", "very", "somewhat")
 KEYWORDS = frozenset(
     "if then and or not is with true false very somewhat trape trian gauss gbell sigm".split()
 )
-
-
-class RuleSyntaxError(AcordError):
-    """Rule text that does not parse; ``column`` is 1-based in the rule text."""
 
 
 def _parse(start: str, text: str) -> list[Any]:

@@ -197,7 +197,7 @@ class MqttContextProvider(ProviderCore):
         if isinstance(sock, socket.socket):
             sock.setsockopt(socket.IPPROTO_TCP, socket.TCP_NODELAY, 1)
 
-    def _on_connect(self, client, _userdata, flags, reason_code, properties) -> None:
+    def _on_connect(self, client, _userdata, _flags, reason_code, properties) -> None:
         if reason_code.is_failure:
             self._connect_error = str(reason_code)
             self._connected.set()
@@ -217,7 +217,7 @@ class MqttContextProvider(ProviderCore):
             client.subscribe(topic, qos=self.qos)
         self._connected.set()
 
-    def _on_disconnect(self, client, _userdata, flags, reason_code, properties) -> None:
+    def _on_disconnect(self, client, _userdata, _flags, reason_code, properties) -> None:
         if not self._closed:
             log.warning(
                 "lost the MQTT broker at %s:%d (%s); reconnecting",
