@@ -2,7 +2,8 @@
 the WebLab started by its scripts on loopback (as ``make live`` starts it), with the page's model
 changes, print the page's lines (standard output, then standard error) and exit as shown. What
 differs from run to run is compared by its shape: the ports, the milliseconds an apply took, and
-the descriptors' digests (the same digest where the page shows the same one)."""
+the descriptors' digests (the same digest where the page shows the same one). The page's edits of
+the user's code (its ``$ sed -i`` lines) are made where it shows them, between its commands."""
 
 from __future__ import annotations
 
@@ -35,6 +36,18 @@ def shape(lines: list[str]) -> list[str]:
         line = re.sub(r"in \d+\.\d ms", "in <n> ms", line)
         out.append(re.sub(r"(?<![0-9a-f])[0-9a-f]{12}(?![0-9a-f])", digest, line))
     return out
+
+
+def steps(page: Path) -> list[tuple[str, str]]:
+    """The page's ``$ sed -i`` and ``$ acordcs-gen`` lines, in the page's order: (kind, line)."""
+    found = []
+    for block in re.findall(r"^```\n(.*?)^```", page.read_text(encoding="utf-8"), re.M | re.S):
+        for line in block.splitlines():
+            if line.startswith("$ sed -i "):
+                found.append(("edit", line[2:]))
+            elif line.startswith("$ acordcs-gen "):
+                found.append(("run", line[2:]))
+    return found
 
 
 def test_the_pages_transcript_is_real(tmp_path: Path, monkeypatch):
@@ -74,8 +87,16 @@ def test_the_pages_transcript_is_real(tmp_path: Path, monkeypatch):
         for key, value in env.items():
             monkeypatch.setenv(key, value)
         transcripts = _transcripts(PAGE)
-        assert len(transcripts) >= 4, "the page shows the update's transcript"
+        assert len(transcripts) >= 5, "the page shows the update's transcript"
+        order = steps(PAGE)
+        assert [line for kind, line in order if kind == "run"] == [t[0] for t in transcripts]
+        assert any(kind == "edit" for kind, _ in order), "the page edits the user's code"
+        edits = iter(order)
         for command, expected, code in transcripts:
+            for kind, line in edits:  # the page's edits before this command
+                if kind == "run":
+                    break
+                subprocess.run(["sh", "-c", line], cwd=tmp_path, check=True, timeout=30)
             done = run_main(shlex.split(command)[1:])
             shown = shape((done.out + done.err).splitlines())
             assert shown == shape(expected), command

@@ -6,8 +6,10 @@ once it serves, stops on TERM, and writes one line ``EXIT_CODE FAULTS`` to its `
 exit. Its behaviour is set by environment variables: ``FAKE_ARGS`` (a file receiving its
 arguments, NUL-separated), ``FAKE_READY_AFTER`` (seconds before it serves; ``never``: it never
 does), ``FAKE_IGNORE_TERM`` (``1``: TERM does not stop it), ``FAKE_FAIL`` (an exit code: it exits
-with it at once, before serving, writing it with 0 faults). Without ``--exit-file`` it writes none
-(so that the tests can be run against scripts that do not pass one, to see them fail)."""
+with it at once, before serving, writing it with 0 faults), ``FAKE_EXIT_AFTER_SERVING`` (an exit
+code: it says it serves, then exits with it at once, writing it with 0 faults). Without
+``--exit-file`` it writes none (so that the tests can be run against scripts that do not pass
+one, to see them fail)."""
 
 from __future__ import annotations
 
@@ -48,6 +50,9 @@ ready = os.environ.get("FAKE_READY_AFTER", "0")
 if ready != "never":
     stop.wait(float(ready))
     print(f"{CONTAINER}: serving at PYRO:fake.{CONTAINER}@localhost:1", flush=True)
+    if os.environ.get("FAKE_EXIT_AFTER_SERVING"):
+        print(f"{CONTAINER}: fails at once (FAKE_EXIT_AFTER_SERVING)", file=sys.stderr, flush=True)
+        leave(int(os.environ["FAKE_EXIT_AFTER_SERVING"]))
 while not stop.wait(0.05):
     pass
 leave(0)

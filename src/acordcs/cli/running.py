@@ -166,12 +166,14 @@ def apply(
     expected: str,
     remote: dict[str, str],
     reset: bool,
+    code: list[str],
     *,
     token: str,
     timeout: float,
 ) -> dict[str, Any]:
-    """Send the new ``descriptor`` to ``item``'s management interface (see
-    :meth:`~acordcs.runtime.live.management.Management.apply`); a failure to reach it is a refusal."""
+    """Send the new ``descriptor`` to ``item``'s management interface, with the elements whose
+    code changed (``code``; see :meth:`~acordcs.runtime.live.management.Management.apply`); a
+    failure to reach it is a refusal."""
     from acordcs.runtime.connectors.remote import RemoteConnector
     from acordcs.runtime.errors import RuntimeFailure
 
@@ -184,6 +186,7 @@ def apply(
             expected,
             remote,
             reset,
+            *([code] if code else []),  # none: what a container of an earlier acordcs takes
             where=f"container {item.name} at {item.host}:{item.port}",
             what="the update",
         )

@@ -21,7 +21,11 @@ What applies live, and how (``action``):
   adapted elements or feeding monitors change: its engine rebuilt from the new plan;
 - ``default``: a property's default (component, port, connection QoS, monitor attribute,
   container property): applied to a property never changed at run time;
-- ``property``: a container property added or removed.
+- ``property``: a container property added or removed;
+- ``code``: the user's code of a component or monitor changed while the model did not
+  (``~ code of component Ventilation``: :func:`code_change`, found by ``acordcs-gen update``
+  from the digests of the files a container loaded): replaced by its class read afresh, as
+  ``replace``, keeping its state.
 
 What does not (``action`` ``restart``): a container added or removed, a container's host or
 endpoint changed, an element moved to another container, the application renamed. Those need
@@ -32,7 +36,7 @@ Pure: no toolchain, no runtime (this package is a leaf).
 
 from __future__ import annotations
 
-from collections.abc import Iterable, Iterator, Sequence
+from collections.abc import Callable, Iterable, Iterator, Sequence
 from dataclasses import dataclass
 from typing import Protocol, TypeVar
 
@@ -107,6 +111,12 @@ class ModelChanges:
 
     def __bool__(self) -> bool:
         return bool(self.changes)
+
+
+def code_change(kind: str, element: str, container: str) -> Change:
+    """The change of the code of ``element`` (``kind`` ``component`` or ``monitor``), in the
+    user's file, that container ``container`` runs: ``~ code of component Ventilation``."""
+    return Change("~", f"code of {kind}", element, "", (container,), "code")
 
 
 def diff(old: Application, new: Application) -> ModelChanges:
@@ -307,11 +317,28 @@ class _Differ:
                     self.default("component", a.name, f"{a.name}.{name}", p, q, here, label)
 
     def operations(self, old: Sequence[Operation], new: Sequence[Operation]) -> list[str]:
+        """What differs between two lists of operations: one operation in each of the same name,
+        or else of the same model id (renamed), whose signature changed is one change,
+        ``operation watch(seconds: int) -> watch()``; the others are removed or added."""
+        pairs = _matched(old, new, lambda o: o.name)
+        rest_old = [o for o in old if all(o is not a for a, _ in pairs)]
+        rest_new = [o for o in new if all(o is not b for _, b in pairs)]
+        pairs += _matched(rest_old, rest_new, lambda o: o.id)
+        paired = {id(o) for pair in pairs for o in pair}
         before = [signature(o) for o in old]
         after = [signature(o) for o in new]
-        return [f"operation {s} removed" for s in before if s not in after] + [
-            f"operation {s} added" for s in after if s not in before
+        changed = [
+            f"operation {signature(a)} -> {signature(b)}"
+            for a, b in sorted(pairs, key=lambda p: old.index(p[0]))
+            if signature(a) != signature(b)
         ]
+        gone = [signature(o) for o in old if id(o) not in paired]
+        came = [signature(o) for o in new if id(o) not in paired]
+        return (
+            changed
+            + [f"operation {s} removed" for s in gone if s not in after]
+            + [f"operation {s} added" for s in came if s not in before]
+        )
 
     def port(self, r: Port, s: Port) -> list[str]:
         out = []
@@ -419,8 +446,31 @@ class _Differ:
             self.add("~", "policy set", a.name, what, [self.where(a.name, new=True)], "replan")
 
 
+def _matched(
+    old: Sequence[Operation], new: Sequence[Operation], key: Callable[[Operation], str]
+) -> list[tuple[Operation, Operation]]:
+    """The (old, new) operations whose ``key`` (a name, an id) is that of exactly one in each
+    (an empty key matches nothing)."""
+    a: dict[str, list[Operation]] = {}
+    b: dict[str, list[Operation]] = {}
+    for o in old:
+        a.setdefault(key(o), []).append(o)
+    for o in new:
+        b.setdefault(key(o), []).append(o)
+    return [(a[k][0], b[k][0]) for k in a if k and k in b and len(a[k]) == 1 and len(b[k]) == 1]
+
+
 def _end(end) -> str:
     return f"{end.component}.{end.port}"
 
 
-__all__ = ["RESTART", "Change", "ModelChanges", "diff", "elided", "pairs", "shown"]
+__all__ = [
+    "RESTART",
+    "Change",
+    "ModelChanges",
+    "code_change",
+    "diff",
+    "elided",
+    "pairs",
+    "shown",
+]

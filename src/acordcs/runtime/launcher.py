@@ -11,11 +11,16 @@ signals and the exit status::
     if __name__ == "__main__":
         sys.exit(LAUNCHER.main())
 
+``--run`` calls are read and typed by the model before anything starts
+(:mod:`acordcs.runtime.run_arguments`). Served on a real clock, the container says it serves (the
+line its start script waits for) at the end of its start-up: once its ``--run`` calls have
+returned or run for :data:`RUN_START_WINDOW` seconds; one failing in that time stops it first.
+
 Exit status (:data:`EXIT_STATUS`, also in ``--help`` and docs/build.md): 0 stopped without fault
 (or with faults and ``--faults-ok``); 1 a ``--run`` operation failed; 2 not started (a usage
-error, a descriptor that cannot be read or fails its schema, component or monitor classes that do
-not import, an assembly failure, an operation without code under ``--strict``, a port that cannot
-be served); 3 stopped after recording faults. ``--exit-file PATH`` records the status and the
+error, a ``--run`` whose arguments do not fit, a descriptor that cannot be read or fails its
+schema, component or monitor classes that do not import, an assembly failure, an operation without
+code under ``--strict``, a port that cannot be served); 3 stopped after recording faults. ``--exit-file PATH`` records the status and the
 number of faults as one line ``EXIT_CODE FAULTS``.
 """
 
@@ -38,7 +43,8 @@ from typing import TYPE_CHECKING
 from acordcs.errors import AcordError
 from acordcs.runtime.clock import Clock, RealClock, VirtualClock
 from acordcs.runtime.errors import RuntimeFailure
-from acordcs.runtime.live.code_check import operations_without_code
+from acordcs.runtime.live.code_check import hosted_here, operations_without_code
+from acordcs.runtime.run_arguments import RunCall, RunError, bind_run, parse_run
 
 if TYPE_CHECKING:
     from acordcs.descriptor import Application
@@ -53,20 +59,40 @@ EXIT_FAULTS = 3
 EXIT_STATUS = f"""exit status:
   {EXIT_OK}  stopped with no fault recorded (or with faults, given --faults-ok)
   {EXIT_RUN_FAILED}  a --run operation failed
-  {EXIT_NOT_STARTED}  not started: a usage error, a descriptor that cannot be read or fails its
-     schema, classes that do not import, an assembly failure, an operation without code
-     under --strict, a port that cannot be served
+  {EXIT_NOT_STARTED}  not started: a usage error (a --run whose arguments do not fit), a
+     descriptor that cannot be read or fails its schema, classes that do not
+     import, an assembly failure, an operation without code under --strict, a
+     port that cannot be served
   {EXIT_FAULTS}  stopped after recording faults (the last line says how many)"""
 
 DEFAULT_DURATION = 10.0  # virtual seconds run when --duration is not given
 
+RUN_START_WINDOW = 0.5
+"""Seconds (wall time) a container served on a real clock gives its --run operations before it
+says it serves: one that fails within them fails the start (the container stops before that
+line, which bin/<Container>-start waits for, so the script reports it as not started)."""
+
 
 @dataclass
 class _Runs:
-    """The --run operations' outcome: the failures to report; ``stop`` is set by the first."""
+    """The --run operations' outcome: the failures to report; ``stop`` is set by the first;
+    ``running``, the calls under way (``changed`` notified when one ends); the lines of calls
+    that returned before the container said it serves (``pending``, printed after that line:
+    ``announced``)."""
 
     failed: list[str] = field(default_factory=list)
     stop: threading.Event = field(default_factory=threading.Event)
+    running: int = 0
+    changed: threading.Condition = field(default_factory=threading.Condition)
+    announced: bool = True
+    pending: list[str] = field(default_factory=list)
+
+    def say(self, line: str) -> None:
+        with self.changed:
+            if not self.announced:
+                self.pending.append(line)
+                return
+        print(line, flush=True)
 
 
 class Launcher:
@@ -147,7 +173,10 @@ class Launcher:
         add("--run", type=_operation, action="append", default=[], metavar="COMPONENT.OPERATION",
             help="call this operation of a component hosted here once the container serves, in "
             "a worker thread (virtual clock: in turn, before the duration runs); its failure "
-            "stops the container, exit 1 (repeat for each)")  # fmt: skip
+            "stops the container, exit 1 (repeat for each). Arguments in parentheses, typed by "
+            "the model's parameters: numbers, true or false, strings in quotes, by position or "
+            "name: 'Display.watch(5)', \"Display.show('a b', size=2.5)\"; a value that does not "
+            "fit its parameter is exit 2, before anything starts")  # fmt: skip
         add("--strict", action="store_true",
             help="do not start (exit 2) when an operation that the model calls has no code (the "
             "warnings at start list them)")  # fmt: skip
@@ -220,10 +249,22 @@ class Launcher:
                 "package (acordcs-gen build)"
             )
             return EXIT_NOT_STARTED, 0
+        try:
+            args.run = _bound(application, self.container, args.run)
+        except RunError as err:
+            self._say(f"{err}")
+            return EXIT_NOT_STARTED, 0
         problem = self._import_problem()
         if problem is not None:
             self._say(problem)
             return EXIT_NOT_STARTED, 0
+        code = None
+        if args.serve is not None:  # the user's files as imported: acordcs-gen update reads it
+            from acordcs.runtime.live.reloading import PackageClasses
+
+            hosted = hosted_here(application, self.container, "component")
+            hosted += hosted_here(application, self.container, "monitor")
+            code = PackageClasses(self.package).code(hosted)
         clock: Clock = VirtualClock(args.seed) if args.clock == "virtual" else RealClock()
         try:
             app = self.assemble(clock, dict(args.remote), args.timeout, application=application)
@@ -238,7 +279,7 @@ class Launcher:
                 )
             return EXIT_NOT_STARTED, 0
         with app:
-            return self._started(app, args, found.host or "localhost", data)
+            return self._started(app, args, found.host or "localhost", data, code)
 
     def _import_problem(self) -> str | None:
         """None when the package's classes import; else what failed, where (the last line of
@@ -262,14 +303,20 @@ class Launcher:
         return None
 
     def _started(
-        self, app: RunningApplication, args: argparse.Namespace, host: str, data: bytes
+        self,
+        app: RunningApplication,
+        args: argparse.Namespace,
+        host: str,
+        data: bytes,
+        code: dict[str, dict[str, str]] | None,
     ) -> tuple[int, int]:
         container = app.container(self.container)
         unknown = _unknown_run(container, args.run)
         if unknown is not None:
             self._say(unknown)
             return EXIT_NOT_STARTED, 0
-        missing = operations_without_code(app, self.container, args.run)
+        calls = [(r.component, r.operation) for r in args.run]
+        missing = operations_without_code(app, self.container, calls)
         for item in missing:
             print(item.message(), file=sys.stderr, flush=True)
         if missing and args.strict:
@@ -287,27 +334,44 @@ class Launcher:
                 return EXIT_NOT_STARTED, 0
         runs = _Runs()
         clock = app.clock
-        try:  # from the line saying it serves on, an interrupt stops it as a run's end does
+        try:  # from here on, an interrupt stops it as a run's end does
+            management = None
             if server is not None:
-                print(f"{self.container}: serving at {server.uri}", flush=True)
                 from acordcs.runtime.live.management import manage
                 from acordcs.runtime.live.reloading import PackageClasses
 
                 classes = PackageClasses(self.package)
-                manage(app, self.container, server, data, classes, dict(args.remote),
-                       without_token=args.updates_without_token, timeout=args.timeout)  # fmt: skip
+                management = manage(app, self.container, server, data, classes, dict(args.remote),
+                                    without_token=args.updates_without_token, timeout=args.timeout,
+                                    code=code, announce=False)  # fmt: skip
             if isinstance(clock, VirtualClock):
-                for component, operation in args.run:  # in turn: simulated time is one thread's
+                if server is not None and management is not None:
+                    self._announce(server.uri, management.digest, runs)
+                for call in args.run:  # in turn: simulated time is one thread's
                     if not runs.stop.is_set():
-                        self._call(container, component, operation, runs)
+                        self._call(container, call, runs)
                 if not runs.stop.is_set():
                     until = DEFAULT_DURATION if args.duration is None else args.duration
                     clock.run_until(max(clock.now(), until))
             else:
-                for component, operation in args.run:
-                    threading.Thread(target=self._call, args=(container, component, operation, runs),
-                                     name=f"run {component}.{operation}", daemon=True).start()  # fmt: skip
-                if args.duration is not None:
+                runs.announced = server is None
+                for call in args.run:
+                    with runs.changed:
+                        runs.running += 1
+                    threading.Thread(target=self._call, args=(container, call, runs),
+                                     name=f"run {call.component}.{call.operation}", daemon=True).start()  # fmt: skip
+                if server is not None and management is not None:
+                    # The start-up: the --run calls' first moments; one failing fails the start.
+                    with runs.changed:
+                        runs.changed.wait_for(
+                            lambda: runs.running == 0 or runs.stop.is_set(),
+                            timeout=RUN_START_WINDOW if args.run else 0,
+                        )
+                    if not runs.stop.is_set():
+                        self._announce(server.uri, management.digest, runs)
+                if runs.stop.is_set():
+                    pass  # a --run failed during the start-up: stopped before saying it serves
+                elif args.duration is not None:
                     runs.stop.wait(args.duration)
                 else:
                     while not runs.stop.wait(3600):
@@ -326,19 +390,40 @@ class Launcher:
             return EXIT_RUN_FAILED, faults
         return (EXIT_FAULTS if faults and not args.faults_ok else EXIT_OK), faults
 
-    def _call(self, container: Container, component: str, operation: str, runs: _Runs) -> None:
+    def _announce(self, uri: str, digest: str, runs: _Runs) -> None:
+        """The lines saying the container serves, at the end of its start-up (what its start
+        script waits for), then those of the --run calls that returned before."""
+        from acordcs.runtime.live.management import say_digest
+
+        print(f"{self.container}: serving at {uri}", flush=True)
+        say_digest(self.container, digest, "runs")
+        with runs.changed:
+            runs.announced = True
+            pending, runs.pending = runs.pending, []
+        for line in pending:
+            print(line, flush=True)
+
+    def _call(self, container: Container, call: RunCall, runs: _Runs) -> None:
         """A --run operation, called through the container (its interceptors and monitors see
-        the call); a failure is reported in ``runs`` and stops the container."""
-        what = f"{component}.{operation}()"
+        the call) with its arguments; a failure is reported in ``runs`` and stops the
+        container."""
+        what = call.text
         try:
-            result = container.find(component).call(operation)
-        except Exception as err:  # reported (what, where, when), never a traceback
-            if not runs.stop.is_set():
-                runs.failed.append(f"--run {what} failed at t={container.clock.now():.3f} s: {err}")
-                runs.stop.set()
-            return
-        print(f"{self.container}: --run {what} returned {result!r:.200} at "
-              f"t={container.clock.now():.3f} s", flush=True)  # fmt: skip
+            try:
+                result = container.find(call.component).call(call.operation, *call.values)
+            except Exception as err:  # reported (what, where, when), never a traceback
+                if not runs.stop.is_set():
+                    runs.failed.append(
+                        f"--run {what} failed at t={container.clock.now():.3f} s: {err}"
+                    )
+                    runs.stop.set()
+                return
+            runs.say(f"{self.container}: --run {what} returned {result!r:.200} at "
+                     f"t={container.clock.now():.3f} s")  # fmt: skip
+        finally:
+            with runs.changed:
+                runs.running = max(runs.running - 1, 0)
+                runs.changed.notify_all()
 
     def _write_exit_file(self, path: Path, code: int, faults: int) -> None:
         """``EXIT_CODE FAULTS`` into ``path``, replacing it at once (a reader sees the old file or
@@ -363,11 +448,31 @@ def _remote(text: str) -> tuple[str, str]:
     return name, uri
 
 
-def _operation(text: str) -> tuple[str, str]:
-    component, sep, operation = text.partition(".")
-    if not sep or not component or not operation:
-        raise argparse.ArgumentTypeError(f"{text!r} is not COMPONENT.OPERATION")
-    return component, operation
+def _operation(text: str) -> RunCall:
+    try:
+        return parse_run(text)
+    except RunError as err:
+        raise argparse.ArgumentTypeError(str(err)) from None
+
+
+def _bound(application: Application, container: str, runs: list[RunCall]) -> list[RunCall]:
+    """The --run calls with their arguments typed by the model's operations (see
+    :mod:`acordcs.runtime.run_arguments`); RunError for a component not hosted here or an
+    argument that does not fit. An operation the model does not declare is checked once the
+    container is assembled (:func:`_unknown_run`: the class may have it)."""
+    hosted = hosted_here(application, container, "component")
+    components = {c.name: c for c in application.components if c.name in hosted}
+    out = []
+    for call in runs:
+        found = components.get(call.component)
+        if found is None:
+            raise RunError(
+                f"--run {call.written}: container {container} hosts no component "
+                f"{call.component!r} (it hosts: {', '.join(sorted(hosted)) or 'nothing'})"
+            )
+        operation = next((op for op in found.operations if op.name == call.operation), None)
+        out.append(bind_run(call, operation))
+    return out
 
 
 def _exit_file(text: str) -> Path:
@@ -406,9 +511,10 @@ def _interrupt(signum: int, _frame: FrameType | None) -> None:
     raise KeyboardInterrupt
 
 
-def _unknown_run(container: Container, runs: list[tuple[str, str]]) -> str | None:
+def _unknown_run(container: Container, runs: list[RunCall]) -> str | None:
     """What is wrong with the --run operations (None: each names an operation hosted here)."""
-    for component, operation in runs:
+    for call in runs:
+        component, operation = call.component, call.operation
         ops = container.operations_of(component)
         if not ops:
             hosted = ", ".join(c.name for c in container.components()) or "nothing"

@@ -206,8 +206,11 @@ acordcs_pid() {
 
 # acordcs_start NAME ARGUMENTS...: starts container NAME (python -m, with --exit-file and the
 # ARGUMENTS) in the background, its pid in NAME.pid, its output appended to NAME.log; waits until
-# its log says it serves (at most ACORDCS_START_TIMEOUT s). 0 serving; 1 it stopped before (the
-# end of its log is shown) or did not serve in time (it still runs).
+# its log says it serves (at most ACORDCS_START_TIMEOUT s): the container says so at the end of
+# its start-up (on a real clock, once its --run operations are past their first moments). 0
+# serving (or it ended at once without a fault: a virtual clock's short run); 1 it stopped before,
+# or as it said it serves, with a failure (the end of its log is shown), or did not serve in time
+# (it still runs).
 acordcs_start() {
     acordcs_name=$1
     shift
@@ -234,6 +237,21 @@ acordcs_start() {
         acordcs_nap
         acordcs_ticks=$((acordcs_ticks - 1))
     done
+    if ! acordcs_alive "$pid"; then
+        # It said it serves and ended already: how, its exit file says (EXIT_CODE FAULTS).
+        rm -f -- "$ACORDCS_RUN_DIR/$acordcs_name.pid"
+        acordcs_code='' acordcs_faults=''
+        if [ -f "$ACORDCS_RUN_DIR/$acordcs_name.exit" ]; then
+            read -r acordcs_code acordcs_faults _ <"$ACORDCS_RUN_DIR/$acordcs_name.exit" || :
+        fi
+        if [ "$acordcs_code:$acordcs_faults" = 0:0 ]; then
+            echo "$acordcs_name: started and stopped at once, cleanly (exit 0, no fault; log $acordcs_log)"
+            return 0
+        fi
+        echo "$acordcs_name: stopped during its start-up (exit ${acordcs_code:-unknown}, faults ${acordcs_faults:-unknown}); the end of $acordcs_log:" >&2
+        tail -c "+$acordcs_from" -- "$acordcs_log" | tail -n 20 >&2
+        return 1
+    fi
     echo "$acordcs_name: started (pid $pid, log $acordcs_log)"
 }
 

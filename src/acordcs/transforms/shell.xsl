@@ -226,7 +226,7 @@ ACORDCS_DURATION=${ACORDCS_DURATION-}
           <xsl:value-of select="'# Its port (empty: ACORDCS_PORT_BASE + ' || $n || ').' || $nl || $v || '_PORT=${' || $v || '_PORT-}' || $nl"/>
         </xsl:otherwise>
       </xsl:choose>
-      <xsl:text># Operations to call once it serves, COMPONENT.OPERATION blank-separated (--run).&#10;</xsl:text>
+      <xsl:text># Operations to call once it serves, COMPONENT.OPERATION or COMPONENT.OPERATION(ARGUMENTS),&#10;# blank-separated (--run; no blank inside the arguments: Display.show('hi',2)).&#10;</xsl:text>
       <xsl:value-of select="$v || '_RUN=${' || $v || '_RUN-}' || $nl"/>
     </xsl:for-each>
     <xsl:call-template name="functions"/>
@@ -273,7 +273,7 @@ export ACORDCS_TOKEN
         'Starts it in the background: python -m ' || $package || '.' || @name || ', its pid in $ACORDCS_RUN_DIR/' || @name
         || '.pid, its output in $ACORDCS_RUN_DIR/' || @name || '.log, how it ended in $ACORDCS_RUN_DIR/' || @name
         || '.exit; waits until it serves (at most $ACORDCS_START_TIMEOUT s). Arguments are added to the module''s options. '
-        || 'Exit: 0 started and serving, 1 it stopped before serving (the end of its log is shown) or did not serve in time, '
+        || 'Exit: 0 started and serving, 1 it stopped during its start-up (the end of its log is shown) or did not serve in time, '
         || '2 already running or a setting refused.')"/>
     <xsl:call-template name="prologue"/>
     <!-- @C@ stands for the container's name (an identifier) in these texts. -->

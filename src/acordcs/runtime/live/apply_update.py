@@ -41,14 +41,6 @@ from acordcs.runtime.live.update_steps import Classes, Factories, Outcome, Part
 if TYPE_CHECKING:
     from acordcs.descriptor.model import Application
 
-    def keep(self) -> None:
-        """The update is done: what :meth:`load` read stays."""
-        ...
-
-    def restore(self) -> None:
-        """The update was rolled back: the classes as they were before :meth:`load`."""
-        ...
-
 
 @dataclass
 class GivenClasses:
@@ -65,6 +57,9 @@ class GivenClasses:
 
     def restore(self) -> None:
         pass
+
+    def code(self, names: Collection[str]) -> dict[str, dict[str, str]]:
+        return {}  # no file: classes given in Python
 
 
 class UpdateFailed(RuntimeFailure):
@@ -163,6 +158,11 @@ def apply_part(
         classes.restore()
         failed = part.current.line if part.current is not None else "loading the classes"
         why = exc.message if isinstance(exc, AcordError) else f"{type(exc).__name__}: {exc}"
+        if isinstance(exc, SyntaxError):  # the user's file: where, and what to do
+            why = (
+                f"{exc.filename}:{exc.lineno}: {type(exc).__name__}: {exc.msg}: fix the syntax "
+                "there, then update again"
+            )
         raise UpdateFailed(
             f"{failed}: {why}",
             failed=failed,

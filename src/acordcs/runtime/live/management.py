@@ -35,7 +35,7 @@ from __future__ import annotations
 import hashlib
 import math
 import threading
-from collections.abc import Callable, Mapping
+from collections.abc import Callable, Mapping, Sequence
 from typing import TYPE_CHECKING, Any
 
 from acordcs.runtime import events as ev
@@ -43,11 +43,13 @@ from acordcs.runtime.connectors.pyrogate import serpent_only
 from acordcs.runtime.connectors.remote import RemoteFault
 from acordcs.runtime.errors import ConfigurationError, RuntimeFailure
 from acordcs.runtime.live.apply_update import UpdateFailed, apply_part
+from acordcs.runtime.live.code_check import hosted_here
 from acordcs.runtime.live.holds import CallHold
 from acordcs.runtime.live.observer import OBSERVE_OBJECT, Observer, ObserverEndpoint
 from acordcs.runtime.live.update_steps import Classes
 
 if TYPE_CHECKING:
+    from acordcs.descriptor.diff import Change
     from acordcs.descriptor.model import Application
     from acordcs.runtime.assembly import RunningApplication
     from acordcs.runtime.connectors.remote import ContainerServer
@@ -72,7 +74,8 @@ class Management:
     """The management of container ``container`` of ``running``, which runs the descriptor
     ``descriptor`` (the bytes it was read from). ``classes``: where new code comes from;
     ``remote``: the URIs of the other containers it was started with; ``refusal``: why it refuses
-    updates (None: it takes them)."""
+    updates (None: it takes them); ``code``: the user's files of its components and monitors as
+    it loaded them (:meth:`~acordcs.runtime.live.update_steps.Classes.code`)."""
 
     def __init__(
         self,
@@ -85,6 +88,7 @@ class Management:
         refusal: str | None = None,
         remote_timeout: float = 5.0,
         token: str | None = None,
+        code: Mapping[str, Mapping[str, str]] | None = None,
     ) -> None:
         self.running = running
         self.name = container
@@ -99,6 +103,8 @@ class Management:
         self.token = token
         self.updates = 0
         self.last_update: dict[str, Any] | None = None
+        # The user's files of its components and monitors as it loaded them (Classes.code).
+        self.code: dict[str, dict[str, str]] = {n: dict(v) for n, v in (code or {}).items()}
         # Called with the new digest once an update applied (the launcher logs it).
         self.on_applied: Callable[[str], None] | None = None
         # Its observer interface, when served (manage() makes it).
@@ -144,8 +150,10 @@ class Management:
         """The container, its application, the digest of the descriptor it runs, the updates
         applied since it started, whether it takes updates (``refusal``: why not), its clock's
         ``time``, per policy set how often it ``fires`` and its last firing (``time``,
-        ``inputs``, ``outputs``), and when the ``last_update`` started and was applied, and when
-        each policy set it replanned fired last before it and first after it (clock times)."""
+        ``inputs``, ``outputs``), when the ``last_update`` started and was applied, and when
+        each policy set it replanned fired last before it and first after it (clock times), and
+        the user's files of its components and monitors as it loaded them (``code``: element ->
+        ``kind``, ``file`` from the application's directory, ``sha256``)."""
         sets: dict[str, Any] = {}
         for name in self.policy_sets():
             try:
@@ -168,6 +176,7 @@ class Management:
             "time": self.container.clock.now(),
             "policy_sets": sets,
             "last_update": self.last_update,
+            "code": {n: dict(v) for n, v in self.code.items()},
         }
 
     def properties(self, elements: list[str]) -> dict[str, dict[str, Any]]:
@@ -219,11 +228,15 @@ class Management:
         expected: str,
         remote: Mapping[str, str] | None = None,
         reset: bool = False,
+        code: Sequence[str] = (),
     ) -> dict[str, Any]:
         """Apply the new ``descriptor`` (its XML text) to the container, which must run the
         descriptor of digest ``expected``; ``remote``: URIs of other containers (only those it
         reaches in the new model are used; those it was started with win); ``reset``: set new
-        defaults also over values changed at run time.
+        defaults also over values changed at run time; ``code``: the components and monitors
+        hosted here whose code (the user's file) changed, replaced by their classes read afresh
+        keeping their state (``~ code of component C``), also when the descriptor is the one it
+        runs.
 
         Returns ``status`` (``applied``, ``unchanged``, ``refused`` or ``rolled back``), the
         plan lines ``applied``, the defaults ``kept``, ``rolled_back`` and ``unrolled`` (undone,
@@ -236,7 +249,7 @@ class Management:
                 "refused", error="another update is being applied to it: try again when it is done"
             )
         try:
-            return self._apply(descriptor, expected, dict(remote or {}), reset)
+            return self._apply(descriptor, expected, dict(remote or {}), reset, tuple(code))
         finally:
             self._lock.release()
 
@@ -256,7 +269,12 @@ class Management:
         return out
 
     def _apply(
-        self, descriptor: str, expected: str, remote: dict[str, str], reset: bool
+        self,
+        descriptor: str,
+        expected: str,
+        remote: dict[str, str],
+        reset: bool,
+        code: tuple[str, ...],
     ) -> dict[str, Any]:
         from acordcs.descriptor import DescriptorError, from_xml
         from acordcs.descriptor.diff import diff
@@ -273,6 +291,10 @@ class Management:
         except DescriptorError as err:
             return self._reply("refused", error=str(err))
         part = diff(self.application, new).part(self.name)
+        coded = self._code_changes(new, part, code)
+        if isinstance(coded, str):
+            return self._reply("refused", error=coded)
+        part += coded
         fixed = [c for c in part if not c.live]
         if fixed:
             return self._reply(
@@ -312,6 +334,10 @@ class Management:
         finally:
             self._applying = None
         self.application, self.data, self.digest = new, data, digest(data)
+        here = set(hosted_here(new, self.name, "component"))
+        here |= set(hosted_here(new, self.name, "monitor"))
+        self.code = {n: v for n, v in self.code.items() if n in here}
+        self.code.update(outcome.code)
         self.updates += 1
         self._watch(started, before)
         if self.on_applied is not None:
@@ -322,6 +348,27 @@ class Management:
             kept=outcome.kept,
             seconds=outcome.seconds,
         )
+
+    def _code_changes(
+        self, new: Application, part: tuple[Change, ...], code: tuple[str, ...]
+    ) -> tuple[Change, ...] | str:
+        """The changes of the code of ``code`` (element names) in the container's part, or why
+        they are refused (an element it does not host in the new descriptor)."""
+        from acordcs.descriptor.diff import code_change
+
+        kinds = {n: "component" for n in hosted_here(new, self.name, "component")}
+        kinds.update((n, "monitor") for n in hosted_here(new, self.name, "monitor"))
+        added = {c.element for c in part if c.action == "add"}
+        out = []
+        for name in dict.fromkeys(code):
+            if name not in kinds:
+                return (
+                    f"code of {name!r:.80}: container {self.name!r} hosts no component or "
+                    "monitor of that name in the new descriptor"
+                )
+            if name not in added:  # an element added is read afresh anyway
+                out.append(code_change(kinds[name], name, self.name))
+        return tuple(out)
 
     # ------------------------------------------------------------ when an update took effect
     def _last_fired(self, name: str) -> float | None:
@@ -387,7 +434,12 @@ class ManagementEndpoint:
 
     @serpent_only
     def apply(
-        self, descriptor: str, expected: str, remote: dict[str, str], reset: bool
+        self,
+        descriptor: str,
+        expected: str,
+        remote: dict[str, str],
+        reset: bool,
+        code: list[str] | tuple[str, ...] = (),
     ) -> dict[str, Any]:
         if not isinstance(descriptor, str) or not isinstance(expected, str):
             raise RemoteFault("TypeError", "the descriptor and digest are text", None)
@@ -395,8 +447,12 @@ class ManagementEndpoint:
             isinstance(k, str) and isinstance(v, str) for k, v in remote.items()
         ):
             raise RemoteFault("TypeError", "remote maps container names to URIs (text)", None)
+        if not isinstance(code, list | tuple) or not all(isinstance(n, str) for n in code):
+            raise RemoteFault("TypeError", "code is a list of element names (text)", None)
         return self._guarded(
-            lambda: self._management.apply(descriptor, expected, remote, bool(reset))
+            lambda: self._management.apply(
+                descriptor, expected, remote, bool(reset), tuple(code)[:10000]
+            )
         )
 
     @serpent_only
@@ -432,12 +488,15 @@ def manage(
     *,
     without_token: bool = False,
     timeout: float = 5.0,
+    code: Mapping[str, Mapping[str, str]] | None = None,
+    announce: bool = True,
 ) -> Management:
     """Serve the management of ``container`` (run from ``descriptor``, its new code from
     ``classes``: the launcher gives its package's, :class:`~.reloading.PackageClasses`) on
     ``server``'s daemon, as the launcher does; the log (standard output) gets a line with the
-    digest of the descriptor it runs, at start and after each update, and one per change applied
-    (``model.updated``). Without a token, it takes updates only on a loopback host and with
+    digest of the descriptor it runs, at start (unless ``announce`` is false: the caller says it
+    once it has started, :func:`say_digest`) and after each update, and one per change applied
+    (``model.updated``); ``code``: the user's files as the container loaded them. Without a token, it takes updates only on a loopback host and with
     ``without_token``. Its observer interface (:class:`~.observer.Observer`) is served beside it,
     at ``acordcs.observe.<container>``: ``management.observer``."""
     from acordcs.runtime.connectors.pyrogate import is_loopback
@@ -457,6 +516,7 @@ def manage(
         remote=remote,
         refusal=refusal,
         remote_timeout=timeout,
+        code=code,
     )
     server.daemon.register(ManagementEndpoint(management), MANAGE_OBJECT.format(container))
     management.observer = Observer(running.container(container), management.policy_sets)
@@ -468,7 +528,8 @@ def manage(
 
     box.subscribe(ev.MODEL_UPDATED, updated, name="log")
     management.on_applied = lambda value: say_digest(container, value, "now runs")
-    say_digest(container, management.digest, "runs")
+    if announce:
+        say_digest(container, management.digest, "runs")
     return management
 
 

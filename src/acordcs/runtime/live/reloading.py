@@ -10,6 +10,12 @@ classes of the elements that did not change), and hands over its ``FACTORIES`` a
 The modules it replaced are kept until :meth:`keep` (the update is done) or :meth:`restore`
 (rolled back: they are put back, as if nothing had been read).
 
+The code of a component or monitor you changed in its file (``components/<C>.py``,
+``monitors/<M>.py``) is read afresh the same way: :meth:`PackageClasses.code` gives the sha256 of
+each such file as the container imported it (at start, and after each update that read it again),
+which the container reports, so that ``acordcs-gen update`` finds the files changed since and plans
+them (``~ code of component C``).
+
 A module's cached bytecode is deleted before it is imported again: Python trusts a cache whose
 recorded source modification time (whole seconds) and size match, and a build in the same second
 can write a source of the same size.
@@ -18,11 +24,13 @@ can write a source of the same size.
 from __future__ import annotations
 
 import contextlib
+import hashlib
 import importlib
 import importlib.util
 import os
 import sys
 from collections.abc import Collection, Mapping
+from pathlib import Path
 from types import ModuleType
 from typing import TYPE_CHECKING
 
@@ -58,6 +66,29 @@ class PackageClasses:
     def keep(self) -> None:
         self._saved.clear()
 
+    def code(self, names: Collection[str]) -> dict[str, dict[str, str]]:
+        """The user's file of each element of ``names`` (``components/<name>.py``, else
+        ``monitors/<name>.py`` of the package) as it is now: its ``kind`` (component or
+        monitor), its ``file`` (from the package's parent directory, ``/``-separated) and the
+        ``sha256`` of its bytes. Called right after the classes are imported: what the container
+        runs, which ``acordcs-gen update`` compares with the files to find changed code."""
+        root = _directory(self.package)
+        out: dict[str, dict[str, str]] = {}
+        for name in names:
+            for kind, folder in (("component", "components"), ("monitor", "monitors")):
+                try:
+                    data = (root / folder / f"{name}.py").read_bytes() if root else None
+                except OSError:
+                    continue
+                if data is not None:
+                    out[name] = {
+                        "kind": kind,
+                        "file": f"{self.package}/{folder}/{name}.py",
+                        "sha256": hashlib.sha256(data).hexdigest(),
+                    }
+                    break
+        return out
+
     def restore(self) -> None:
         for module, saved in self._saved.items():
             if saved is None:
@@ -65,6 +96,16 @@ class PackageClasses:
             else:
                 sys.modules[module] = saved
         self._saved.clear()
+
+
+def _directory(package: str) -> Path | None:
+    """The directory of the imported package ``package``."""
+    try:
+        spec = importlib.util.find_spec(package)
+    except (ImportError, ValueError):
+        return None
+    places = list(spec.submodule_search_locations or ()) if spec is not None else []
+    return Path(places[0]) if places else None
 
 
 def _drop_bytecode(module: str) -> None:

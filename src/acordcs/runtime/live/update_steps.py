@@ -33,15 +33,32 @@ class Classes(Protocol):
         added or replaced) read afresh."""
         ...
 
+    def keep(self) -> None:
+        """The update is done: what :meth:`load` read stays."""
+        ...
+
+    def restore(self) -> None:
+        """The update was rolled back: the classes as they were before :meth:`load`."""
+        ...
+
+    def code(self, names: Collection[str]) -> dict[str, dict[str, str]]:
+        """The user's files of the elements ``names`` as they are now (their ``kind``, ``file``
+        and ``sha256``; an element without a file of the user's is left out): what a container
+        reports it loaded, so that ``acordcs-gen update`` finds the code changed since."""
+        ...
+
 
 @dataclass
 class Outcome:
     """What a part did: the plan lines ``applied``, the property defaults ``kept`` (changed at
-    run time: each line says the current value), and how long the container took (``seconds``)."""
+    run time: each line says the current value), how long the container took (``seconds``), and
+    the user's files of the elements whose classes it read afresh (``code``: see
+    :meth:`Classes.code`)."""
 
     applied: list[str] = field(default_factory=list)
     kept: list[str] = field(default_factory=list)
     seconds: float = 0.0
+    code: dict[str, dict[str, str]] = field(default_factory=dict)  # the files read afresh
 
 
 class Part:
@@ -133,11 +150,20 @@ class Part:
         return asm
 
     # ------------------------------------------------------------------------------- run
+    def merged(self, kind: str, *actions: str) -> dict[str, list[Change]]:
+        """:meth:`elements`, with the changes of the code of those elements (``code of
+        <kind>``, applied as a replacement) after each element's own."""
+        out = self.elements(kind, *actions)
+        for name, changes in self.elements(f"code of {kind}", "code").items():
+            out.setdefault(name, []).extend(changes)
+        return out
+
     def run(self) -> None:
-        comps = self.elements("component", "add", "replace")
-        mons = self.elements("monitor", "add", "replace")
+        comps = self.merged("component", "add", "replace")
+        mons = self.merged("monitor", "add", "replace")
         fresh = [n for n in {**comps, **mons} if self.here(self.new, n)]
         factories, monitors = self.classes.load(fresh)
+        self.outcome.code = self.classes.code(fresh)
         self.asm = self.assembler(self.new, factories, monitors)
         self.asm_old = self.assembler(self.old, {}, {})
         for name, changes in self.elements("policy set", "remove").items():
@@ -160,11 +186,11 @@ class Part:
         for name, changes in self.elements("connection", "add", "reconnect").items():
             self.step(changes)
             self.connect(name)
-        for name, changes in self.elements("monitor", "add", "replace", "feeds").items():
+        for name, changes in self.merged("monitor", "add", "replace", "feeds").items():
             self.step(changes)
             if changes[0].action == "add" and self.here(self.new, name):
                 self.add_monitor(name)
-            elif any(c.action == "replace" for c in changes):
+            elif any(c.action in ("replace", "code") for c in changes):
                 self.replace_monitor(name)
             self.feed(name)
         for change in self.of("container", "property"):
