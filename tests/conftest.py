@@ -7,14 +7,14 @@ import os
 import pytest
 from hypothesis import settings
 
+from tests.support.toolchain import WEBLAB, MissingReference
+
 # In CI the property tests draw the same examples on every run (derandomize), so that a run fails
 # only for a change, never for a draw; outside CI they draw afresh, to find what CI would not. A
 # failure prints the example and the blob that reproduces it (@reproduce_failure).
 settings.register_profile("ci", derandomize=True, print_blob=True)
 settings.register_profile("dev", print_blob=True)
 settings.load_profile("ci" if os.environ.get("CI") == "true" else "dev")
-
-from tests.support.toolchain import WEBLAB, MissingReference
 
 
 @pytest.fixture(scope="session")
