@@ -103,6 +103,8 @@ class Management:
         self.on_applied: Callable[[str], None] | None = None
         # Its observer interface, when served (manage() makes it).
         self.observer: Observer | None = None
+        # The connections the daemon serving it refused, by why (manage() gives it).
+        self.refused: Callable[[], dict[str, int]] | None = None
         self._lock = threading.Lock()
         self._applying: int | None = None  # the thread applying an update
         # (element, attribute) of the properties changed at run time: an update leaves them be.
@@ -144,8 +146,11 @@ class Management:
         """The container, its application, the digest of the descriptor it runs, the updates
         applied since it started, whether it takes updates (``refusal``: why not), its clock's
         ``time``, per policy set how often it ``fires`` and its last firing (``time``,
-        ``inputs``, ``outputs``), and when the ``last_update`` started and was applied, and when
-        each policy set it replanned fired last before it and first after it (clock times)."""
+        ``inputs``, ``outputs``), when the ``last_update`` started and was applied, and when
+        each policy set it replanned fired last before it and first after it (clock times),
+        and the connections ``refused`` by the Pyro5 daemon serving it (its endpoint, this
+        interface and its observer's), by why: ``wrong_token``, ``failed_handshake``,
+        ``no_worker`` (empty when not served)."""
         sets: dict[str, Any] = {}
         for name in self.policy_sets():
             try:
@@ -168,6 +173,7 @@ class Management:
             "time": self.container.clock.now(),
             "policy_sets": sets,
             "last_update": self.last_update,
+            "refused": self.refused() if self.refused is not None else {},
         }
 
     def properties(self, elements: list[str]) -> dict[str, dict[str, Any]]:
@@ -459,6 +465,7 @@ def manage(
         remote_timeout=timeout,
     )
     server.daemon.register(ManagementEndpoint(management), MANAGE_OBJECT.format(container))
+    management.refused = server.refused
     management.observer = Observer(running.container(container), management.policy_sets)
     server.daemon.register(ObserverEndpoint(management.observer), OBSERVE_OBJECT.format(container))
     box = running.container(container)
