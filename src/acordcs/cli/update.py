@@ -173,7 +173,10 @@ def _show(running: list, plans: dict[str, Any]) -> None:
         click.echo(f"running: {printable(names)}, descriptor {next(iter(digests))[:12]}")
         groups = [(None, plans[running[0].name])]
     else:
-        click.echo(f"running: {printable(names)}, on different descriptors (a part rolled back)")
+        click.echo(
+            f"running: {printable(names)}, on different descriptors (an earlier update reached "
+            "only some of them, or they were started from different builds): a plan for each"
+        )
         groups = [(r.name, plans[r.name]) for r in running]
     for name, plan in groups:
         changes = plan.changes
