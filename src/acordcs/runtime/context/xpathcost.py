@@ -22,7 +22,8 @@ evaluate itself (the fallback subscriptions) is bounded before they run, in two 
   the overlapping results with a quadratic duplicate check); a union or a comparison of two
   node-sets that may each hold several nodes (every node of one against every node of the other);
   ``lang()`` (reads every ancestor's attributes) and ``id()``; ``translate()`` (about 30 passes per
-  call: libxml2 handles every character separately); ``contains``, ``substring-before`` and
+  call: libxml2 handles every character separately); a function that is not one of XPath 1.0's
+  core functions (lxml refuses them first; the cost check knows the cost of those only); ``contains``, ``substring-before`` and
   ``substring-after`` unless their second argument is a literal (libxml2 compares it at every
   character of the first: each of its characters costs two passes); the namespace axis (namespace
   nodes are not counted by ``max_nodes``); a predicate inside a predicate.
@@ -39,6 +40,7 @@ from dataclasses import dataclass
 from lxml import etree
 
 from acordcs.runtime.context.errors import SubscriptionError
+from acordcs.runtime.context.xpathexpr import CORE_FUNCTIONS
 from acordcs.runtime.context.xpathparse import (
     Binary,
     Call,
@@ -174,6 +176,12 @@ class _Costing:
             raise _Refused(
                 "calls id(), which selects nodes anywhere in the document (its result cannot "
                 "be bounded per node)",
+                pos,
+            )
+        if name not in CORE_FUNCTIONS:  # lxml refuses them first; the costs here are XPath 1.0's
+            raise _Refused(
+                f"calls {name}(), which is not an XPath 1.0 core function (the cost check knows "
+                "the cost of those only)",
                 pos,
             )
         args = [self.expression(arg, inside) for arg in node.args]
