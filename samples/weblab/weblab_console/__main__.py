@@ -25,7 +25,7 @@ from weblab_console.attached import AttachedSession
 from weblab_console.guard import allowed_names, host_name, is_loopback
 from weblab_console.hub import ConsoleHub
 from weblab_console.remote import AttachError
-from weblab_console.server import create_app
+from weblab_console.server import console_refusals, create_app, quiet_uvicorn
 from weblab_console.serving import free_port
 from weblab_console.session import ConsoleSession
 
@@ -124,14 +124,16 @@ def main(argv: list[str] | None = None) -> int:
             except Exception as err:
                 print(f"weblab_console: cannot start the experiment: {err}", file=sys.stderr)
                 return 2
+        refusals = console_refusals()
         config = uvicorn.Config(
-            create_app(hub, session, allowed_hosts=allowed),
+            create_app(hub, session, allowed_hosts=allowed, refusals=refusals),
             host=args.host,
             port=port,
             log_level="warning",
             ws_max_size=65536,
         )
-        _Announcing(config, link).run()
+        with quiet_uvicorn(refusals):
+            _Announcing(config, link).run()
     except KeyboardInterrupt:  # uvicorn shut down cleanly, then passes Ctrl-C on
         pass
     finally:

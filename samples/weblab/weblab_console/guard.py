@@ -9,8 +9,12 @@ adds to every response (an ASGI middleware around the Starlette application).
 - **Origin.** A WebSocket whose ``Origin`` is not the console's own origin (``http://`` or
   ``https://`` and the ``Host`` the request was sent to) is refused: another site's page (or
   another port's) cannot open the live stream in the user's browser (cross-site WebSocket
-  hijacking). A client that sends no ``Origin`` is not a browser, and could send any: it is let in
-  (the token still decides what it may do).
+  hijacking). Scheme and host compare case-insensitively, as RFC 3986 says they are
+  (``http://LOCALHOST:8765`` is ``http://localhost:8765``); the port and the rest compare exactly
+  (:func:`same_origin`). A client that sends no ``Origin`` is not a browser, and could send any:
+  it is let in (the token still decides what it may do).
+- **Refusals** are counted by kind (``host``, ``origin``) with the console's others and logged
+  on the 1st, 2nd, 4th, 8th... of each kind only, with the peer's address.
 - **Headers.** Every HTTP response carries a Content-Security-Policy that allows only the console's
   own scripts, styles, images (and the ``blob:`` URLs of camera frames) and its own WebSocket,
   ``X-Frame-Options: DENY`` (and ``frame-ancestors 'none'``: no page may frame the console),
@@ -20,12 +24,11 @@ adds to every response (an ASGI middleware around the Starlette application).
 from __future__ import annotations
 
 import ipaddress
-import logging
 from collections.abc import Iterable
 
 from starlette.types import ASGIApp, Message, Receive, Scope, Send
 
-log = logging.getLogger("weblab.console")
+from acordcs.runtime.refusals import Refusals, peer_address
 
 LOOPBACK_NAMES = ("127.0.0.1", "localhost", "::1")
 
@@ -61,6 +64,25 @@ def host_name(host_header: str) -> str:
     return value.rsplit(":", 1)[0] if value.count(":") == 1 else value
 
 
+def same_origin(origin: str, host_header: str) -> bool:
+    """Whether ``origin`` (an ``Origin`` header) is ``http://`` or ``https://`` and the
+    ``Host`` a request was sent to: scheme and host case-insensitively (RFC 3986, 3.1 and 3.2.2),
+    the port, and anything else, exactly."""
+    scheme, sep, authority = origin.partition("://")
+    if not sep or scheme.lower() not in ("http", "https"):
+        return False
+    return _folded(authority) == _folded(host_header)
+
+
+def _folded(authority: str) -> str:
+    """``host[:port]`` with the host in lower case, the port as it is."""
+    if authority.startswith("["):  # an IPv6 address: [::1]:8765
+        end = authority.find("]")
+        return authority if end < 0 else authority[: end + 1].lower() + authority[end + 1 :]
+    host, colon, port = authority.rpartition(":")
+    return host.lower() + colon + port if colon else authority.lower()
+
+
 def security_headers(host: str | None) -> list[tuple[bytes, bytes]]:
     """The headers every response carries; ``host``: the request's (checked) ``Host``, None for a
     refusal (which connects nowhere)."""
@@ -80,10 +102,10 @@ def security_headers(host: str | None) -> list[tuple[bytes, bytes]]:
 class SiteGuard:
     """The checks and headers of the module doc around ``app``."""
 
-    def __init__(self, app: ASGIApp, allowed_hosts: Iterable[str]) -> None:
+    def __init__(self, app: ASGIApp, allowed_hosts: Iterable[str], refusals: Refusals) -> None:
         self.app = app
         self.allowed = frozenset(allowed_hosts)
-        self.refused = 0
+        self.refusals = refusals
 
     async def __call__(self, scope: Scope, receive: Receive, send: Send) -> None:
         if scope["type"] not in ("http", "websocket"):
@@ -98,16 +120,16 @@ class SiteGuard:
                 "name, e.g. by DNS rebinding); start the console with --allow-host NAME to serve "
                 "that name"
             )
-            await self._refuse(scope, receive, send, why)
+            await self._refuse(scope, receive, send, why, "host", f"Host {host[:80]!r}")
             return
         origin = headers.get("origin")
-        foreign = origin is not None and origin not in (f"http://{host}", f"https://{host}")
+        foreign = origin is not None and not same_origin(origin, host)
         if scope["type"] == "websocket" and foreign:
             why = (
                 f"a WebSocket from origin {origin!r:.80} is not the console's own "
                 f"(http://{host}): refused (another site's page in the viewer's browser)"
             )
-            await self._refuse(scope, receive, send, why)
+            await self._refuse(scope, receive, send, why, "origin", f"Origin {origin!r:.80}")
             return
         if scope["type"] == "websocket":
             await self.app(scope, receive, send)
@@ -121,10 +143,13 @@ class SiteGuard:
 
         await self.app(scope, receive, send_with_headers)
 
-    async def _refuse(self, scope: Scope, receive: Receive, send: Send, why: str) -> None:
-        self.refused += 1
-        if self.refused & (self.refused - 1) == 0:  # 1st, 2nd, 4th...: seen, never a flood
-            log.warning("console: %s (%d refused so far)", why, self.refused)
+    async def _refuse(
+        self, scope: Scope, receive: Receive, send: Send, why: str, kind: str, sent: str
+    ) -> None:
+        """Refuse the request (``why``: the answer's text) and count it as ``kind``; ``sent``:
+        what it sent that was refused, for the log."""
+        what = "a WebSocket" if scope["type"] == "websocket" else "a request"
+        self.refusals.refused(kind, peer_address(scope.get("client")), what, sent)
         if scope["type"] == "websocket":
             await receive()  # websocket.connect
             await send({"type": "websocket.close", "code": 1008, "reason": ""})

@@ -22,6 +22,12 @@ What it promises, and its limits:
   caps, kept apart: connections without the token never take a token holder's place); one more is
   told so and closed (code 1013, try again later); 20 refused messages close a viewer (1008);
   manual driving is taken at most 30 times a second per viewer;
+- a message the console fails to handle (whatever it raised) is refused like an invalid one: a
+  strike, an answer saying so, never a traceback in the log nor a dropped connection;
+- refusals are counted by kind (:data:`REFUSED`; ``GET /status`` gives the counts) and logged on
+  the 1st, 2nd, 4th, 8th... of each kind only, with the peer's address
+  (:class:`acordcs.runtime.refusals.Refusals`): a peer refused again and again cannot grow the
+  log at will;
 - a viewer never slows the experiment: the experiment only stores into the viewer's mailbox
   (see the hub), and each viewer's sender awaits its own socket; the experiment's thread wakes the
   server's event loop once for every viewer with something new, not once per viewer
@@ -38,7 +44,7 @@ import json
 import logging
 import threading
 import time
-from collections.abc import Callable, Iterable
+from collections.abc import Callable, Iterable, Iterator
 from importlib import resources
 from typing import Any, Protocol
 
@@ -49,7 +55,8 @@ from starlette.routing import Mount, Route, WebSocketRoute
 from starlette.staticfiles import StaticFiles
 from starlette.websockets import WebSocket, WebSocketDisconnect
 
-from weblab_console.commands import CommandError, parse
+from acordcs.runtime.refusals import Refusals, peer_address
+from weblab_console.commands import CommandError, parse, valid_token
 from weblab_console.guard import LOOPBACK_NAMES, SiteGuard
 from weblab_console.hub import ConsoleHub
 
@@ -69,6 +76,73 @@ second)."""
 PROTOCOL = "weblab"
 TOKEN_PROTOCOL = "weblab.token."
 """The subprotocol that carries the session's token when the page opens the WebSocket."""
+
+REFUSED = {
+    "host": "sent to a name this console does not answer to (a page reaching it under another "
+    "name, e.g. by DNS rebinding; --allow-host NAME serves a name)",
+    "origin": "a WebSocket from another site's page (cross-site WebSocket hijacking)",
+    "token": "a token the access service does not know",
+    "full": "the console has its maximum of viewers of that kind",
+    "message": "not a valid command, or a command that needs the session's token",
+    "closed": f"{STRIKES} refused messages: the connection was closed (1008)",
+    "fault": "handling it raised an exception (refused, as an invalid message is)",
+    "failed": "the experiment did not carry the command out",
+    "invalid": "not an HTTP or WebSocket request the server could read (uvicorn does not say "
+    "whose)",
+}
+"""What the console refuses, by kind: the counts of ``GET /status`` (``refused``)."""
+
+
+UVICORN_NOISE = frozenset(
+    (
+        "Invalid HTTP request received.",
+        "Unsupported upgrade request.",
+        "Exceeded concurrency limit.",
+        "Invalid UTF-8 sequence received from client.",
+    )
+)
+"""uvicorn's warnings about one request it could not take: one line per request (and a
+traceback for the last), which any client could repeat at will."""
+
+
+class _QuietUvicorn(logging.Filter):
+    """Takes :data:`UVICORN_NOISE` out of uvicorn's log, counting each as the console's refusal
+    ``invalid`` (logged on the 1st, 2nd, 4th, 8th... only)."""
+
+    def __init__(self, refusals: Refusals) -> None:
+        super().__init__()
+        self.refusals = refusals
+
+    def filter(self, record: logging.LogRecord) -> bool:
+        if record.msg in UVICORN_NOISE:
+            self.refusals.refused("invalid", peer_address(None), "a request", str(record.msg))
+            return False
+        return True
+
+
+@contextlib.contextmanager
+def quiet_uvicorn(refusals: Refusals) -> Iterator[None]:
+    """While the block runs, uvicorn's per-request warnings (:data:`UVICORN_NOISE`) are counted
+    in ``refusals`` instead of logged each time (uvicorn's logger is the process's: one console
+    server at a time)."""
+    logger = logging.getLogger("uvicorn.error")
+    quiet = _QuietUvicorn(refusals)
+    logger.addFilter(quiet)
+    try:
+        yield
+    finally:
+        logger.removeFilter(quiet)
+
+
+def console_refusals() -> Refusals:
+    """The console's refusals, logged on the 1st, 2nd, 4th, 8th... of each kind only."""
+    return Refusals(
+        log,
+        "WebLab console",
+        REFUSED,
+        "the counts are in the console's /status; a viewer needs the link the console printed "
+        "(it holds the token); see docs/console.md, Security model",
+    )
 
 
 class Session(Protocol):
@@ -90,9 +164,12 @@ class Session(Protocol):
 
 
 class _Viewer:
-    """One connection's state: whether it holds the token, its strikes and drive budget."""
+    """One connection's state: its peer's address, whether it holds the token, its strikes and
+    drive budget, and where its refusals are counted."""
 
-    def __init__(self) -> None:
+    def __init__(self, peer: str, refusals: Refusals) -> None:
+        self.peer = peer
+        self.refusals = refusals
         self.authorized = False
         self.strikes = 0
         self.window = 0.0
@@ -107,17 +184,28 @@ class _Viewer:
 
 
 def create_app(
-    hub: ConsoleHub, session: Session, *, allowed_hosts: Iterable[str] = LOOPBACK_NAMES
+    hub: ConsoleHub,
+    session: Session,
+    *,
+    allowed_hosts: Iterable[str] = LOOPBACK_NAMES,
+    refusals: Refusals | None = None,
 ) -> Starlette:
     """The console's ASGI application over ``hub`` and ``session``; ``allowed_hosts``: the names
-    requests may be sent to (:func:`weblab_console.guard.allowed_names`)."""
+    requests may be sent to (:func:`weblab_console.guard.allowed_names`); ``refusals``: where
+    its refusals are counted (default: :func:`console_refusals`)."""
+    refused = refusals if refusals is not None else console_refusals()
 
     async def page(request) -> FileResponse:
         return FileResponse(str(STATIC / "index.html"), media_type="text/html")
 
     async def status(request) -> JSONResponse:
         return JSONResponse(
-            {"profiles": list(session.profiles), "mode": session.mode, **hub.stats()}
+            {
+                "profiles": list(session.profiles),
+                "mode": session.mode,
+                **hub.stats(),
+                "refused": refused.counts(),
+            }
         )
 
     encode = _Encoded()  # shared by the viewers' senders, all on the server's event loop
@@ -130,14 +218,15 @@ def create_app(
         token = next(
             (p[len(TOKEN_PROTOCOL) :] for p in offered if p.startswith(TOKEN_PROTOCOL)), ""
         )
-        viewer = _Viewer()
-        if 0 < len(token) <= 128:
-            viewer.authorized = await asyncio.to_thread(_call, session.authorize, token) is True
+        viewer = _Viewer(peer_address(websocket.client), refused)
+        if valid_token(token):
+            viewer.authorized = await asyncio.to_thread(_call, session.authorize, token, viewer)
         await websocket.accept(subprotocol=PROTOCOL if PROTOCOL in offered else None)
         waker.loop = asyncio.get_running_loop()
         pending = asyncio.Event()
         joined = hub.join(lambda: waker.wake(pending), holder=viewer.authorized)
         if joined is None:
+            refused.refused("full", viewer.peer)
             kind = (
                 f"{hub.max_viewers} viewers holding the token"
                 if viewer.authorized
@@ -176,7 +265,9 @@ def create_app(
             WebSocketRoute("/ws", socket),
             Mount("/static", StaticFiles(directory=str(STATIC)), name="static"),
         ],
-        middleware=[Middleware(SiteGuard, allowed_hosts=frozenset(allowed_hosts))],
+        middleware=[
+            Middleware(SiteGuard, allowed_hosts=frozenset(allowed_hosts), refusals=refused)
+        ],
     )
 
 
@@ -303,24 +394,43 @@ async def _receive(websocket: WebSocket, session: Session, viewer: _Viewer) -> N
             except (WebSocketDisconnect, RuntimeError):
                 return
         if viewer.strikes >= STRIKES:
+            viewer.refusals.refused("closed", viewer.peer, "a viewer")
             with contextlib.suppress(Exception):
                 await websocket.close(code=1008)
             return
 
 
 def _handle(raw: str | bytes, session: Session, viewer: _Viewer) -> dict[str, Any] | None:
+    """The answer to one viewer message (None: none). Whatever handling it raises is a refusal
+    of the message, counted as a strike and answered, never an escape (an escape would close the
+    connection, 1006, and log a traceback)."""
+    try:
+        return _command(raw, session, viewer)
+    except Exception as err:
+        viewer.strikes += 1
+        viewer.refusals.refused("fault", viewer.peer, "a message", type(err).__name__)
+        return {
+            "type": "refused",
+            "why": f"the console could not handle this message ({type(err).__name__})",
+            "todo": "send one of the console's commands (see its command list)",
+        }
+
+
+def _command(raw: str | bytes, session: Session, viewer: _Viewer) -> dict[str, Any] | None:
     try:
         command = parse(raw, session.profiles)
     except CommandError as err:
         viewer.strikes += 1
+        viewer.refusals.refused("message", viewer.peer, "a message")
         return {"type": "refused", "why": str(err), "todo": "see the console's command list"}
     if command.name == "ping":
         return {"type": "pong"}
     if command.name == "auth":
-        viewer.authorized = _call(session.authorize, command.args["token"]) is True
+        viewer.authorized = _call(session.authorize, command.args["token"], viewer)
         return _token_reply(viewer)
     if not viewer.authorized:
         viewer.strikes += 1
+        viewer.refusals.refused("message", viewer.peer, f"'{command.name}'")
         return {
             "type": "refused",
             "why": f"'{command.name}' changes the experiment and needs the session's token",
@@ -332,8 +442,9 @@ def _handle(raw: str | bytes, session: Session, viewer: _Viewer) -> dict[str, An
     try:
         action(**command.args)
     except Exception as err:  # the experiment's refusal or failure: told, not fatal
-        log.warning("console command %s failed: %s", command.name, err)
-        return {"type": "error", "cmd": command.name, "why": f"{type(err).__name__}: {err}"}
+        why = f"{type(err).__name__}: {err}"
+        viewer.refusals.refused("failed", viewer.peer, f"'{command.name}'", why[:200])
+        return {"type": "error", "cmd": command.name, "why": why}
     return {"type": "done", "cmd": command.name}
 
 
@@ -342,6 +453,7 @@ def _token_reply(viewer: _Viewer) -> dict[str, Any]:
     if viewer.authorized:
         return {"type": "authorized"}
     viewer.strikes += 1
+    viewer.refusals.refused("token", viewer.peer, "a token")
     return {
         "type": "refused",
         "why": "the access service does not know this token",
@@ -349,9 +461,12 @@ def _token_reply(viewer: _Viewer) -> dict[str, Any]:
     }
 
 
-def _call(fn: Callable[[str], bool], token: str) -> bool:
+def _call(fn: Callable[[str], bool], token: str, viewer: _Viewer) -> bool:
+    """Whether the access service ``fn`` admits ``token``; one that fails refuses (counted, and
+    logged as a fault on the 1st, 2nd, 4th... time: a viewer sending tokens it cannot read must
+    not grow the log)."""
     try:
-        return bool(fn(token))
-    except Exception as err:  # an access service that fails refuses
-        log.warning("authorize failed: %s", err)
+        return fn(token) is True
+    except Exception as err:  # its text may quote the token: the log gets its kind only
+        viewer.refusals.refused("fault", viewer.peer, "a token", type(err).__name__)
         return False

@@ -14,7 +14,7 @@ import uvicorn
 
 from weblab_console.guard import allowed_names
 from weblab_console.hub import ConsoleHub
-from weblab_console.server import Session, create_app
+from weblab_console.server import Session, console_refusals, create_app, quiet_uvicorn
 
 
 def free_port(host: str = "127.0.0.1") -> int:
@@ -30,8 +30,9 @@ def serving(
 ) -> Iterator[str]:
     """The console's base URL (``http://host:port``) while the block runs."""
     port = port or free_port(host)
+    refusals = console_refusals()
     config = uvicorn.Config(
-        create_app(hub, session, allowed_hosts=allowed_names(host)),
+        create_app(hub, session, allowed_hosts=allowed_names(host), refusals=refusals),
         host=host,
         port=port,
         log_level="warning",
@@ -39,18 +40,19 @@ def serving(
     )
     server = uvicorn.Server(config)
     thread = threading.Thread(target=server.run, name="weblab-console-server", daemon=True)
-    thread.start()
-    deadline = time.monotonic() + 20
-    while not server.started:
-        if not thread.is_alive() or time.monotonic() > deadline:
-            raise RuntimeError(f"the console's server did not start on {host}:{port}")
-        time.sleep(0.02)
-    try:
-        yield f"http://{host}:{port}"
-    finally:
-        # close() also drops the idle application the session keeps for the access service.
-        end = getattr(session, "close", None) or getattr(session, "stop", None)
-        if end is not None:
-            end()
-        server.should_exit = True
-        thread.join(10)
+    with quiet_uvicorn(refusals):
+        thread.start()
+        deadline = time.monotonic() + 20
+        while not server.started:
+            if not thread.is_alive() or time.monotonic() > deadline:
+                raise RuntimeError(f"the console's server did not start on {host}:{port}")
+            time.sleep(0.02)
+        try:
+            yield f"http://{host}:{port}"
+        finally:
+            # close() also drops the idle application the session keeps for the access service.
+            end = getattr(session, "close", None) or getattr(session, "stop", None)
+            if end is not None:
+                end()
+            server.should_exit = True
+            thread.join(10)

@@ -156,7 +156,21 @@ def _why(message: str) -> str:
             "when it was started"
         )
     if "cannot reach" in message:
-        return f"not running (nothing answers: {message.split(': ', 1)[-1]})"
+        said = message.split(": ", 1)[-1]
+        if "receiving" in said and "timeout" in said:
+            return (
+                f"it does not answer within the timeout ({said}): it takes connections but "
+                "answers none (stopped by a signal such as SIGSTOP, overloaded, or hung); "
+                "resume it (kill -CONT PID), or wait and run the command again (--timeout "
+                "gives it longer)"
+            )
+        if "timeout" in said or "timed out" in said:
+            return (
+                f"it does not answer within the timeout ({said}): no connection was made (its "
+                "host is down or unreachable, or a firewall drops the connection); check the "
+                "host and port its scripts give it"
+            )
+        return f"not running (nothing answers: {said})"
     return message
 
 

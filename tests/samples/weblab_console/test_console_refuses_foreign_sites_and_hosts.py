@@ -17,7 +17,7 @@ import threading
 import pytest
 from starlette.testclient import TestClient
 from starlette.websockets import WebSocketDisconnect
-from weblab_console.guard import allowed_names, host_name
+from weblab_console.guard import allowed_names, host_name, same_origin
 from weblab_console.hub import ConsoleHub
 from weblab_console.server import create_app
 from weblab_console.serving import free_port
@@ -59,6 +59,74 @@ def test_the_consoles_own_origin_and_clients_without_one_are_let_in(console, ori
     headers = {"origin": origin} if origin else {}
     with client.websocket_connect(WS, headers=headers) as ws:
         assert receive_until(ws, "hello")["profiles"]
+
+
+@pytest.mark.parametrize(
+    ("url", "origin"),
+    [
+        ("ws://localhost:8765/ws", "http://LOCALHOST:8765"),
+        ("ws://localhost:8765/ws", "HTTP://LocalHost:8765"),
+        ("ws://LOCALHOST:8765/ws", "http://localhost:8765"),
+        ("ws://127.0.0.1:8765/ws", "HTTPS://127.0.0.1:8765"),
+    ],
+)
+def test_the_origins_scheme_and_host_compare_case_insensitively(console, url, origin):
+    # RFC 3986: scheme and host are case-insensitive; a client may send either case
+    client, _, _ = console
+    with client.websocket_connect(url, headers={"origin": origin}) as ws:
+        assert receive_until(ws, "hello")["profiles"]
+
+
+@pytest.mark.parametrize(
+    "origin",
+    [
+        "http://localhost:08765",  # the port compares exactly
+        "http://localhost:8765/",
+        "http://localhost",
+        "http://user@localhost:8765",
+        "ws://localhost:8765",
+        "http://LOCALHOST.:8765",
+        "http://localhost:8765 ",
+    ],
+)
+def test_the_rest_of_the_origin_compares_exactly(console, origin):
+    client, hub, _ = console
+    with (
+        pytest.raises(WebSocketDisconnect) as closed,
+        client.websocket_connect("ws://localhost:8765/ws", headers={"origin": origin}),
+    ):
+        pass
+    assert closed.value.code == 1008 and hub.viewers == 0
+
+
+def test_same_origin_folds_the_case_of_scheme_and_host_only():
+    assert same_origin("http://LOCALHOST:8765", "localhost:8765")
+    assert same_origin("https://[::1]:8765", "[::1]:8765")
+    assert same_origin("http://[FE80::1]:80", "[fe80::1]:80")
+    assert not same_origin("http://[::1]:8766", "[::1]:8765")
+    assert not same_origin("null", "localhost:8765")
+    assert not same_origin("localhost:8765", "localhost:8765")
+    assert not same_origin("http://localhost:8765", "localhost")
+
+
+def test_refusals_are_counted_in_the_status_and_logged_with_the_peer(console, caplog):
+    client, _, _ = console
+    for _ in range(5):
+        assert client.get("/", headers={"host": "evil.example"}).status_code == 400
+    for _ in range(3):
+        with (
+            pytest.raises(WebSocketDisconnect),
+            client.websocket_connect(WS, headers={"origin": "http://evil.example"}),
+        ):
+            pass
+    refused = client.get("/status").json()["refused"]
+    assert (refused["host"], refused["origin"]) == (5, 3)
+    said = [r.getMessage() for r in caplog.records if "WebLab console: refused" in r.getMessage()]
+    # the 1st, 2nd and 4th of the 5 requests, the 1st and 2nd of the 3 WebSockets
+    assert len(said) == 5, said
+    assert all("from testclient:50000" in s for s in said), said
+    assert "Host 'evil.example'" in said[0] and "--allow-host NAME" in said[0]
+    assert "Origin 'http://evil.example'" in said[-1] and "(2 refused so far" in said[-1]
 
 
 @pytest.mark.parametrize("path", ["/", "/static/console.js", "/status"])

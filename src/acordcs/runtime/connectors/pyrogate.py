@@ -12,7 +12,11 @@
 - **serpent only**: a call made with another serializer (marshal, json, msgpack) is refused;
 - the daemon's own object lists nothing (``registered``/``info`` are refused);
 - optional **TLS** (:class:`TLSFiles`), with client certificates when the server names the CA
-  that signs them.
+  that signs them;
+- **refusals counted, the log bounded**: every refused connection (a wrong or missing token, no
+  valid handshake within the deadline, no free worker) is counted by kind
+  (:attr:`GatedDaemon.refusals`, in the management interface's ``status``) and logged on the 1st,
+  2nd, 4th, 8th... of its kind only, with the peer's address (:mod:`acordcs.runtime.refusals`).
 
 Pyro5 5.17 keeps its configuration (the handshake deadline ``COMMTIMEOUT``, the worker pool size
 ``THREADPOOL_SIZE``, and SSL with its cached contexts) per process, not per daemon: the settings
@@ -25,6 +29,7 @@ import hmac
 import ipaddress
 import logging
 import os
+import threading
 from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any, TypeVar
@@ -36,6 +41,7 @@ import Pyro5.serializers
 import Pyro5.server
 
 from acordcs.runtime.errors import ConfigurationError
+from acordcs.runtime.refusals import Refusals, peer_address
 
 TOKEN_ENV = "ACORDCS_TOKEN"
 """The environment variable holding the application's token when no ``token=`` is given."""
@@ -138,17 +144,56 @@ class QuietDaemonObject(Pyro5.server.DaemonObject):
 
 
 class GatedDaemon(Pyro5.api.Daemon):
-    """A Pyro5 daemon admitting only connections that present ``token`` in the handshake."""
+    """A Pyro5 daemon admitting only connections that present ``token`` in the handshake;
+    ``name`` names what it serves in the log lines of its refusals (:attr:`refusals`)."""
 
-    def __init__(self, *, host: str, port: int, token: str | None) -> None:
+    def __init__(
+        self, *, host: str, port: int, token: str | None, name: str = "a Pyro5 endpoint"
+    ) -> None:
         self._token = token.encode() if token is not None else None
+        self._verdict = threading.local()  # why validateHandshake refused, per worker thread
         super().__init__(host=host, port=port, interface=QuietDaemonObject)
+        deadline = Pyro5.api.config.COMMTIMEOUT
+        self.refusals = Refusals(
+            log,
+            f"{name} (Pyro5 endpoint {self.locationStr})",
+            {
+                "wrong_token": "wrong or missing token",
+                "failed_handshake": f"no valid Pyro5 handshake within {deadline:g} s (not a "
+                "Pyro5 client, a silent one, or one gone before the answer)",
+                "no_worker": f"all {Pyro5.api.config.THREADPOOL_SIZE} connection workers are "
+                "busy (max_connections)",
+            },
+            "the counts are in the management interface's status; a process of the application "
+            f"needs the application's token ({TOKEN_ENV}); if that address is not one of yours, "
+            "firewall the port",
+        )
+
+    def _handshake(self, conn: Any, denied_reason: str | None = None) -> bool:  # Pyro5's
+        # Every connection's first exchange (in its worker thread; for a connection refused for
+        # want of a worker, in the accepting thread): counted when it does not admit the peer.
+        # Pyro5 logs its own failures at debug level only (and not at all unless PYRO_LOGLEVEL
+        # is set); a failure to send the refusal to a peer already gone is one more refusal
+        # here, never a traceback.
+        try:
+            peer = peer_address(conn.sock.getpeername())
+        except (OSError, AttributeError):
+            peer = peer_address(None)
+        self._verdict.kind = None
+        try:
+            admitted = bool(super()._handshake(conn, denied_reason))
+        except (OSError, Pyro5.errors.CommunicationError):
+            admitted = False
+        if not admitted:
+            kind = "no_worker" if denied_reason else self._verdict.kind or "failed_handshake"
+            self.refusals.refused(kind, peer)
+        return admitted
 
     def validateHandshake(self, conn: Any, data: Any) -> Any:  # Pyro5's name
         if self._token is not None:
             given = data.encode() if isinstance(data, str) else b""
             if not hmac.compare_digest(given, self._token):
-                log.warning("refused a connection from %s: wrong or missing token", conn)
+                self._verdict.kind = "wrong_token"  # counted and logged by _handshake
                 raise Pyro5.errors.SecurityError("handshake refused: wrong or missing token")
         # Past the handshake: the deadline was for strangers; the caller's proxy keeps this
         # connection for its next call, however far away.

@@ -367,6 +367,8 @@ class ContainerServer:
     connection has to complete the handshake; ``max_connections``: connections served at once;
     ``tls``: serve over TLS (:class:`~.pyrogate.TLSFiles`; with ``cacerts``, clients need a
     certificate signed by it). The last three are Pyro5 settings of the whole process.
+    Refused connections are counted (:meth:`refused`) and logged on the 1st, 2nd, 4th, 8th...
+    of each kind only, with the peer's address.
     """
 
     def __init__(
@@ -400,7 +402,9 @@ class ContainerServer:
         configure_server(handshake_timeout, max_connections)
         if tls is not None:
             tls.configure(server=True)
-        self.daemon = GatedDaemon(host=host, port=port, token=token)
+        self.daemon = GatedDaemon(
+            host=host, port=port, token=token, name=f"container {container.name!r}"
+        )
         if tls is not None:
             # Pyro5 accepts in one thread; with the TLS handshake done at accept (ssl's default) a
             # client that connects and stays silent would hold every other connection up (the
@@ -417,6 +421,12 @@ class ContainerServer:
             target=self.daemon.requestLoop, name=f"acordcs-pyro-{container.name}", daemon=True
         )
         self._thread.start()
+
+    def refused(self) -> dict[str, int]:
+        """The connections refused so far, by why: ``wrong_token``, ``failed_handshake`` (no
+        valid handshake within ``handshake_timeout``), ``no_worker`` (``max_connections`` busy).
+        Each kind is logged on its 1st, 2nd, 4th, 8th... refusal only."""
+        return self.daemon.refusals.counts()
 
     def close(self) -> None:
         self.daemon.shutdown()

@@ -8,24 +8,30 @@ evaluate itself (the fallback subscriptions) is bounded before they run, in two 
   string-values of all elements (each character counts once per element it is in): a document
   above ``Limits.max_cost`` is refused, as one above ``Limits.max_nodes`` nodes;
 - the **expression** (:func:`check_cost`, at ``subscribe``): read into a tree
-  (:mod:`.xpathparse`) and costed in *units*, where :data:`PASS` units are one walk over every node,
-  or one reading of every string-value, of a document within those limits. Each operation of the
-  expression is allowed only in forms where one evaluation performs it at most once per node of the
-  document in total, even inside a predicate (evaluated once per node); it then costs one pass
-  (:data:`PASS`: a step, a reading of string-values) or one unit (an operator, a literal, a
-  function call, a predicate). Operations that would revisit the document once per node are
-  refused, whatever their count (libxml2's algorithms, measured): a path from the root, a
-  descendant, ancestor, sibling, preceding or following step inside a predicate (every node walks
-  the document again); the string-value of, or a step from, the parent (``..``) inside a predicate
-  (``//*[string-length(..) = 1]`` reads the parent once per child: quadratic on a flat document);
-  a descendant, parent or ancestor step after a step that selects several nodes (libxml2 merges
-  the overlapping results with a quadratic duplicate check); a union or a comparison of two
-  node-sets that may each hold several nodes (every node of one against every node of the other);
-  ``lang()`` (reads every ancestor's attributes) and ``id()``; ``translate()`` (about 30 passes per
-  call: libxml2 handles every character separately); ``contains``, ``substring-before`` and
+  (:mod:`.xpathparse`) and costed in *units*, where :data:`PASS` units are one walk over every
+  node, or one reading of every string-value, of a document within those limits. Each operation
+  of the expression is allowed only in forms where one evaluation performs it at most once per
+  node of the document in total, even inside a predicate (evaluated once per node); it then costs
+  one pass (:data:`PASS`: a step, a reading of string-values) or one unit (an operator, a
+  literal, a function call, a predicate; ``and`` and ``or`` are operators that read and compare
+  nothing). The exact values, and what reads string-values, are those of docs/providers.md
+  ("Security model"), pinned by ``tests/runtime/test_context_xpath_cost_model_is_pinned.py``.
+  Operations that would revisit the document once per node are refused, whatever their count
+  (libxml2's algorithms, measured): a path from the root, a descendant, ancestor, sibling,
+  preceding or following step inside a predicate (every node walks the document again); the
+  string-value of, or a step from, the parent (``..``) inside a predicate
+  (``//*[string-length(..) = 1]`` reads the parent once per child: quadratic on a flat
+  document); a descendant, parent, ancestor, following or preceding (or sibling) step after a
+  step that selects several nodes: only child, attribute and self steps may follow one (libxml2
+  merges the overlapping results of the others with a quadratic duplicate check); a union or a
+  comparison of two node-sets that may each hold several nodes (every node of one against every
+  node of the other); ``lang()`` (reads every ancestor's attributes) and ``id()``;
+  ``translate()`` (about 30 passes per call: libxml2 handles every character separately); a
+  function that is not one of XPath 1.0's core functions (lxml refuses them first; the cost
+  check knows the cost of those only); ``contains``, ``substring-before`` and
   ``substring-after`` unless their second argument is a literal (libxml2 compares it at every
-  character of the first: each of its characters costs two passes); the namespace axis (namespace
-  nodes are not counted by ``max_nodes``); a predicate inside a predicate.
+  character of the first: each of its characters costs two passes); the namespace axis
+  (namespace nodes are not counted by ``max_nodes``); a predicate inside a predicate.
 
 An expression costing more than ``Limits.max_xpath_cost`` units is refused. What passes costs at most
 that many units on a document within the limits: ``tests/runtime/test_context_xpath_cost.py``
@@ -39,6 +45,7 @@ from dataclasses import dataclass
 from lxml import etree
 
 from acordcs.runtime.context.errors import SubscriptionError
+from acordcs.runtime.context.xpathexpr import CORE_FUNCTIONS
 from acordcs.runtime.context.xpathparse import (
     Binary,
     Call,
@@ -174,6 +181,12 @@ class _Costing:
             raise _Refused(
                 "calls id(), which selects nodes anywhere in the document (its result cannot "
                 "be bounded per node)",
+                pos,
+            )
+        if name not in CORE_FUNCTIONS:  # lxml refuses them first; the costs here are XPath 1.0's
+            raise _Refused(
+                f"calls {name}(), which is not an XPath 1.0 core function (the cost check knows "
+                "the cost of those only)",
                 pos,
             )
         args = [self.expression(arg, inside) for arg in node.args]

@@ -39,8 +39,9 @@ _KEYWORDS = {"and", "or", "div", "mod"}
 _PROBE = etree.ElementTree(etree.fromstring(b"<probe/>"))
 
 # The probe evaluation misses what sits in a predicate of a path the probe does not match
-# (``/robot[frobnicate(.)]``), so function names and variables are also checked statically.
-_CORE_FUNCTIONS = frozenset(
+# (``/robot[frobnicate(.)]``), so function names and variables are also checked statically;
+# the cost check (xpathcost) knows the cost of these functions only.
+CORE_FUNCTIONS = frozenset(
     [
         "last",
         "position",
@@ -181,7 +182,7 @@ def _check_names(expression: str, what: str) -> None:
     else:
         for match in _CALL.finditer(code):
             name = match.group(1)
-            if name not in _CORE_FUNCTIONS and name not in _NODE_TYPES and name not in _KEYWORDS:
+            if name not in CORE_FUNCTIONS and name not in _NODE_TYPES and name not in _KEYWORDS:
                 problem = (
                     f"calls {name}() (Unregistered function): only XPath 1.0 core functions exist"
                 )

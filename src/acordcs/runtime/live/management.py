@@ -109,6 +109,8 @@ class Management:
         self.on_applied: Callable[[str], None] | None = None
         # Its observer interface, when served (manage() makes it).
         self.observer: Observer | None = None
+        # The connections the daemon serving it refused, by why (manage() gives it).
+        self.refused: Callable[[], dict[str, int]] | None = None
         self._lock = threading.Lock()
         self._applying: int | None = None  # the thread applying an update
         # (element, attribute) of the properties changed at run time: an update leaves them be.
@@ -154,6 +156,10 @@ class Management:
         each policy set it replanned fired last before it and first after it (clock times), and
         the user's files of its components and monitors as it loaded them (``code``: element ->
         ``kind``, ``file`` from the application's directory, ``sha256``)."""
+        each policy set it replanned fired last before it and first after it (clock times),
+        and the connections ``refused`` by the Pyro5 daemon serving it (its endpoint, this
+        interface and its observer's), by why: ``wrong_token``, ``failed_handshake``,
+        ``no_worker`` (empty when not served)."""
         sets: dict[str, Any] = {}
         for name in self.policy_sets():
             try:
@@ -177,6 +183,7 @@ class Management:
             "policy_sets": sets,
             "last_update": self.last_update,
             "code": {n: dict(v) for n, v in self.code.items()},
+            "refused": self.refused() if self.refused is not None else {},
         }
 
     def properties(self, elements: list[str]) -> dict[str, dict[str, Any]]:
@@ -519,6 +526,7 @@ def manage(
         code=code,
     )
     server.daemon.register(ManagementEndpoint(management), MANAGE_OBJECT.format(container))
+    management.refused = server.refused
     management.observer = Observer(running.container(container), management.policy_sets)
     server.daemon.register(ObserverEndpoint(management.observer), OBSERVE_OBJECT.format(container))
     box = running.container(container)
