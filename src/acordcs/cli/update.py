@@ -332,16 +332,12 @@ def _show(running: list, plans: dict[str, Any], code: dict[str, tuple[Change, ..
         every = tuple(c for r in running for c in code[r.name])
         groups = [(None, plans[running[0].name].changes + every)]
     else:
-        click.echo(f"running: {printable(names)}, on different descriptors (a part rolled back)")
-        groups = [(r.name, plans[r.name].changes + code[r.name]) for r in running]
-    for name, changes in groups:
         click.echo(
             f"running: {printable(names)}, on different descriptors (an earlier update reached "
             "only some of them, or they were started from different builds): a plan for each"
         )
-        groups = [(r.name, plans[r.name]) for r in running]
-    for name, plan in groups:
-        changes = plan.changes
+        groups = [(r.name, plans[r.name].changes + code[r.name]) for r in running]
+    for name, changes in groups:
         live = sum(1 for c in changes if not c.live)
         head = f"plan{f' of {name}' if name else ''}: {len(changes)} change" + (
             "s" if len(changes) != 1 else ""
