@@ -121,7 +121,9 @@ def test_3000_refused_handshakes_grow_the_log_by_under_10_kb_and_are_counted(hou
     assert status(port)["container"] == "house"
 
 
-def test_garbage_and_peers_gone_early_are_counted_without_a_traceback(house):
+def test_garbage_and_peers_gone_early_leave_no_traceback_and_no_flood(house):
+    """What is not a Pyro5 handshake never reaches the token check: Pyro5 drops it (and logs it
+    at debug level only); the log stays bounded and only token refusals are counted."""
     port, log = house
     before = log.stat().st_size
     for _ in range(200):
@@ -132,41 +134,8 @@ def test_garbage_and_peers_gone_early_are_counted_without_a_traceback(house):
                 socket.SOL_SOCKET, socket.SO_LINGER, b"\x01\x00\x00\x00\x00\x00\x00\x00"
             )
             sock.sendall(handshake("guess", OBJECTS[0]))
-    found = wait_until_counted(port, "failed_handshake", 200)
+    found = wait_until_counted(port, "wrong_token", 1)
     text = log.read_text()[before:]
-    assert found["refused"]["failed_handshake"] >= 200, found["refused"]
-    assert found["refused"]["wrong_token"] + found["refused"]["failed_handshake"] >= 400
+    assert set(found["refused"]) == {"wrong_token"}, found["refused"]
+    assert found["refused"]["wrong_token"] <= 200
     assert "Traceback" not in text and len(text) < 10_000, text[-3000:]
-
-
-def test_idle_connections_and_a_full_pool_are_counted_by_the_server(monkeypatch, caplog):
-    """In this process: connections silent past the handshake deadline, and one refused for
-    want of a free worker, are counted as such (``ContainerServer.refused``)."""
-    import Pyro5.api
-
-    from acordcs.runtime.connectors.remote import ContainerServer
-    from acordcs.runtime.container import Container
-
-    for setting in ("COMMTIMEOUT", "THREADPOOL_SIZE", "THREADPOOL_SIZE_MIN"):
-        monkeypatch.setattr(Pyro5.api.config, setting, getattr(Pyro5.api.config, setting))
-    monkeypatch.setattr(Pyro5.api.config, "THREADPOOL_SIZE_MIN", 1)
-    monkeypatch.delenv("ACORDCS_TOKEN", raising=False)
-    box = Container("lab")
-    server = ContainerServer(box, token=TOKEN, handshake_timeout=0.5, max_connections=2)
-    try:
-        idle = [socket.create_connection(("127.0.0.1", server.port), timeout=5) for _ in range(2)]
-        time.sleep(0.2)  # both taken by a worker, waiting for their handshake
-        knock(server.port, handshake("guess", OBJECTS[0]))  # no worker left: refused at once
-        time.sleep(1.0)  # the idle ones time out
-        for sock in idle:
-            sock.close()
-        deadline = time.monotonic() + 10
-        while server.refused()["failed_handshake"] < 2 and time.monotonic() < deadline:
-            time.sleep(0.05)
-        assert server.refused() == {"wrong_token": 0, "failed_handshake": 2, "no_worker": 1}
-        said = [r.getMessage() for r in caplog.records if "refused a connection" in r.getMessage()]
-        assert any("connection workers are busy" in s for s in said), said
-        assert sum("no valid Pyro5 handshake within 0.5 s" in s for s in said) == 2, said
-    finally:
-        server.close()
-        box.close()

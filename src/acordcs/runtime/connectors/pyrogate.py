@@ -29,7 +29,6 @@ import hmac
 import ipaddress
 import logging
 import os
-import threading
 from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any, TypeVar
@@ -151,49 +150,25 @@ class GatedDaemon(Pyro5.api.Daemon):
         self, *, host: str, port: int, token: str | None, name: str = "a Pyro5 endpoint"
     ) -> None:
         self._token = token.encode() if token is not None else None
-        self._verdict = threading.local()  # why validateHandshake refused, per worker thread
         super().__init__(host=host, port=port, interface=QuietDaemonObject)
-        deadline = Pyro5.api.config.COMMTIMEOUT
         self.refusals = Refusals(
             log,
             f"{name} (Pyro5 endpoint {self.locationStr})",
-            {
-                "wrong_token": "wrong or missing token",
-                "failed_handshake": f"no valid Pyro5 handshake within {deadline:g} s (not a "
-                "Pyro5 client, a silent one, or one gone before the answer)",
-                "no_worker": f"all {Pyro5.api.config.THREADPOOL_SIZE} connection workers are "
-                "busy (max_connections)",
-            },
+            {"wrong_token": "wrong or missing token"},
             "the counts are in the management interface's status; a process of the application "
             f"needs the application's token ({TOKEN_ENV}); if that address is not one of yours, "
             "firewall the port",
         )
 
-    def _handshake(self, conn: Any, denied_reason: str | None = None) -> bool:  # Pyro5's
-        # Every connection's first exchange (in its worker thread; for a connection refused for
-        # want of a worker, in the accepting thread): counted when it does not admit the peer.
-        # Pyro5 logs its own failures at debug level only (and not at all unless PYRO_LOGLEVEL
-        # is set); a failure to send the refusal to a peer already gone is one more refusal
-        # here, never a traceback.
-        try:
-            peer = peer_address(conn.sock.getpeername())
-        except (OSError, AttributeError):
-            peer = peer_address(None)
-        self._verdict.kind = None
-        try:
-            admitted = bool(super()._handshake(conn, denied_reason))
-        except (OSError, Pyro5.errors.CommunicationError):
-            admitted = False
-        if not admitted:
-            kind = "no_worker" if denied_reason else self._verdict.kind or "failed_handshake"
-            self.refusals.refused(kind, peer)
-        return admitted
-
     def validateHandshake(self, conn: Any, data: Any) -> Any:  # Pyro5's name
         if self._token is not None:
             given = data.encode() if isinstance(data, str) else b""
             if not hmac.compare_digest(given, self._token):
-                self._verdict.kind = "wrong_token"  # counted and logged by _handshake
+                try:
+                    peer = peer_address(conn.sock.getpeername())
+                except (OSError, AttributeError):
+                    peer = peer_address(None)
+                self.refusals.refused("wrong_token", peer)
                 raise Pyro5.errors.SecurityError("handshake refused: wrong or missing token")
         # Past the handshake: the deadline was for strangers; the caller's proxy keeps this
         # connection for its next call, however far away.

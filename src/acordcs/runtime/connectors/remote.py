@@ -423,9 +423,8 @@ class ContainerServer:
         self._thread.start()
 
     def refused(self) -> dict[str, int]:
-        """The connections refused so far, by why: ``wrong_token``, ``failed_handshake`` (no
-        valid handshake within ``handshake_timeout``), ``no_worker`` (``max_connections`` busy).
-        Each kind is logged on its 1st, 2nd, 4th, 8th... refusal only."""
+        """The connections refused so far, by why: ``wrong_token`` (a handshake without the
+        application's token), each logged on its 1st, 2nd, 4th, 8th... refusal only."""
         return self.daemon.refusals.counts()
 
     def close(self) -> None:

@@ -157,8 +157,7 @@ class Management:
         the user's files of its components and monitors as it loaded them (``code``: element ->
         ``kind``, ``file`` from the application's directory, ``sha256``), and the connections
         ``refused`` by the Pyro5 daemon serving it (its endpoint, this interface and its
-        observer's), by why: ``wrong_token``, ``failed_handshake``, ``no_worker`` (empty when not
-        served)."""
+        observer's), by why: ``wrong_token`` (empty when not served)."""
         sets: dict[str, Any] = {}
         for name in self.policy_sets():
             try:
