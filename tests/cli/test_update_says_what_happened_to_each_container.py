@@ -6,19 +6,14 @@ back: an earlier update reached only some of them, or they were started from oth
 
 from __future__ import annotations
 
-import os
-import re
 import signal
-import subprocess
-import sys
-import time
 from types import SimpleNamespace
 
 import pytest
 
 from acordcs.cli.running import Settings, reach
-from acordcs.cli.update import _show
-from tests.support.toolchain import ROOT
+from acordcs.cli.update import show_plans
+from tests.support.managed_container import served_house
 
 TOKEN = "token-of-the-house"
 
@@ -27,34 +22,8 @@ TOKEN = "token-of-the-house"
 def house(tmp_path):
     """The container ``house`` served (with its management interface) in a child process:
     (its process, its port)."""
-    log = tmp_path / "house.log"
-    env = {**os.environ, "PYTHONPATH": str(ROOT)}
-    env.pop("ACORDCS_TOKEN", None)
-    with log.open("wb") as out:
-        child = subprocess.Popen(
-            [sys.executable, "-m", "tests.support.managed_container", TOKEN],
-            cwd=ROOT,
-            env=env,
-            stdin=subprocess.PIPE,
-            stdout=out,
-            stderr=subprocess.STDOUT,
-        )
-    try:
-        deadline = time.monotonic() + 60
-        while not (found := re.search(r"READY (\d+)", log.read_text())):
-            assert child.poll() is None, log.read_text()
-            assert time.monotonic() < deadline, "the container did not start within 60 s"
-            time.sleep(0.05)
-        yield child, int(found.group(1))
-    finally:
-        child.send_signal(signal.SIGCONT)
-        assert child.stdin is not None
-        child.stdin.close()
-        try:
-            child.wait(20)
-        except subprocess.TimeoutExpired:
-            child.kill()
-            child.wait(5)
+    with served_house(tmp_path / "house.log", TOKEN) as (child, port):
+        yield child, port
 
 
 def problem(port: int) -> str:
@@ -84,8 +53,10 @@ def test_containers_on_different_descriptors_are_not_said_to_have_rolled_back(ca
     def running(name: str, digest: str) -> SimpleNamespace:
         return SimpleNamespace(name=name, host="127.0.0.1", port="1", status={"digest": digest})
 
-    plan = SimpleNamespace(changes=[])
-    _show([running("A", "a" * 64), running("B", "b" * 64)], {"A": plan, "B": plan})
+    plan = SimpleNamespace(changes=())
+    show_plans(
+        [running("A", "a" * 64), running("B", "b" * 64)], {"A": plan, "B": plan}, {"A": (), "B": ()}
+    )
     out = capsys.readouterr().out
     assert "on different descriptors (an earlier update reached only some of them" in out
     assert "rolled back" not in out

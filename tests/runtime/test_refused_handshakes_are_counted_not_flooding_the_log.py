@@ -8,11 +8,8 @@ traceback. Issue 36 item 2: 3,000 refusals grew the log by 333 KB, each line nam
 
 from __future__ import annotations
 
-import os
 import re
 import socket
-import subprocess
-import sys
 import time
 
 import pytest
@@ -21,7 +18,7 @@ from Pyro5 import protocol, serializers
 from acordcs.runtime.connectors.remote import RemoteConnector
 from acordcs.runtime.live.management import MANAGE_OBJECT
 from acordcs.runtime.live.observer import OBSERVE_OBJECT
-from tests.support.toolchain import ROOT
+from tests.support.managed_container import served_house
 
 TOKEN = "token-of-the-house"
 REFUSALS = 3000
@@ -32,33 +29,8 @@ OBJECTS = ("acordcs.container.house", MANAGE_OBJECT.format("house"), OBSERVE_OBJ
 def house(tmp_path):
     """The container ``house`` in a child process, its output in ``house.log``; yields (port,
     log path)."""
-    log = tmp_path / "house.log"
-    env = {**os.environ, "PYTHONPATH": str(ROOT)}
-    env.pop("ACORDCS_TOKEN", None)
-    with log.open("wb") as out:
-        child = subprocess.Popen(
-            [sys.executable, "-m", "tests.support.managed_container", TOKEN],
-            cwd=ROOT,
-            env=env,
-            stdin=subprocess.PIPE,
-            stdout=out,
-            stderr=subprocess.STDOUT,
-        )
-    try:
-        deadline = time.monotonic() + 60
-        while not (found := re.search(r"READY (\d+)", log.read_text())):
-            assert child.poll() is None, log.read_text()
-            assert time.monotonic() < deadline, "the container did not start within 60 s"
-            time.sleep(0.05)
-        yield int(found.group(1)), log
-    finally:
-        assert child.stdin is not None
-        child.stdin.close()
-        try:
-            child.wait(20)
-        except subprocess.TimeoutExpired:
-            child.kill()
-            child.wait(5)
+    with served_house(tmp_path / "house.log", TOKEN) as (_child, port):
+        yield port, tmp_path / "house.log"
 
 
 def handshake(token: str | None, obj: str) -> bytes:

@@ -9,7 +9,15 @@ outlives the test that started it). The test sends its output to a file: the con
 
 from __future__ import annotations
 
+import contextlib
+import os
+import re
+import signal
+import subprocess
 import sys
+import time
+from collections.abc import Iterator
+from pathlib import Path
 
 from acordcs.descriptor import to_xml
 from acordcs.runtime.assembly import assemble
@@ -17,6 +25,7 @@ from acordcs.runtime.clock import VirtualClock
 from acordcs.runtime.live.apply_update import GivenClasses
 from acordcs.runtime.live.management import manage
 from tests.support.descriptors import application, component, container, prop, ref
+from tests.support.toolchain import ROOT
 
 
 def main() -> None:
@@ -32,6 +41,39 @@ def main() -> None:
     print("READY", server.port, flush=True)
     sys.stdin.read()
     run.close()
+
+
+@contextlib.contextmanager
+def served_house(log: Path, token: str) -> Iterator[tuple[subprocess.Popen, int]]:
+    """This module run as a child process (its output in ``log``), once it serves: (the process,
+    its port). Resumed (SIGCONT) and ended when the block ends, killed if it does not end."""
+    env = {**os.environ, "PYTHONPATH": str(ROOT)}
+    env.pop("ACORDCS_TOKEN", None)
+    with log.open("wb") as out:
+        child = subprocess.Popen(
+            [sys.executable, "-m", "tests.support.managed_container", token],
+            cwd=ROOT,
+            env=env,
+            stdin=subprocess.PIPE,
+            stdout=out,
+            stderr=subprocess.STDOUT,
+        )
+    try:
+        deadline = time.monotonic() + 60
+        while not (found := re.search(r"READY (\d+)", log.read_text())):
+            assert child.poll() is None, log.read_text()
+            assert time.monotonic() < deadline, "the container did not start within 60 s"
+            time.sleep(0.05)
+        yield child, int(found.group(1))
+    finally:
+        child.send_signal(signal.SIGCONT)
+        assert child.stdin is not None
+        child.stdin.close()
+        try:
+            child.wait(20)
+        except subprocess.TimeoutExpired:
+            child.kill()
+            child.wait(5)
 
 
 if __name__ == "__main__":

@@ -116,7 +116,7 @@ def update(
     missing = _missing(running, new, app, found.package)
     plans = _plans(running, new)
     code = _code(running, new, app)
-    _show(running, plans, code)
+    show_plans(running, plans, code)
     fixed = [c for plan in plans.values() for c in plan.changes if not c.live]
     if fixed:
         for line in dict.fromkeys(f"{c.line}: cannot apply live: {c.why}" for c in fixed):
@@ -324,7 +324,8 @@ def _missing(running: list, new: Application, app: Path, package: str) -> int:
     return count
 
 
-def _show(running: list, plans: dict[str, Any], code: dict[str, tuple[Change, ...]]) -> None:
+def show_plans(running: list, plans: dict[str, Any], code: dict[str, tuple[Change, ...]]) -> None:
+    """What the update will do, one plan for all containers on one descriptor, else one each."""
     digests = {r.status["digest"] for r in running}
     names = ", ".join(f"{r.name} ({r.host}:{r.port})" for r in running)
     if len(digests) == 1:
