@@ -41,6 +41,14 @@ from acordcs.diagnostics import printable
     "operation or port the model renamed or removed), whatever else happens.",
 )
 @click.option(
+    "--trust-stylesheet",
+    "trust_stylesheet",
+    is_flag=True,
+    help="Run the stylesheets given with -t (and other packages' stylesheet targets) with your "
+    "rights: without it each runs confined, reading only the descriptor and the files under its "
+    "own directory, with no network and no environment variables.",
+)
+@click.option(
     "--dry-run", is_flag=True, help="Write nothing; list what would be written or deleted."
 )
 @click.option(
@@ -71,6 +79,7 @@ def build(
     target_names: tuple[str, ...],
     check: bool,
     strict: bool,
+    trust_stylesheet: bool,
     dry_run: bool,
     diff: bool,
     force: bool,
@@ -116,6 +125,7 @@ def build(
             check=check,
             drift=strict,
             progress=progress.step if progress else None,
+            trust_stylesheets=trust_stylesheet,
         )
     except BuildError as err:
         if progress:

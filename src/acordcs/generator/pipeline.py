@@ -20,7 +20,7 @@ from __future__ import annotations
 
 import os
 from collections.abc import Callable, Iterable
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from functools import cache
 from pathlib import Path
 from typing import TYPE_CHECKING
@@ -87,10 +87,12 @@ def toolchain_digest() -> str:
 STYLESHEET_SUFFIXES = (".xsl", ".xslt")
 
 
-def select(names: Iterable[str] | None) -> list[Target]:
+def select(names: Iterable[str] | None, trust: bool = False) -> list[Target]:
     """The targets named (``all`` or nothing: every registered target), in name order. A name
     ending in ``.xsl`` or ``.xslt`` is the path of a stylesheet of the user's: a target named
-    after the file (``mine.xsl``), run as a built-in XSLT target is (:func:`stylesheet_target`)."""
+    after the file (``mine.xsl``), run as a built-in XSLT target is (:func:`stylesheet_target`).
+    ``trust`` (``--trust-stylesheet``): the stylesheets not built in run with the user's rights,
+    not confined."""
     known = targets()
     wanted = [n.strip() for name in (names or ("all",)) for n in name.split(",") if n.strip()]
     files = [n for n in wanted if n.lower().endswith(STYLESHEET_SUFFIXES)]
@@ -117,7 +119,21 @@ def select(names: Iterable[str] | None) -> list[Target]:
                 exit_code=2,
             )
         chosen[made.name] = made
+    if trust:
+        for name, made in chosen.items():
+            if made.stylesheet is not None and not _built_in(made):
+                chosen[name] = replace(made, trusted=True)
     return [chosen[n] for n in sorted(chosen)]
+
+
+def _built_in(made: Target) -> bool:
+    from acordcs.generator.target import _TRANSFORMS
+
+    return (
+        made.origin == "acordcs"
+        and made.stylesheet is not None
+        and (made.stylesheet.resolve().parent == _TRANSFORMS)
+    )
 
 
 def stylesheet_target(path: str | os.PathLike[str]) -> Target:
@@ -153,6 +169,7 @@ def build(
     check: bool = False,
     drift: bool = False,
     progress: Progress | None = None,
+    trust_stylesheets: bool = False,
 ) -> BuildResult:
     """Build ``target_names`` (default: all) of ``model`` into ``output``. With ``write`` False
     nothing is written: the result's plan says what would change (``--dry-run``, ``--diff``).
@@ -160,11 +177,12 @@ def build(
     are generated: the targets always run (as with ``force``) and their bytes are compared with
     the files on disk; a manifest that cannot be read is an error. ``drift`` (``--strict``):
     compare the user's classes with the model even when nothing else is to be done (a build
-    that reads the model always does). Raises :class:`BuildError` (nothing written) when the
+    that reads the model always does). ``trust_stylesheets`` (``--trust-stylesheet``): the
+    stylesheets not built in run with the user's rights instead of confined. Raises :class:`BuildError` (nothing written) when the
     build cannot be done."""
     source = os.fspath(model)
     out = Path(output)
-    chosen = select(target_names)
+    chosen = select(target_names, trust=trust_stylesheets)
     result = BuildResult(out, [t.name for t in chosen])
     if check:
         write, force = False, True
