@@ -28,7 +28,7 @@ from typing import TYPE_CHECKING
 from acordcs.diagnostics import Diagnostic, Severity, diagnostic
 from acordcs.generator.errors import BuildError
 from acordcs.generator.manifest import Manifest, ManifestError, read_manifest, sha256
-from acordcs.generator.paths import MANIFEST, case_collisions, path_problem
+from acordcs.generator.paths import MANIFEST, case_collisions, path_problem, read_bounded
 from acordcs.generator.target import NAME_PATTERN, Target
 from acordcs.generator.target_context import GeneratedFile, TargetContext
 from acordcs.generator.targets import targets
@@ -317,10 +317,15 @@ def write_out(result: BuildResult) -> None:
 
 
 def _find_drift(out: Path, app: Application | None, result: BuildResult) -> None:
-    """The user's classes against the model (:mod:`acordcs.generator.drift`), before anything is
-    written: the package's descriptor on disk is still the previous build's. ``app`` None: the
+    """The user's classes against the model (:mod:`acordcs.generator.drift`), and compiled as a
+    container's start compiles them (G705), before anything is written: the package's descriptor on disk is still the previous build's. ``app`` None: the
     output is up to date, the descriptor on disk is the model's."""
-    from acordcs.generator.drift import as_diagnostics, find_drift, previous_application
+    from acordcs.generator.drift import (
+        as_diagnostics,
+        find_drift,
+        not_compiling,
+        previous_application,
+    )
     from acordcs.generator.manifest import read_manifest
     from acordcs.generator.targets.python import package_name
 
@@ -332,9 +337,11 @@ def _find_drift(out: Path, app: Application | None, result: BuildResult) -> None
         if current is None:
             return
         result.drift = find_drift(out, package, None, current)
+        result.drift += not_compiling(out, package, current)
     else:
         package = package_name(app.name)
         result.drift = find_drift(out, package, previous_application(out, package), app)
+        result.drift += not_compiling(out, package, app)
     result.warnings += as_diagnostics(result.drift, out)
 
 
@@ -354,10 +361,9 @@ def _intact(out: Path, old: Manifest, fingerprints: dict[str, str], model_sha: s
             if not os.path.isfile(path):
                 return False
             continue
-        try:
-            with open(path, "rb") as handle:
-                if sha256(handle.read()) != entry.sha256:
-                    return False
+        try:  # a FIFO or a huge file: not intact, found at once (the plan reports it)
+            if sha256(read_bounded(path)) != entry.sha256:
+                return False
         except OSError:
             return False
     return True

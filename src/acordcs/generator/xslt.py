@@ -52,6 +52,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Protocol
 from urllib.parse import unquote, urlsplit
 
+from acordcs.diagnostics import printable
 from acordcs.generator import sandbox
 from acordcs.generator.errors import BuildError
 from acordcs.generator.paths import path_problem
@@ -157,7 +158,7 @@ _WHERE = re.compile(r"on line (\d+) column \d+ of ([^\n]+?):\n")
 
 
 def _fail(target: Target, err: Exception, caught: list[str], confined: bool = False) -> BuildError:
-    said = str(err).strip() or type(err).__name__
+    said = printable(str(err).strip() or type(err).__name__)  # it may be a message's text
     extra = _saxon_said(caught)
     if extra.strip() == said:
         extra = ""
@@ -231,7 +232,7 @@ def run_stylesheet(
     messages = answer["messages"]
     caught = [answer["said"]] if answer.get("said") else []
     if answer["framed"] is None:
-        caught = [*caught, *(f"xsl:message: {m}" for m in messages)]
+        caught = [*caught, *(f"xsl:message: {printable(m)}" for m in messages)]
         raise _fail(target, RuntimeError(answer["error"] or ""), caught, confined=not trusted)
     context.messages.extend(messages)
     serialized = _outputs(answer["framed"])
