@@ -151,10 +151,9 @@ def _saxon_said(caught: list[str]) -> str:
 _REFUSED = re.compile(
     r"Cannot read (?P<read>\S+?)\.? Caused by java\.io\.\w+: .*?\(Permission denied\)"
     r"|Access to URI (?P<uri>\S+) has been prohibited"
-    r"|(?P<import>\S+) \(Permission denied\)",
-    re.S,
+    r"|(?P<import>/\S+) \(Permission denied\)"
 )
-_WHERE = re.compile(r"on line (\d+) column \d+ of ([^\n]+?):\n")
+_WHERE = re.compile(r"on line (\d+) column \d+ of (\S+?):(?: |$)")
 
 
 def _fail(target: Target, err: Exception, caught: list[str], confined: bool = False) -> BuildError:
@@ -162,7 +161,7 @@ def _fail(target: Target, err: Exception, caught: list[str], confined: bool = Fa
     extra = _saxon_said(caught)
     if extra.strip() == said:
         extra = ""
-    everything = f"{said}\n" + "\n".join(caught)
+    everything = " ".join(f"{said}\n{chr(10).join(caught)}".split())  # Saxon wraps its lines
     what = "compiling the stylesheet" if _STATIC.search("\n".join(caught)) else "the transformation"
     refused = _REFUSED.search(everything) if confined else None
     line = 0
