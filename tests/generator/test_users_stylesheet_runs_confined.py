@@ -204,3 +204,22 @@ def test_without_landlock_a_users_stylesheet_is_refused_not_run(tmp_path: Path, 
     assert "cannot be run confined here" in refused.err and "Landlock" in refused.err
     assert not (tmp_path / "out").exists()
     assert build(WEBLAB, tmp_path / "out", "-t", str(sheet), "--trust-stylesheet").code == 0
+
+
+@needs_landlock
+def test_an_entity_of_a_document_beside_it_or_a_collection_elsewhere_reads_nothing(
+    tmp_path: Path, secret: Path
+):
+    sheet = _sheet(tmp_path / "sheet", "<xsl:value-of select=\"string(doc('data.xml'))\"/>")
+    (sheet.parent / "data.xml").write_text(
+        f'<!DOCTYPE d [<!ENTITY e SYSTEM "{secret.as_uri()}">]>\n<d>&e;</d>\n', encoding="utf-8"
+    )
+    refused = build(WEBLAB, tmp_path / "out", "-t", str(sheet))
+    assert refused.code == 1 and SECRET not in refused.both, refused.both
+    assert "is confined and may not read" in refused.err and str(secret) in refused.err
+    listing = f"string-join(collection('{secret.parent.as_uri()}/?select=*;unparsed=yes'))"
+    sheet = _sheet(tmp_path / "sheet", f'<xsl:value-of select="{listing}"/>')
+    refused = build(WEBLAB, tmp_path / "out", "-t", str(sheet))
+    no_crash(refused)
+    assert refused.code == 1 and SECRET not in refused.both, refused.both
+    assert not (tmp_path / "out").exists()

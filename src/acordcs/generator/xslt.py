@@ -185,6 +185,15 @@ def _fail(target: Target, err: Exception, caught: list[str], confined: bool = Fa
             "build with --trust-stylesheet (it then has your rights: every file you can read, "
             "the network, your environment variables)"
         )
+    if confined and not refused and "NullPointerException" in everything:
+        said += (  # Saxon's collection() of a directory it may not list: a null listing
+            " (a confined stylesheet lists only directories under its own: collection() of one "
+            "elsewhere fails so in Saxon)"
+        )
+        hint = (
+            "nothing was written; keep what the stylesheet reads beside it, or, if you trust it, "
+            "build with --trust-stylesheet"
+        )
     message = f"target {target.name}: {what} failed: {said}"
     if extra:
         message += f"\nSaxon said:\n{extra}"
