@@ -196,6 +196,7 @@ CODES: dict[str, tuple[Severity, str]] = {
         "a model name cannot be written into a generated file (not an identifier, or a name the generated code already has)",
     ),
     "G704": (W, "your code implements an operation or port the model renamed or removed"),
+    "G705": (W, "your class does not compile: the container hosting it refuses to start"),
     # Z: the toolchain itself
     "Z901": (E, "internal error in a check (a bug in acordcs: please report it)"),
     "Z902": (W, "a check another package declares could not be loaded"),

@@ -38,7 +38,16 @@ from acordcs.diagnostics import printable
     "--strict",
     is_flag=True,
     help="Exit 1 also when your classes have drifted from the model (G704: a method of an "
-    "operation or port the model renamed or removed), whatever else happens.",
+    "operation or port the model renamed or removed) or do not compile (G705: a container "
+    "hosting one refuses to start), whatever else happens.",
+)
+@click.option(
+    "--trust-stylesheet",
+    "trust_stylesheet",
+    is_flag=True,
+    help="Run the stylesheets given with -t (and other packages' stylesheet targets) with your "
+    "rights: without it each runs confined, reading only the descriptor and the files under its "
+    "own directory, with no network and no environment variables.",
 )
 @click.option(
     "--dry-run", is_flag=True, help="Write nothing; list what would be written or deleted."
@@ -71,6 +80,7 @@ def build(
     target_names: tuple[str, ...],
     check: bool,
     strict: bool,
+    trust_stylesheet: bool,
     dry_run: bool,
     diff: bool,
     force: bool,
@@ -91,8 +101,13 @@ def build(
     Before writing, your classes (python's components/*.py) are compared with the model: a method
     of an operation or port the model renamed (the new name given) or removed is a warning (G704).
 
+    Your own stylesheets (-t mine.xsl) run confined: they read only the descriptor and the files
+    under their own directory, reach no network and see no environment variable;
+    --trust-stylesheet runs them with your rights.
+
     Exit 0 when built (or up to date), 1 when the model has errors, a target fails, --check finds
-    the output out of date, or --strict finds your classes drifted from the model, 2 on usage
+    the output out of date, or --strict finds your classes drifted from the model or not
+    compiling, 2 on usage
     errors and unreadable or unwritable files.
 
     \b
@@ -116,20 +131,21 @@ def build(
             check=check,
             drift=strict,
             progress=progress.step if progress else None,
+            trust_stylesheets=trust_stylesheet,
         )
     except BuildError as err:
         if progress:
             progress.close()
         warn_plugins()
-        for note in err.notes:
-            click.echo(f"acordcs-gen: {note}", err=True)
+        for note in err.notes:  # a stylesheet's xsl:message among them: escaped
+            click.echo(f"acordcs-gen: {printable(note)}", err=True)
         report_failure(err)
         raise click.exceptions.Exit(err.exit_code) from None
     if progress:
         progress.close()
     warn_plugins()
-    for note in result.notes + result.messages:
-        click.echo(f"acordcs-gen: {note}", err=True)
+    for note in result.notes + result.messages:  # a stylesheet's text: no line of its own
+        click.echo(f"acordcs-gen: {printable(note)}", err=True)
     for warning in result.warnings:
         click.echo(warning.format_text())
     # paths as given: a newline in one must not start a forged line of output
@@ -168,8 +184,13 @@ def build(
     raise click.exceptions.Exit(1 if check and plan.changes else drifted)
 
 
-_WOULD = {"create": "would write", "update": "would write", "delete": "would delete"}
-_DONE = {"create": "wrote", "update": "wrote", "delete": "deleted"}
+_WOULD = {
+    "create": "would write",
+    "update": "would write",
+    "delete": "would delete",
+    "move": "would move aside to",
+}
+_DONE = {"create": "wrote", "update": "wrote", "delete": "deleted", "move": "moved aside to"}
 
 
 def _list(ctx: click.Context) -> None:
@@ -212,7 +233,19 @@ def report_notes(plan, out: str, write: bool, explained: Collection[str] = ()) -
     """What a build did (``write``) or would do to the user's files in ``out``: edited generated
     files saved aside, stale edited ones left, orphaned user code (except the files of
     ``explained``, which a drift warning names), regions moved to ``.lost``."""
+    from acordcs.generator.paths import READ_LIMIT
+
     for path, saved in plan.edited.items():
+        if path in plan.unread:
+            click.echo(
+                f"acordcs-gen: {os.path.join(out, printable(path))}: is "
+                f"{printable(plan.unread[path])}, which a build does not read (it reads regular "
+                f"files of at most {READ_LIMIT // (1024 * 1024)} MiB): taken as edited, "
+                f"it {'is' if write else 'would be'} moved aside unread to "
+                f"{os.path.join(out, printable(saved))}, and the file regenerated",
+                err=True,
+            )
+            continue
         regions = bool(plan.manifest.files[path].outside)
         what = (
             "lines outside its BEGIN USER/END USER regions were edited" if regions else "was edited"
@@ -299,8 +332,17 @@ def _show_diff(plan) -> None:
         new = _lines(change.new)
         before = f"a/{change.path}" if change.old is not None else "/dev/null"
         after = f"b/{change.path}" if change.new is not None else "/dev/null"
-        for line in difflib.unified_diff(old, new, before, after):
-            click.echo(line, nl=not line.endswith("\n"))
+        for line in difflib.unified_diff(old, new, printable(before), printable(after)):
+            click.echo(_escaped(line), nl=not line.endswith("\n"))
+
+
+def _escaped(line: str) -> str:
+    """A diff line as printed: its characters that would move the cursor or reorder the text
+    (control, bidi, line separators: what a stylesheet or a model may put in a file) escaped,
+    tabs and the line's own end kept."""
+    end = "\n" if line.endswith("\n") else ""
+    body = line[: len(line) - len(end)]
+    return "\t".join(printable(part) for part in body.split("\t")) + end
 
 
 def _lines(data: bytes | None) -> list[str]:

@@ -85,13 +85,15 @@ def settings(app: Path, *, timeout: float = 10.0) -> Settings:
     """What ``app/bin/env.sh`` sets, sourced in ``sh`` (see the module docstring), for the
     containers of the descriptor the application directory holds (what its scripts start)."""
     from acordcs.descriptor import DescriptorError, from_xml
+    from acordcs.generator.paths import read_bounded
 
     run_dir, token, package = _source(app, [], timeout)[:3]
     if not _IDENTIFIER.match(package):
         raise NotFound(f"{app / 'bin' / 'env.sh'}: ACORDCS_PACKAGE is {package!r}, not a package")
     path = app / package / "descriptor.xml"
     try:
-        names = [c.name for c in from_xml(path.read_bytes(), file=str(path)).containers]
+        data = read_bounded(path)  # a FIFO or a huge file: refused at once, never waited on
+        names = [c.name for c in from_xml(data, file=str(path)).containers]
     except (OSError, DescriptorError) as err:
         raise NotFound(
             f"{path}: cannot read the descriptor the application was built with: {err}",

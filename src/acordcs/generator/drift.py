@@ -24,6 +24,7 @@ from pathlib import Path
 
 from acordcs.descriptor import Application, Component, DescriptorError, from_xml
 from acordcs.diagnostics import Diagnostic, diagnostic
+from acordcs.generator.paths import Unreadable, read_bounded
 
 
 @dataclass(frozen=True)
@@ -35,14 +36,16 @@ class Drift:
     message: str
     element: str
     element_id: str
+    column: int = 0
+    code: str = "G704"
 
 
 def previous_application(out: Path, package: str) -> Application | None:
     """The descriptor the package in ``out`` was last built from (None: no package there yet, or
     a descriptor that does not read, which then says nothing about drift)."""
     path = out / package / "descriptor.xml"
-    try:
-        return from_xml(path.read_bytes(), file=str(path))
+    try:  # a FIFO or a huge file is not read (the build reports it as an edited file)
+        return from_xml(read_bounded(path), file=str(path))
     except (OSError, DescriptorError):
         return None
 
@@ -85,7 +88,7 @@ def find_drift(out: Path, package: str, old: Application | None, new: Applicatio
             continue
         path = f"{package}/components/{component.name}.py"
         try:
-            source = (out / path).read_text(encoding="utf-8")
+            source = read_bounded(out / path).decode("utf-8")
         except (OSError, UnicodeDecodeError):
             continue
         methods = _methods(source, component.name)
@@ -193,14 +196,64 @@ def _renamed_component(out: Path, package: str, old: Component, new: Component) 
     ]
 
 
+def not_compiling(out: Path, package: str, app: Application) -> list[Drift]:
+    """Every user class of ``app`` (``components/<Component>.py``, ``monitors/<Monitor>.py``:
+    what the package's registry imports when a container starts) that does not compile, as the
+    container's start finds it (``compile``, nothing run: the SyntaxError's line and column), or
+    that a build does not read (a FIFO, a file over 64 MiB): warnings G705. A class file that is
+    missing is not one: the build writes it again."""
+    found: list[Drift] = []
+    kinds = [("components", c) for c in app.components] + [("monitors", m) for m in app.monitors]
+    for folder, element in kinds:
+        path = f"{package}/{folder}/{element.name}.py"
+        what = f"{'component' if folder == 'components' else 'monitor'} {element.name}"
+        try:
+            source = read_bounded(out / path)
+        except FileNotFoundError:
+            continue
+        except Unreadable as err:
+            message = (
+                f"{path}, the class of {what}, is {err.what}: a build does not read it, and a "
+                "container hosting it cannot import it; make it a regular file of your code"
+            )
+            found.append(Drift(path, 0, message, element.qualified_name, element.id, 0, "G705"))
+            continue
+        except OSError:
+            continue
+        try:
+            compile(source, str(out / path), "exec", dont_inherit=True)
+        except SyntaxError as err:  # IndentationError, a bad encoding too
+            message = (
+                f"class of {what} does not compile: {err.msg}; a container hosting it stops at "
+                "start (exit 2) until this is fixed"
+            )
+            found.append(
+                Drift(
+                    path,
+                    err.lineno or 1,
+                    message,
+                    element.qualified_name,
+                    element.id,
+                    err.offset or 0,
+                    "G705",
+                )
+            )
+        except ValueError as err:  # a NUL byte in the source
+            message = f"class of {what} does not compile: {err}"
+            found.append(Drift(path, 1, message, element.qualified_name, element.id, 0, "G705"))
+    return found
+
+
 def as_diagnostics(drift: list[Drift], out: Path) -> list[Diagnostic]:
-    """The drift as warnings G704, located in the user's files."""
+    """The drift as warnings G704 (G705: a class that does not compile), located in the user's
+    files."""
     return [
         diagnostic(
-            "G704",
+            d.code,
             d.message,
             file=str(out / d.path),
             line=d.line,
+            column=d.column,
             element=d.element,
             xmi_id=d.element_id,
         )

@@ -22,7 +22,7 @@ from json.encoder import encode_basestring  # type: ignore[attr-defined]  # C, e
 from pathlib import Path
 
 from acordcs.generator.headers import GENERATOR
-from acordcs.generator.paths import MANIFEST, path_problem
+from acordcs.generator.paths import MANIFEST, Unreadable, path_problem, read_bounded
 
 FORMAT = 1
 _SHA256 = re.compile(r"[0-9a-f]{64}")
@@ -107,9 +107,11 @@ def read_manifest(output: Path) -> Manifest | None:
     or not ours (an entry whose path could leave the directory is refused, not trusted)."""
     path = output / MANIFEST
     try:
-        raw = path.read_bytes()
+        raw = read_bounded(path)  # a FIFO or a huge file: refused at once, never waited on
     except FileNotFoundError:
         return None
+    except Unreadable as err:
+        raise ManifestError(f"it is {err.what}, not read") from None
     except OSError as err:
         raise ManifestError(f"cannot read it: {err.strerror}") from None
     try:

@@ -20,7 +20,7 @@ from __future__ import annotations
 
 import os
 from collections.abc import Callable, Iterable
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from functools import cache
 from pathlib import Path
 from typing import TYPE_CHECKING
@@ -28,7 +28,7 @@ from typing import TYPE_CHECKING
 from acordcs.diagnostics import Diagnostic, Severity, diagnostic
 from acordcs.generator.errors import BuildError
 from acordcs.generator.manifest import Manifest, ManifestError, read_manifest, sha256
-from acordcs.generator.paths import MANIFEST, case_collisions, path_problem
+from acordcs.generator.paths import MANIFEST, case_collisions, path_problem, read_bounded
 from acordcs.generator.target import NAME_PATTERN, Target
 from acordcs.generator.target_context import GeneratedFile, TargetContext
 from acordcs.generator.targets import targets
@@ -87,10 +87,12 @@ def toolchain_digest() -> str:
 STYLESHEET_SUFFIXES = (".xsl", ".xslt")
 
 
-def select(names: Iterable[str] | None) -> list[Target]:
+def select(names: Iterable[str] | None, trust: bool = False) -> list[Target]:
     """The targets named (``all`` or nothing: every registered target), in name order. A name
     ending in ``.xsl`` or ``.xslt`` is the path of a stylesheet of the user's: a target named
-    after the file (``mine.xsl``), run as a built-in XSLT target is (:func:`stylesheet_target`)."""
+    after the file (``mine.xsl``), run as a built-in XSLT target is (:func:`stylesheet_target`).
+    ``trust`` (``--trust-stylesheet``): the stylesheets not built in run with the user's rights,
+    not confined."""
     known = targets()
     wanted = [n.strip() for name in (names or ("all",)) for n in name.split(",") if n.strip()]
     files = [n for n in wanted if n.lower().endswith(STYLESHEET_SUFFIXES)]
@@ -117,7 +119,21 @@ def select(names: Iterable[str] | None) -> list[Target]:
                 exit_code=2,
             )
         chosen[made.name] = made
+    if trust:
+        for name, made in chosen.items():
+            if made.stylesheet is not None and not _built_in(made):
+                chosen[name] = replace(made, trusted=True)
     return [chosen[n] for n in sorted(chosen)]
+
+
+def _built_in(made: Target) -> bool:
+    from acordcs.generator.target import _TRANSFORMS
+
+    return (
+        made.origin == "acordcs"
+        and made.stylesheet is not None
+        and (made.stylesheet.resolve().parent == _TRANSFORMS)
+    )
 
 
 def stylesheet_target(path: str | os.PathLike[str]) -> Target:
@@ -153,6 +169,7 @@ def build(
     check: bool = False,
     drift: bool = False,
     progress: Progress | None = None,
+    trust_stylesheets: bool = False,
 ) -> BuildResult:
     """Build ``target_names`` (default: all) of ``model`` into ``output``. With ``write`` False
     nothing is written: the result's plan says what would change (``--dry-run``, ``--diff``).
@@ -160,11 +177,12 @@ def build(
     are generated: the targets always run (as with ``force``) and their bytes are compared with
     the files on disk; a manifest that cannot be read is an error. ``drift`` (``--strict``):
     compare the user's classes with the model even when nothing else is to be done (a build
-    that reads the model always does). Raises :class:`BuildError` (nothing written) when the
+    that reads the model always does). ``trust_stylesheets`` (``--trust-stylesheet``): the
+    stylesheets not built in run with the user's rights instead of confined. Raises :class:`BuildError` (nothing written) when the
     build cannot be done."""
     source = os.fspath(model)
     out = Path(output)
-    chosen = select(target_names)
+    chosen = select(target_names, trust=trust_stylesheets)
     result = BuildResult(out, [t.name for t in chosen])
     if check:
         write, force = False, True
@@ -299,10 +317,15 @@ def write_out(result: BuildResult) -> None:
 
 
 def _find_drift(out: Path, app: Application | None, result: BuildResult) -> None:
-    """The user's classes against the model (:mod:`acordcs.generator.drift`), before anything is
-    written: the package's descriptor on disk is still the previous build's. ``app`` None: the
+    """The user's classes against the model (:mod:`acordcs.generator.drift`), and compiled as a
+    container's start compiles them (G705), before anything is written: the package's descriptor on disk is still the previous build's. ``app`` None: the
     output is up to date, the descriptor on disk is the model's."""
-    from acordcs.generator.drift import as_diagnostics, find_drift, previous_application
+    from acordcs.generator.drift import (
+        as_diagnostics,
+        find_drift,
+        not_compiling,
+        previous_application,
+    )
     from acordcs.generator.manifest import read_manifest
     from acordcs.generator.targets.python import package_name
 
@@ -314,9 +337,11 @@ def _find_drift(out: Path, app: Application | None, result: BuildResult) -> None
         if current is None:
             return
         result.drift = find_drift(out, package, None, current)
+        result.drift += not_compiling(out, package, current)
     else:
         package = package_name(app.name)
         result.drift = find_drift(out, package, previous_application(out, package), app)
+        result.drift += not_compiling(out, package, app)
     result.warnings += as_diagnostics(result.drift, out)
 
 
@@ -336,10 +361,9 @@ def _intact(out: Path, old: Manifest, fingerprints: dict[str, str], model_sha: s
             if not os.path.isfile(path):
                 return False
             continue
-        try:
-            with open(path, "rb") as handle:
-                if sha256(handle.read()) != entry.sha256:
-                    return False
+        try:  # a FIFO or a huge file: not intact, found at once (the plan reports it)
+            if sha256(read_bounded(path)) != entry.sha256:
+                return False
         except OSError:
             return False
     return True

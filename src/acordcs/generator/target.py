@@ -48,6 +48,9 @@ class Target:
     stylesheet: Path | None = None
     origin: str = "acordcs"
     version: str = ""
+    trusted: bool = (
+        False  # a stylesheet run with the user's rights (--trust-stylesheet), not confined
+    )
 
     @property
     def kind(self) -> str:

@@ -44,17 +44,18 @@ from pathlib import Path
 from acordcs.generator.errors import BuildError
 from acordcs.generator.headers import is_users
 from acordcs.generator.manifest import Entry, Manifest, sha256
-from acordcs.generator.paths import MANIFEST
+from acordcs.generator.paths import MANIFEST, Unreadable, read_bounded
 from acordcs.generator.target_context import GeneratedFile
 
 
 @dataclass
 class Change:
     path: str
-    action: str  # "create", "update", "delete"
+    action: str  # "create", "update", "delete", "move" (``source`` renamed to ``path``, unread)
     old: bytes | None
     new: bytes | None
     executable: bool = False
+    source: str = ""
 
 
 @dataclass
@@ -65,6 +66,7 @@ class FileChanges:
     orphaned: list[str] = field(default_factory=list)  # user files the model no longer makes
     lost: dict[str, list[str]] = field(default_factory=dict)  # file -> keys of regions moved out
     edited: dict[str, str] = field(default_factory=dict)  # generated file edited -> where saved
+    unread: dict[str, str] = field(default_factory=dict)  # not a regular file, or too large: what
     manifest: Manifest = field(default_factory=Manifest)
     manifest_bytes: bytes = b""
     manifest_changed: bool = True
@@ -109,11 +111,18 @@ class _Disk:
                 hint="replace the link by a directory, or choose another output directory",
                 exit_code=2,
             )
-        try:
-            with open(path, "rb") as handle:
-                return handle.read()
+        try:  # never waits (a FIFO), never reads more than READ_LIMIT: Unreadable for the caller
+            return read_bounded(path)
         except FileNotFoundError:
             return None
+        except Unreadable as err:
+            if err.what != "a directory":
+                raise
+            raise BuildError(
+                f"{path}: a directory stands where a generated file must be written",
+                hint="move it away, or choose another output directory",
+                exit_code=2,
+            ) from None
         except NotADirectoryError:
             raise BuildError(
                 f"{path}: a file stands where a directory of generated files must be",
@@ -144,7 +153,11 @@ def plan(
     previous = old.files if old else {}
     made = {f.path for f in files}
     for f in files:
-        current = None if result.fresh else disk.read(f.path)
+        try:
+            current = None if result.fresh else disk.read(f.path)
+        except Unreadable as err:
+            _unread(disk, f, err.what, previous.get(f.path), made, result)
+            continue
         before = previous.get(f.path)
         outside = ""
         if f.regions and not f.once:
@@ -171,7 +184,13 @@ def plan(
         if entry.target not in selected:  # another target's file: kept, and still listed
             new.files[path] = entry
             continue
-        current = None if result.fresh else disk.read(path)
+        try:
+            current = None if result.fresh else disk.read(path)
+        except Unreadable:  # not read, so not known to be intact: left, as an edited one is
+            current = b""
+            if not entry.user:
+                result.kept.append(path)
+                continue
         if current is None:
             continue
         if entry.user or is_users(current):  # the user's code: never deleted
@@ -187,10 +206,55 @@ def plan(
         result.manifest_changed = True
     else:
         try:
-            result.manifest_changed = (output / MANIFEST).read_bytes() != result.manifest_bytes
+            result.manifest_changed = read_bounded(output / MANIFEST) != result.manifest_bytes
         except OSError:
             result.manifest_changed = True
     return result
+
+
+def _unread(
+    disk: _Disk,
+    f: GeneratedFile,
+    what: str,
+    before: Entry | None,
+    made: set[str],
+    result: FileChanges,
+) -> None:
+    """Plan ``f`` where the output holds, at its path, what a build does not read (``what``: a
+    FIFO, a device, a file over READ_LIMIT). The user's file (``once``) is left as it is; a
+    generated one is taken as edited: renamed aside, unread, to ``<path>.edited`` (or the first
+    ``.edited.N`` free), and ``f`` written anew; a file no build wrote stops the build."""
+    outside = ""
+    if f.regions and not f.once:
+        f, outside = _merge_regions(disk, f, None, before, made, result)
+    result.manifest.files[f.path] = Entry(
+        sha256(f.data), f.target, f.element, f.ids, f.once, outside
+    )
+    if f.once:
+        result.unchanged.append(f.path)
+        return
+    if before is None or before.user:
+        raise BuildError(
+            f"{disk.output / f.path} exists ({what}) and this build did not write it (it is not "
+            f"in {MANIFEST}): it would be replaced by target {f.target}",
+            hint="move it away, or choose another output directory; a build never overwrites a "
+            "file it did not write",
+        )
+    planned = {c.path for c in result.changes}
+    for n in range(1, 1000):
+        name = f"{f.path}.edited" + (f".{n}" if n > 1 else "")
+        if name in made or name in planned or os.path.lexists(disk.output / name):
+            continue
+        result.changes.append(Change(name, "move", None, None, source=f.path))
+        result.changes.append(Change(f.path, "create", None, f.data, f.executable))
+        result.edited[f.path] = name
+        result.unread[f.path] = what
+        return
+    raise BuildError(
+        f"{disk.output / f.path} is {what} and {f.path}.edited to .edited.999 are taken: nowhere "
+        "to move it before it is regenerated",
+        hint="move the .edited files away, then build again",
+    )
 
 
 def _save_edited(disk: _Disk, path: str, data: bytes, made: set[str], result: FileChanges) -> None:
@@ -201,7 +265,10 @@ def _save_edited(disk: _Disk, path: str, data: bytes, made: set[str], result: Fi
         name = f"{path}.edited" + (f".{n}" if n > 1 else "")
         if name in made or name in planned:
             continue
-        there = disk.read(name)
+        try:
+            there = disk.read(name)
+        except Unreadable:  # taken, by something that is not a copy of this one
+            continue
         if there is None:
             result.changes.append(Change(name, "create", None, data))
         elif there != data:
@@ -255,7 +322,15 @@ def _merge_regions(
             _save_edited(disk, f.path, current, made, result)
         if lost:
             path = f.path + ".lost"
-            there = disk.read(path)
+            try:
+                there = disk.read(path)
+            except Unreadable as err:
+                raise BuildError(
+                    f"{disk.output / path} is {err.what}: the regions the model no longer makes "
+                    "cannot be added to it",
+                    hint="move it away, then build again",
+                    exit_code=2,
+                ) from None
             data = (there or b"") + lost_text(f.regions, f.path, lost).encode("utf-8")
             result.changes.append(Change(path, "update" if there else "create", there, data))
             result.lost[f.path] = list(lost)
@@ -302,8 +377,14 @@ def apply(output: Path, result: FileChanges) -> None:
     made: set[Path] = set()
     try:
         output.mkdir(parents=True, exist_ok=True)
+        for change in result.changes:  # what is moved aside unread first: then it is written anew
+            if change.action == "move":
+                _move(output / change.source, output / change.path)
+                done.append(change.path)
         for change in result.changes:
             path = output / change.path
+            if change.action == "move":
+                continue
             if change.action == "delete":
                 path.unlink(missing_ok=True)
                 _prune(output, path.parent)
@@ -325,6 +406,13 @@ def apply(output: Path, result: FileChanges) -> None:
             "the next build finishes the job",
             exit_code=2,
         ) from None
+
+
+def _move(source: Path, target: Path) -> None:
+    """Rename ``source`` (a file a build does not read) to ``target``, which must not exist: a
+    hard link then the old name removed (a rename would replace a file that appeared since)."""
+    os.link(source, target, follow_symlinks=False)
+    source.unlink()
 
 
 def _apply_fresh(output: Path, result: FileChanges) -> None:

@@ -37,8 +37,10 @@ descriptor of file 2 is redirected while Saxon runs) and become part of the :cla
 
 from __future__ import annotations
 
+import atexit
 import codecs
 import contextlib
+import hashlib
 import os
 import re
 import sys
@@ -50,6 +52,8 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Protocol
 from urllib.parse import unquote, urlsplit
 
+from acordcs.diagnostics import printable
+from acordcs.generator import sandbox
 from acordcs.generator.errors import BuildError
 from acordcs.generator.paths import path_problem
 from acordcs.generator.regions import PREFIXES
@@ -91,15 +95,10 @@ _XML_DECLARATION = re.compile(r"<\?xml[^>]*?\sencoding\s*=\s*[\"']([A-Za-z0-9._-
 
 @cache
 def _saxon():
-    """The Saxon processor and the compiled driver (both made once per process)."""
-    from saxonche import PySaxonProcessor
-
-    processor = PySaxonProcessor(license=False)
-    path = str(resources.files("acordcs.transforms") / DRIVER)
-    driver = processor.new_xslt30_processor().compile_stylesheet(stylesheet_file=path)
-    driver.set_result_as_raw_value(True)  # the map itself, not a serialization of it
-    driver.set_save_xsl_message(True)
-    return processor, driver
+    """The processor and the compiled driver of this process, for the stylesheets the user trusts
+    (``--trust-stylesheet``: Saxon as it comes, every protocol allowed; made once per process)."""
+    _check_address_space()
+    return sandbox.start(str(resources.files("acordcs.transforms") / DRIVER), None)
 
 
 def _schema_uri() -> str:
@@ -147,21 +146,59 @@ def _saxon_said(caught: list[str]) -> str:
     return "\n".join(kept)
 
 
-def _fail(target: Target, err: Exception, caught: list[str]) -> BuildError:
-    said = str(err).strip() or type(err).__name__
+# What Saxon says of a resource refused: by Landlock (a file outside the readable paths) or by its
+# allowedProtocols (a URI not file:); and where, in the stylesheet.
+_REFUSED = re.compile(
+    r"Cannot read (?P<read>\S+?)\.? Caused by java\.io\.\w+: .*?\(Permission denied\)"
+    r"|Access to URI (?P<uri>\S+) has been prohibited"
+    r"|(?P<import>/\S+) \(Permission denied\)"
+)
+_WHERE = re.compile(r"on line (\d+) column \d+ of (\S+?):(?: |$)")
+
+
+def _fail(target: Target, err: Exception, caught: list[str], confined: bool = False) -> BuildError:
+    said = printable(str(err).strip() or type(err).__name__)  # it may be a message's text
     extra = _saxon_said(caught)
     if extra.strip() == said:
         extra = ""
+    everything = " ".join(f"{said}\n{chr(10).join(caught)}".split())  # Saxon wraps its lines
     what = "compiling the stylesheet" if _STATIC.search("\n".join(caught)) else "the transformation"
+    refused = _REFUSED.search(everything) if confined else None
+    line = 0
+    hint = (
+        "nothing was written; this is a fault of the stylesheet (or of the descriptor it "
+        "reads): fix it, or build the other targets with --target"
+    )
+    if refused:
+        uri = refused["read"] or refused["uri"] or refused["import"]
+        where = _WHERE.search(everything)
+        module = where[2] if where else Path(str(target.stylesheet)).name
+        line = int(where[1]) if where else 0
+        at = f" at line {line} of {module}" if where else ""
+        said = (
+            f"the stylesheet is confined and may not read {uri}{at}: it reads the descriptor, "
+            f"the files under {os.path.dirname(str(target.stylesheet))} and the descriptor's "
+            "schema, reaches no network and sees no environment variable"
+        )
+        hint = (
+            "nothing was written; keep what the stylesheet reads beside it, or, if you trust it, "
+            "build with --trust-stylesheet (it then has your rights: every file you can read, "
+            "the network, your environment variables)"
+        )
+    if confined and not refused and "NullPointerException" in everything:
+        said += (  # Saxon's collection() of a directory it may not list: a null listing
+            " (a confined stylesheet lists only directories under its own: collection() of one "
+            "elsewhere fails so in Saxon)"
+        )
+        hint = (
+            "nothing was written; keep what the stylesheet reads beside it, or, if you trust it, "
+            "build with --trust-stylesheet"
+        )
     message = f"target {target.name}: {what} failed: {said}"
     if extra:
         message += f"\nSaxon said:\n{extra}"
-    return BuildError(
-        message,
-        file=str(target.stylesheet),
-        hint="nothing was written; this is a fault of the stylesheet (or of the descriptor it "
-        "reads): fix it, or build the other targets with --target",
-    )
+    located = line and where and Path(str(target.stylesheet)).name == module
+    return BuildError(message, file=str(target.stylesheet), line=line if located else 0, hint=hint)
 
 
 def run_stylesheet(
@@ -170,9 +207,8 @@ def run_stylesheet(
     """Run ``target``'s stylesheet over the descriptor and emit every result document into
     ``context``, with what its principal result, a listing, says of each (if it is one). ``parameters``: string parameters besides
     the four every stylesheet gets, from a Python target that runs a stylesheet (what is decided
-    once in Python is not written again in XSLT)."""
-    from saxonche import PySaxonApiError
-
+    once in Python is not written again in XSLT). The stylesheet runs confined
+    (:func:`readable`, :mod:`acordcs.generator.sandbox`) unless the target is ``trusted``."""
     from acordcs.generator.headers import clean
 
     path = target.stylesheet
@@ -183,7 +219,6 @@ def run_stylesheet(
             hint=f"reinstall the package that provides target {target.name} ({target.origin}), "
             "or give the path of an XSLT 3.0 file",
         )
-    processor, driver = _saxon()
     values = {
         "source-file": clean(context.source_name),
         "generator": context.generator,
@@ -191,32 +226,205 @@ def run_stylesheet(
         "descriptor-schema": _schema_uri(),
         **(parameters or {}),
     }
-    driver.clear_parameters()
-    driver.clear_xsl_messages()
-    driver.set_parameter("stylesheet", processor.make_string_value(path.resolve().as_uri()))
-    driver.set_parameter("base", processor.make_string_value(BASE_OUTPUT))
-    driver.set_parameter(
-        "parameters",
-        processor.make_map2({k: processor.make_string_value(v) for k, v in values.items()}),
-    )
-    with _stderr_captured() as caught:
-        try:
-            document = _parsed(processor, context.descriptor_xml)
-            result = driver.transform_to_value(xdm_node=document)
-            serialized = _outputs(result.head.string_value if result.size else "")
-        except PySaxonApiError as err:
-            failure: Exception | None = err
-        else:
-            failure = None
-    messages = _messages(driver)
-    if failure is not None:
-        caught = [*caught, *(f"xsl:message: {m}" for m in messages)]
-        raise _fail(target, failure, caught)
+    request = {
+        "stylesheet": path.resolve().as_uri(),
+        "base": BASE_OUTPUT,
+        "parameters": values,
+        "descriptor": _digest(context.descriptor_xml),
+    }
+    trusted = bool(getattr(target, "trusted", False))
+    if trusted:
+        answer = _run_here(request, context.descriptor_xml)
+    else:
+        answer = _worker(target).run(request, context.descriptor_xml)
+    messages = answer["messages"]
+    caught = [answer["said"]] if answer.get("said") else []
+    if answer["framed"] is None:
+        caught = [*caught, *(f"xsl:message: {printable(m)}" for m in messages)]
+        raise _fail(target, RuntimeError(answer["error"] or ""), caught, confined=not trusted)
     context.messages.extend(messages)
+    serialized = _outputs(answer["framed"])
     listing = serialized.pop(BASE_OUTPUT, None)
     if listing is None:
         listing = serialized.pop("output", "")
     _collect(target, context, listing, _documents(target, serialized))
+
+
+_DIGESTS: list = []  # [(descriptor bytes, its sha256)]: the last descriptor seen
+
+
+def _digest(data: bytes) -> str:
+    """The sha256 of ``data`` (a descriptor document), computed once for all the stylesheets of a
+    build (they get the same bytes object)."""
+    if not (_DIGESTS and _DIGESTS[0][0] is data):
+        _DIGESTS[:] = [(data, hashlib.sha256(data).hexdigest())]
+    return _DIGESTS[0][1]
+
+
+_HERE: dict = {}  # the descriptor parsed by this process's processor, by digest
+
+
+def _run_here(request: dict, descriptor: bytes) -> dict:
+    """A trusted stylesheet, run by this process's Saxon (what it prints on file descriptor 2 is
+    caught: ``said``)."""
+    processor, driver = _saxon()
+    if request["descriptor"] not in _HERE:
+        request = {**request, "descriptor_text": descriptor.decode("utf-8")}
+    with _stderr_captured() as caught:
+        answer = sandbox.transform(processor, driver, request, _HERE)
+    return {**answer, "said": "\n".join(caught)}
+
+
+def readable(target: Target) -> tuple[str, ...]:
+    """What a confined stylesheet may read besides the descriptor it is given: the directory it
+    is in (and everything under it, its modules and data files), and the descriptor's schema
+    (its URI is the parameter ``descriptor-schema``). Real paths: a link is followed here, once."""
+    assert target.stylesheet is not None
+    schema = Path(str(resources.files("acordcs.descriptor") / "acordcs-descriptor.xsd"))
+    return (os.path.realpath(target.stylesheet.parent), os.path.realpath(schema))
+
+
+def _worker(target: Target) -> _Worker:
+    """The confined child process that runs ``target`` (one per set of readable paths, kept for
+    the next build of this process: a few at most)."""
+    key = readable(target)
+    worker = _WORKERS.pop(key, None)
+    if worker is None or not worker.alive():
+        _check_address_space()
+        confine = sandbox.abi() >= 1
+        if not confine and target.origin != "acordcs":
+            raise BuildError(
+                f"target {target.name}: the stylesheet cannot be run confined here: this system "
+                "has no Linux Landlock (Linux 5.13 or later, enabled), which keeps it to reading "
+                "its own directory",
+                file=str(target.stylesheet),
+                hint="run it with --trust-stylesheet if you trust it: it then has your rights "
+                "(every file you can read, the network, your environment variables)",
+                exit_code=2,
+            )
+        worker = _Worker(key, confine)
+    _WORKERS[key] = worker
+    while len(_WORKERS) > _MAX_WORKERS:
+        _WORKERS.pop(next(iter(_WORKERS))).close()
+    return worker
+
+
+_MAX_WORKERS = 3
+_WORKERS: dict[tuple[str, ...], _Worker] = {}
+
+
+class _Worker:
+    """A child process of :mod:`acordcs.generator.sandbox`: Saxon, without environment, with
+    ``allowedProtocols=file``, reading only ``readable`` (when ``confine``: Landlock)."""
+
+    def __init__(self, readable: tuple[str, ...], confine: bool) -> None:
+        import subprocess
+
+        self.log = tempfile.TemporaryFile()  # noqa: SIM115  (what the child prints at start)
+        self.descriptor = ""  # the digest of the descriptor the child holds
+        self.process = subprocess.Popen(
+            [sys.executable, "-I", "-S", sandbox.__file__],
+            stdin=subprocess.PIPE,
+            stdout=subprocess.PIPE,
+            stderr=self.log,
+            env={},
+            cwd="/",
+        )
+        setup = {
+            "path": [p for p in sys.path if p],
+            "driver": str(resources.files("acordcs.transforms") / DRIVER),
+            "readable": list(readable),
+            "confine": confine,
+        }
+        try:
+            sandbox.send(self.process.stdin, setup)
+            ready = sandbox.receive(self.process.stdout)
+        except OSError:
+            ready = None
+        if not ready or not ready.get("ready"):
+            said = (ready or {}).get("error") or self._log()
+            self.close()
+            raise _engine_failed(said)
+
+    def alive(self) -> bool:
+        return self.process.poll() is None
+
+    def run(self, request: dict, descriptor: bytes) -> dict:
+        if request["descriptor"] != self.descriptor:
+            request = {**request, "descriptor_text": descriptor.decode("utf-8")}
+        try:
+            sandbox.send(self.process.stdin, request)
+            answer = sandbox.receive(self.process.stdout)
+        except OSError:
+            answer = None
+        if answer is None:
+            said = self._log()
+            self.close()
+            raise _engine_failed(said or "its process ended while running the stylesheet")
+        self.descriptor = request["descriptor"]
+        return answer
+
+    def _log(self) -> str:
+        self.log.seek(0)
+        return self.log.read().decode("utf-8", "replace").strip()
+
+    def close(self) -> None:
+        import subprocess
+
+        for stream in (self.process.stdin, self.process.stdout):
+            with contextlib.suppress(OSError):
+                stream.close()  # type: ignore[union-attr]
+        try:
+            self.process.wait(timeout=5)
+        except subprocess.TimeoutExpired:
+            self.process.kill()
+            self.process.wait()
+        self.log.close()
+
+
+@atexit.register
+def _close_workers() -> None:
+    while _WORKERS:
+        _WORKERS.popitem()[1].close()
+
+
+def _engine_failed(said: str) -> BuildError:
+    """The XSLT engine could not start or ended (what it said: ``said``)."""
+    if "graal_create_isolate" in said or "IsolateThread" in said:
+        return _address_space_error()
+    return BuildError(
+        f"the XSLT engine (Saxon) failed: {said or 'it said nothing'}",
+        hint="nothing was written; build again, and report it if it happens again",
+        exit_code=2,
+    )
+
+
+# Saxon is a GraalVM native image: its isolate reserves 32 GiB of address space when it starts,
+# and a process limited below that (ulimit -v) is ended by it with "graal_create_isolate error".
+_ADDRESS_SPACE = 34 * 1024**3  # bytes: the reservation and the interpreter beside it
+
+
+def _check_address_space() -> None:
+    """A BuildError, before Saxon starts, when ``ulimit -v`` leaves it too little address space."""
+    try:
+        import resource
+    except ImportError:  # not on a POSIX system: no such limit
+        return
+    soft, _hard = resource.getrlimit(resource.RLIMIT_AS)
+    if soft != resource.RLIM_INFINITY and soft < _ADDRESS_SPACE:
+        raise _address_space_error(soft)
+
+
+def _address_space_error(limit: int | None = None) -> BuildError:
+    now = f" (it is {limit // 1024} KiB)" if limit is not None else ""
+    return BuildError(
+        "the XSLT engine (Saxon, a GraalVM native image) could not reserve its address space: it "
+        "reserves 32 GiB of virtual memory when it starts (not memory it uses), and this process's "
+        f"address-space limit, ulimit -v{now}, is below that",
+        hint=f"raise the limit: ulimit -v unlimited, or at least ulimit -v {_ADDRESS_SPACE // 1024} "
+        "(KiB), then build again; nothing was written",
+        exit_code=2,
+    )
 
 
 def _outputs(framed: str) -> dict[str, str]:
@@ -232,33 +440,6 @@ def _outputs(framed: str) -> dict[str, str]:
         if len(pieces) == 2:
             out[pieces[0]] = pieces[1]
             pieces = []
-    return out
-
-
-_LAST: list = []  # [(descriptor bytes, its parsed document)]: the last descriptor parsed
-
-
-def _parsed(processor, data: bytes):
-    """``data`` (a descriptor document) parsed by Saxon, once for all the stylesheets of a build
-    (they get the same bytes object)."""
-    if _LAST and _LAST[0][0] is data:
-        return _LAST[0][1]
-    document = processor.parse_xml(xml_text=data.decode("utf-8"))
-    _LAST[:] = [(data, document)]
-    return document
-
-
-def _messages(driver) -> list[str]:
-    try:
-        found = driver.get_xsl_messages()
-    except Exception:  # saxonche gives nothing when no message was sent
-        return []
-    if found is None:
-        return []
-    out = []
-    for n in range(found.size):
-        item = found.item_at(n)
-        out.append(str(getattr(item, "string_value", item)).strip())
     return out
 
 
