@@ -3,8 +3,8 @@
 A leaf package: frozen plain data (:mod:`.model`, whose annotated fields are the one declaration
 of the XML form: :mod:`.declaration`), and ``to_xml`` / ``from_xml`` (:mod:`.xml`) writing and
 reading it as the XML deployment descriptor, validated against ``acordcs-descriptor.xsd`` (which
-:mod:`.xsd` writes from the declaration). It imports nothing of the toolchain: a generated application reads
-its descriptor with it. The toolchain makes a descriptor from a model with
+:mod:`.xsd` writes from the declaration). It imports nothing of the toolchain: a generated
+application reads its descriptor with it. The toolchain makes a descriptor from a model with
 :func:`acordcs.model.describe.describe`; the code generator's stylesheets read the document, and
 :func:`acordcs.runtime.assembly.assemble` builds running containers from the data::
 
