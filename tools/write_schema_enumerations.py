@@ -1,87 +1,55 @@
-"""Write the metamodel's enumerations into the descriptor's schema.
+"""Write the descriptor's schema from the descriptor's declaration.
 
-The descriptor's schema (``src/acordcs/descriptor/acordcs-descriptor.xsd``) is the contract users'
-own stylesheets read, so it carries its enumerations itself; they are the literals of the EEnums
-of ``acordcs.ecore`` (through :mod:`acordcs.vocabularies`), written here into the simple types of
-:data:`SIMPLE_TYPES`, each with a documentation line naming its EEnum. The rest of the file is
-left byte for byte. ``tests/test_vocabularies_agree.py`` fails when the shipped schema is not
-what this writes.
+The schema (``src/acordcs/descriptor/acordcs-descriptor.xsd``) is the contract users' own
+stylesheets read, so the package ships it as a file; its text is what
+:func:`acordcs.descriptor.xsd.schema_text` makes of the declaration in
+:mod:`acordcs.descriptor.model` (the dataclasses' fields, annotated), its enumerations the
+literals of the EEnums of ``acordcs.ecore`` (through :mod:`acordcs.vocabularies`). To change the
+schema, change the declaration (or, for what only the schema says, :mod:`acordcs.descriptor.xsd`)
+and run this. ``tests/descriptor/test_schema_is_the_declarations.py`` fails when the shipped file
+is not what this writes.
 
 Run from the repository: ``.venv/bin/python tools/write_schema_enumerations.py`` (``--check``:
-write nothing, exit 1 when the schema is not current).
+write nothing, exit 1 when the schema is not current). The name is the one of the tool that
+wrote only the enumerations into a schema written by hand; :data:`SCHEMA`, :data:`SIMPLE_TYPES`,
+:func:`enumeration_values` and :func:`schema_text` keep their meaning for the tests that use them.
 """
 
 from __future__ import annotations
 
-import re
 import sys
 from pathlib import Path
 
-from acordcs.vocabularies import literals
+from acordcs.descriptor import xsd
 
 SCHEMA = Path(__file__).resolve().parents[1] / "src/acordcs/descriptor/acordcs-descriptor.xsd"
+COMMAND = "python tools/write_schema_enumerations.py"
 
 SIMPLE_TYPES: dict[str, tuple[str, tuple[str, ...], str]] = {
     # simple type of the schema: (EEnum of acordcs.ecore, literals left out, why)
-    "language": ("ImplementationLanguage", (), ""),
-    "portKind": ("PortKind", (), ""),
-    "portRole": ("PortRole", (), ""),
-    "connector": ("ConnectorKind", (), ""),
-    "acquisition": ("MonitorAcquisition", (), ""),
-    "engine": ("EngineKind", (), ""),
-    "semantics": ("FuzzySemantics", (), ""),
-    "trigger": ("PolicyTrigger", (), ""),
-    "direction": (
-        "ParameterDirection",
-        ("return",),
-        "an operation's result is its returnType, not one of its parameters",
-    ),
-    "shape": ("MembershipShape", (), ""),
+    name: (simple.eenum, simple.left_out, simple.why)
+    for name, simple in xsd.enumerations().items()
+    if simple.eenum
 }
 
 
 def enumeration_values(simple_type: str) -> tuple[str, ...]:
     """The values the schema's ``simple_type`` enumerates: its EEnum's literals, less those left out."""
-    enum, left_out, _why = SIMPLE_TYPES[simple_type]
-    return tuple(v for v in literals(enum) if v not in left_out)
+    return xsd.enumeration_values(xsd.enumerations()[simple_type])
 
 
-def _block(simple_type: str) -> str:
-    enum, left_out, why = SIMPLE_TYPES[simple_type]
-    where = f"The literals of EEnum {enum} of the metamodel, acordcs.ecore"
-    if left_out:
-        where += f", but {', '.join(left_out)} ({why})"
-    lines = [
-        f'  <xs:simpleType name="{simple_type}">',
-        f"    <xs:annotation><xs:documentation>{where}.</xs:documentation></xs:annotation>",
-        '    <xs:restriction base="xs:string">',
-        *(f'      <xs:enumeration value="{v}"/>' for v in enumeration_values(simple_type)),
-        "    </xs:restriction>",
-        "  </xs:simpleType>",
-    ]
-    return "\n".join(lines)
-
-
-def schema_text(current: str) -> str:
-    """``current`` (the schema's text) with every simple type of :data:`SIMPLE_TYPES` written from
-    the metamodel; ``ValueError`` when one of them is not in it."""
-    out = current
-    for simple_type in SIMPLE_TYPES:
-        pattern = re.compile(
-            rf'^  <xs:simpleType name="{simple_type}">\n.*?^  </xs:simpleType>$', re.M | re.S
-        )
-        out, found = pattern.subn(lambda _m, t=simple_type: _block(t), out, count=1)
-        if not found:
-            raise ValueError(f'{SCHEMA.name} has no <xs:simpleType name="{simple_type}">')
-    return out
+def schema_text(current: str | None = None) -> str:
+    """The schema as the declaration writes it (``current``, the shipped text, is not needed: the
+    whole file is written)."""
+    return xsd.schema_text()
 
 
 def main(argv: list[str]) -> int:
     current = SCHEMA.read_text(encoding="utf-8")
-    wanted = schema_text(current)
+    wanted = schema_text()
     if "--check" in argv:
         if wanted != current:
-            print(f"{SCHEMA}: not current; run python tools/write_schema_enumerations.py")
+            print(f"{SCHEMA}: not current; run {COMMAND}")
             return 1
         print(f"{SCHEMA}: current")
         return 0

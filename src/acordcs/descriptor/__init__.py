@@ -1,9 +1,10 @@
 """The application descriptor: one source of truth between a model and what is built from it.
 
-A leaf package: frozen plain data (:mod:`.model`), and ``to_xml`` / ``from_xml`` (:mod:`.xml`)
-writing and reading it as the XML deployment descriptor, validated against
-``acordcs-descriptor.xsd``. It imports nothing of the toolchain: a generated application reads
-its descriptor with it. The toolchain makes a descriptor from a model with
+A leaf package: frozen plain data (:mod:`.model`, whose annotated fields are the one declaration
+of the XML form: :mod:`.declaration`), and ``to_xml`` / ``from_xml`` (:mod:`.xml`) writing and
+reading it as the XML deployment descriptor, validated against ``acordcs-descriptor.xsd`` (which
+:mod:`.xsd` writes from the declaration). It imports nothing of the toolchain: a generated
+application reads its descriptor with it. The toolchain makes a descriptor from a model with
 :func:`acordcs.generator.describe.describe`; the code generator's stylesheets read the document, and
 :func:`acordcs.runtime.assembly.assemble` builds running containers from the data::
 

@@ -11,21 +11,77 @@ and its ``qualified_name`` (``Model::Package::Class``) for traceability. Lists o
 deterministic order (see :func:`acordcs.generator.describe.describe`). Nothing here refers to the UML view,
 the architecture index or pyecore: a descriptor is written to and read from XML
 (:mod:`acordcs.descriptor.xml`) without loss, and ``assemble`` builds running containers from it.
+
+This module is also the one declaration of the XML form: each class's ``XML`` names its element
+type, each field's ``metadata`` says what it is in the document and its value type (see
+:mod:`acordcs.descriptor.declaration`); the writer, the reader and the schema
+(``acordcs-descriptor.xsd``, written by :mod:`acordcs.descriptor.xsd`) are derived from it.
 """
 
-from __future__ import annotations
+# No ``from __future__ import annotations``: the fields' annotations are evaluated as the classes
+# are made, so that the plans of the declaration read them as they are (resolving them as strings
+# with typing.get_type_hints costs about 1.7 ms of a generated application's start).
 
 from collections.abc import Iterable, Sequence
-from dataclasses import dataclass
-from typing import Any
+from dataclasses import dataclass, field
+from typing import Any, ClassVar
 
+from acordcs.descriptor.declaration import (
+    BOOLEAN,
+    FREQUENCY,
+    NAMES,
+    NON_NEGATIVE_INTEGER,
+    POSITIVE_INTEGER,
+    REAL,
+    REALS,
+    TCP_PORT,
+    Element,
+    attr,
+    child,
+    children,
+    content,
+    doc,
+    enumeration,
+    group,
+    name_list,
+)
 from acordcs.errors import AcordError
 from acordcs.typed_values import Value
 
+# The descriptor's own vocabularies: no EEnum of acordcs.ecore declares them (those that one does
+# are named by their EEnum below, and acordcs.vocabularies reads their literals from the file).
 KINDS = ("int", "double", "bool", "string")
 """How a property's UML type is read (see :func:`acordcs.typed_values.typed_default`)."""
 
 ELEMENT_KINDS = ("container", "component", "port", "connection", "monitor", "policy-set")
+"""What a :class:`Ref` refers to."""
+
+MEMBER_KINDS = ("attribute", "operation")
+"""What a :class:`Bound` name stands for."""
+
+PROTOCOLS = ("pyro",)
+"""How remote connectors reach a container's :class:`Endpoint`."""
+
+# The enumerated value types of the document's attributes.
+VALUE_KIND = enumeration("valueKind", KINDS)
+ELEMENT_KIND = enumeration("elementKind", ELEMENT_KINDS)
+MEMBER_KIND = enumeration("memberKind", MEMBER_KINDS)
+PROTOCOL = enumeration("", PROTOCOLS)  # declared inline: the endpoint's attribute alone has it
+LANGUAGE = enumeration("language", eenum="ImplementationLanguage")
+PORT_KIND = enumeration("portKind", eenum="PortKind")
+PORT_ROLE = enumeration("portRole", eenum="PortRole")
+CONNECTOR = enumeration("connector", eenum="ConnectorKind")
+ACQUISITION = enumeration("acquisition", eenum="MonitorAcquisition")
+ENGINE = enumeration("engine", eenum="EngineKind")
+SEMANTICS = enumeration("semantics", eenum="FuzzySemantics")
+TRIGGER = enumeration("trigger", eenum="PolicyTrigger")
+DIRECTION = enumeration(
+    "direction",
+    eenum="ParameterDirection",
+    left_out=("return",),
+    why="an operation's result is its returnType, not one of its parameters",
+)
+SHAPE = enumeration("shape", eenum="MembershipShape")
 
 
 class DescriptorError(AcordError):
@@ -45,23 +101,25 @@ class Property:
     property of a connection, a monitor's context attribute. ``type`` is the UML type as written
     (``""`` when untyped); ``kind`` says how ``default`` is typed (one of :data:`KINDS`)."""
 
-    id: str
-    name: str
-    qualified_name: str
-    type: str
-    kind: str
-    default: Value
-    documentation: str = ""
+    XML: ClassVar[Element] = Element("property", "property")
+    id: str = field(metadata=attr())
+    name: str = field(metadata=attr())
+    qualified_name: str = field(metadata=attr("qname"))
+    type: str = field(metadata=attr())
+    kind: str = field(metadata=attr(type=VALUE_KIND))
+    default: Value = field(metadata=attr(typed_by="kind"))
+    documentation: str = field(default="", metadata=doc())
 
 
 @dataclass(frozen=True, slots=True)
 class Parameter:
     """An input parameter of an operation; ``direction`` is ``in``, ``out`` or ``inout``."""
 
-    id: str
-    name: str
-    type: str
-    direction: str = "in"
+    XML: ClassVar[Element] = Element("parameter")
+    id: str = field(metadata=attr())
+    name: str = field(metadata=attr())
+    type: str = field(metadata=attr())
+    direction: str = field(default="in", metadata=attr(type=DIRECTION))
 
 
 @dataclass(frozen=True, slots=True)
@@ -69,12 +127,13 @@ class Operation:
     """An operation (an action a crisp rule may call); parameters in declaration order,
     ``return_type`` None for none."""
 
-    id: str
-    name: str
-    qualified_name: str
-    parameters: tuple[Parameter, ...] = ()
-    return_type: str | None = None
-    documentation: str = ""
+    XML: ClassVar[Element] = Element("operation", "operation")
+    id: str = field(metadata=attr())
+    name: str = field(metadata=attr())
+    qualified_name: str = field(metadata=attr("qname"))
+    parameters: tuple[Parameter, ...] = field(default=(), metadata=children("parameter"))
+    return_type: str | None = field(default=None, metadata=attr("returns"))
+    documentation: str = field(default="", metadata=doc())
 
 
 @dataclass(frozen=True, slots=True)
@@ -82,9 +141,10 @@ class Ref:
     """A resolved reference to another element: its kind (one of :data:`ELEMENT_KINDS`), its
     name (a port as ``Component.Port``) and its id."""
 
-    kind: str
-    name: str
-    id: str
+    XML: ClassVar[Element] = Element("ref")
+    kind: str = field(metadata=attr(type=ELEMENT_KIND))
+    name: str = field(metadata=attr())
+    id: str = field(metadata=attr("ref"))
 
 
 @dataclass(frozen=True, slots=True)
@@ -92,26 +152,28 @@ class Port:
     """A port of a component: ``kind`` synchronous, asynchronous or stream; ``role`` provided or
     required."""
 
-    id: str
-    name: str
-    qualified_name: str
-    kind: str
-    role: str
-    properties: tuple[Property, ...] = ()
-    operations: tuple[Operation, ...] = ()
-    documentation: str = ""
+    XML: ClassVar[Element] = Element("port", "port")
+    id: str = field(metadata=attr())
+    name: str = field(metadata=attr())
+    qualified_name: str = field(metadata=attr("qname"))
+    kind: str = field(metadata=attr(type=PORT_KIND))
+    role: str = field(metadata=attr(type=PORT_ROLE))
+    properties: tuple[Property, ...] = field(default=(), metadata=children("property"))
+    operations: tuple[Operation, ...] = field(default=(), metadata=children("operation"))
+    documentation: str = field(default="", metadata=doc())
 
 
 @dataclass(frozen=True, slots=True)
 class Component:
-    id: str
-    name: str
-    qualified_name: str
-    language: str
-    properties: tuple[Property, ...] = ()
-    operations: tuple[Operation, ...] = ()
-    ports: tuple[Port, ...] = ()
-    documentation: str = ""
+    XML: ClassVar[Element] = Element("component", "component")
+    id: str = field(metadata=attr())
+    name: str = field(metadata=attr())
+    qualified_name: str = field(metadata=attr("qname"))
+    language: str = field(metadata=attr(type=LANGUAGE))
+    properties: tuple[Property, ...] = field(default=(), metadata=children("property"))
+    operations: tuple[Operation, ...] = field(default=(), metadata=children("operation"))
+    ports: tuple[Port, ...] = field(default=(), metadata=children("port"))
+    documentation: str = field(default="", metadata=doc())
 
     def port(self, name: str) -> Port | None:
         return next((p for p in self.ports if p.name == name), None)
@@ -125,10 +187,12 @@ class Endpoint:
     deployment sets it), so the URI is made with :meth:`uri` once it is known.
     """
 
-    protocol: str
-    object_name: str
-    host: str
-    port: int | None = None  # the model's tag port; None: chosen at deployment
+    XML: ClassVar[Element] = Element("endpoint")
+    protocol: str = field(metadata=attr(type=PROTOCOL))
+    object_name: str = field(metadata=attr("object"))
+    host: str = field(metadata=attr())
+    # the model's tag port; None: chosen at deployment
+    port: int | None = field(default=None, metadata=attr(type=TCP_PORT))
 
     def uri(self, port: int) -> str:
         """The URI the container's server publishes on ``port``."""
@@ -145,16 +209,18 @@ class Container:
     synchronous, and those hosting the policy sets its monitors feed; in the order of
     :attr:`Application.containers`."""
 
-    id: str
-    name: str
-    qualified_name: str
-    host: str
-    endpoint: Endpoint | None = None
-    hosts: tuple[Ref, ...] = ()
-    properties: tuple[Property, ...] = ()
-    operations: tuple[Operation, ...] = ()
-    documentation: str = ""
-    reaches: tuple[str, ...] = ()
+    XML: ClassVar[Element] = Element("container", "container")
+    id: str = field(metadata=attr())
+    name: str = field(metadata=attr())
+    qualified_name: str = field(metadata=attr("qname"))
+    host: str = field(metadata=attr())
+    endpoint: Endpoint | None = field(default=None, metadata=child("endpoint"))
+    hosts: tuple[Ref, ...] = field(default=(), metadata=children("hosts"))
+    properties: tuple[Property, ...] = field(default=(), metadata=children("property"))
+    operations: tuple[Operation, ...] = field(default=(), metadata=children("operation"))
+    documentation: str = field(default="", metadata=doc())
+    # a field added last (positional construction keeps its place) but written before the members
+    reaches: tuple[str, ...] = field(default=(), metadata=name_list("reaches", before="properties"))
 
     def hosted(self, kind: str) -> tuple[str, ...]:
         """Names of the hosted elements of ``kind`` (component, monitor, policy-set)."""
@@ -165,9 +231,10 @@ class Container:
 class End:
     """One end of a connection: a port of a component, by names, and the port's id."""
 
-    component: str
-    port: str
-    id: str
+    XML: ClassVar[Element] = Element("end")
+    component: str = field(metadata=attr())
+    port: str = field(metadata=attr())
+    id: str = field(metadata=attr("ref"))
 
 
 @dataclass(frozen=True, slots=True)
@@ -175,15 +242,16 @@ class Connection:
     """A port connection from a required port to a provided one, realised by ``connector``
     (inprocess, remote, shaped); ``qos`` are its attributes, which policies may adapt."""
 
-    id: str
-    name: str
-    qualified_name: str
-    connector: str
-    required: End
-    provided: End
-    qos: tuple[Property, ...] = ()
-    operations: tuple[Operation, ...] = ()
-    documentation: str = ""
+    XML: ClassVar[Element] = Element("connection", "connection")
+    id: str = field(metadata=attr())
+    name: str = field(metadata=attr())
+    qualified_name: str = field(metadata=attr("qname"))
+    connector: str = field(metadata=attr(type=CONNECTOR))
+    required: End = field(metadata=child("required"))
+    provided: End = field(metadata=child("provided"))
+    qos: tuple[Property, ...] = field(default=(), metadata=children("qos"))
+    operations: tuple[Operation, ...] = field(default=(), metadata=children("operation"))
+    documentation: str = field(default="", metadata=doc())
 
 
 @dataclass(frozen=True, slots=True)
@@ -195,18 +263,19 @@ class Monitor:
     at ``frequency`` Hz when one is set). ``feeds`` are the policy sets its ``properties`` (the
     context attributes) feed."""
 
-    id: str
-    name: str
-    qualified_name: str
-    frequency: float | None
-    acquisition: str
-    xpath: str | None = None
-    operation: str | None = None
-    sources: tuple[Ref, ...] = ()
-    feeds: tuple[Ref, ...] = ()
-    properties: tuple[Property, ...] = ()
-    operations: tuple[Operation, ...] = ()
-    documentation: str = ""
+    XML: ClassVar[Element] = Element("monitor", "monitor")
+    id: str = field(metadata=attr())
+    name: str = field(metadata=attr())
+    qualified_name: str = field(metadata=attr("qname"))
+    frequency: float | None = field(metadata=attr(type=FREQUENCY))
+    acquisition: str = field(metadata=attr(type=ACQUISITION, before="frequency"))
+    xpath: str | None = field(default=None, metadata=attr())
+    operation: str | None = field(default=None, metadata=attr())
+    sources: tuple[Ref, ...] = field(default=(), metadata=children("source"))
+    feeds: tuple[Ref, ...] = field(default=(), metadata=children("feeds"))
+    properties: tuple[Property, ...] = field(default=(), metadata=children("property"))
+    operations: tuple[Operation, ...] = field(default=(), metadata=children("operation"))
+    documentation: str = field(default="", metadata=doc())
 
 
 @dataclass(frozen=True, slots=True)
@@ -217,11 +286,12 @@ class Rule:
     ``Rule``) and its ``priority``, its 1-based rank in its policy: a crisp engine tries the
     rules in that order (CLIPS salience 9999 for the first, 9998 for the next...)."""
 
-    label: str
-    text: str
-    tag: str
-    priority: int = 1
-    assigned_label: bool = False
+    XML: ClassVar[Element] = Element("rule")
+    label: str = field(metadata=attr())
+    text: str = field(metadata=content())
+    tag: str = field(metadata=attr())
+    priority: int = field(default=1, metadata=attr(type=POSITIVE_INTEGER))
+    assigned_label: bool = field(default=False, metadata=attr(type=BOOLEAN))
 
     @property
     def line(self) -> str:
@@ -231,11 +301,12 @@ class Rule:
 
 @dataclass(frozen=True, slots=True)
 class Policy:
-    id: str
-    name: str
-    qualified_name: str
-    rules: tuple[Rule, ...] = ()
-    documentation: str = ""
+    XML: ClassVar[Element] = Element("policy", "policy")
+    id: str = field(metadata=attr())
+    name: str = field(metadata=attr())
+    qualified_name: str = field(metadata=attr("qname"))
+    rules: tuple[Rule, ...] = field(default=(), metadata=children("rule"))
+    documentation: str = field(default="", metadata=doc())
 
 
 @dataclass(frozen=True, slots=True)
@@ -243,9 +314,10 @@ class Term:
     """A linguistic term: ``shape`` as the metamodel names it (trapezoid, triangle, gaussian, bell,
     sigmoid, points, singleton), parameters in FCL order (points: x1 y1 x2 y2 ...)."""
 
-    name: str
-    shape: str
-    parameters: tuple[float, ...]
+    XML: ClassVar[Element] = Element("term")
+    name: str = field(metadata=attr())
+    shape: str = field(metadata=attr(type=SHAPE))
+    parameters: tuple[float, ...] = field(metadata=attr(type=REALS, item="parameter"))
 
     @property
     def fcl(self) -> str:
@@ -277,13 +349,14 @@ class Variable:
     that has it (``element``, a port as ``Component.Port``), the attribute's name, its universe
     [``minimum``, ``maximum``] and its terms. ``id`` is the attribute's."""
 
-    id: str
-    element: str
-    attribute: str
-    qualified_name: str
-    minimum: float
-    maximum: float
-    terms: tuple[Term, ...] = ()
+    XML: ClassVar[Element] = Element("variable", "variable")
+    id: str = field(metadata=attr())
+    element: str = field(metadata=attr())
+    attribute: str = field(metadata=attr())
+    qualified_name: str = field(metadata=attr("qname"))
+    minimum: float = field(metadata=attr("min", REAL))
+    maximum: float = field(metadata=attr("max", REAL))
+    terms: tuple[Term, ...] = field(default=(), metadata=children("term"))
 
     @property
     def name(self) -> str:
@@ -305,15 +378,20 @@ class Bound:
     ``Control.cycleRate``). An attribute carries its typing (``value_kind``, one of :data:`KINDS`;
     its UML ``type``) and ``default``; an operation its ``arity`` (its in and inout parameters)."""
 
-    kind: str
-    element: str
-    member: str
-    id: str
-    names: tuple[str, ...]
-    value_kind: str | None = None
-    type: str = ""
-    default: Value | None = None
-    arity: int | None = None
+    XML: ClassVar[Element] = Element("bound", "bound name", "target")
+    kind: str = field(metadata=attr(type=MEMBER_KIND))
+    element: str = field(metadata=attr())
+    member: str = field(metadata=attr())
+    id: str = field(metadata=attr("ref"))
+    names: tuple[str, ...] = field(
+        metadata=attr(
+            type=NAMES, hint="bound names are the rule names as written (Element.attribute)"
+        )
+    )
+    value_kind: str | None = field(default=None, metadata=attr(type=VALUE_KIND))
+    type: str = field(default="", metadata=attr(empty_absent=True))
+    default: Value | None = field(default=None, metadata=attr(typed_by="value_kind"))
+    arity: int | None = field(default=None, metadata=attr(type=NON_NEGATIVE_INTEGER))
 
     @property
     def target(self) -> str:
@@ -364,23 +442,30 @@ class PolicySet:
     the linguistic variables of its scope (the monitors feeding it, the elements it adapts and
     their ports): every variable its rules may name."""
 
-    id: str
-    name: str
-    qualified_name: str
-    engine: str
-    semantics: str
-    trigger: str
-    frequency: float | None = None
-    adapts: tuple[Ref, ...] = ()
-    policies: tuple[Policy, ...] = ()
-    variables: tuple[Variable, ...] = ()
-    properties: tuple[Property, ...] = ()
-    operations: tuple[Operation, ...] = ()
-    documentation: str = ""
-    bound: tuple[Bound, ...] = ()
-    inputs: tuple[str, ...] = ()
-    outputs: tuple[str, ...] = ()
-    triggers: tuple[str, ...] = ()
+    XML: ClassVar[Element] = Element("policySet", "policy set")
+    id: str = field(metadata=attr())
+    name: str = field(metadata=attr())
+    qualified_name: str = field(metadata=attr("qname"))
+    engine: str = field(metadata=attr(type=ENGINE))
+    semantics: str = field(metadata=attr(type=SEMANTICS))
+    trigger: str = field(metadata=attr(type=TRIGGER))
+    frequency: float | None = field(default=None, metadata=attr(type=FREQUENCY))
+    adapts: tuple[Ref, ...] = field(default=(), metadata=children("adapts"))
+    policies: tuple[Policy, ...] = field(default=(), metadata=children("policy"))
+    variables: tuple[Variable, ...] = field(default=(), metadata=children("variable"))
+    properties: tuple[Property, ...] = field(default=(), metadata=children("property"))
+    operations: tuple[Operation, ...] = field(default=(), metadata=children("operation"))
+    documentation: str = field(default="", metadata=doc())
+    bound: tuple[Bound, ...] = field(default=(), metadata=children("bound"))
+    inputs: tuple[str, ...] = field(
+        default=(), metadata=name_list("input", schema_type="variableName")
+    )
+    outputs: tuple[str, ...] = field(
+        default=(), metadata=name_list("output", schema_type="variableName")
+    )
+    triggers: tuple[str, ...] = field(
+        default=(), metadata=name_list("trigger", schema_type="variableName")
+    )
 
     def rules(self) -> tuple[Rule, ...]:
         """Every rule of every policy, in order."""
@@ -391,12 +476,17 @@ class PolicySet:
 class Application:
     """One context-aware application: what :func:`~acordcs.generator.describe.describe` finds in a model."""
 
-    name: str
-    containers: tuple[Container, ...] = ()
-    components: tuple[Component, ...] = ()
-    connections: tuple[Connection, ...] = ()
-    monitors: tuple[Monitor, ...] = ()
-    policy_sets: tuple[PolicySet, ...] = ()
+    XML: ClassVar[Element] = Element("application", "application")
+    name: str = field(metadata=attr())
+    containers: tuple[Container, ...] = field(default=(), metadata=group("containers", "container"))
+    components: tuple[Component, ...] = field(default=(), metadata=group("components", "component"))
+    connections: tuple[Connection, ...] = field(
+        default=(), metadata=group("connections", "connection")
+    )
+    monitors: tuple[Monitor, ...] = field(default=(), metadata=group("monitors", "monitor"))
+    policy_sets: tuple[PolicySet, ...] = field(
+        default=(), metadata=group("policy-sets", "policy-set")
+    )
 
     def container_of(self, name: str) -> str | None:
         """The container hosting the component, monitor or policy set ``name``, or None."""

@@ -1,260 +1,133 @@
 """Reading a descriptor tree that validated against the schema back into the dataclasses of
-:mod:`acordcs.descriptor.model` (the structure is the schema's, so the reader only converts values;
-a property's default, a string in the schema, is checked against its kind here)."""
+:mod:`acordcs.descriptor.model`, by their declaration (:func:`acordcs.descriptor.declaration.plan`).
+
+The structure is the schema's, so the reader only converts values; a property's default, a string
+in the schema, is checked against its kind here. Each dataclass's reader is made once from its
+plan: one function per field, called in the constructor's order (which is also the order faults
+are found in). It is on a generated application's start path, so it does no more per element
+than reading by hand did: the functions take the element alone (what an error needs besides, the
+document's bytes and file name, :func:`read` adds) and select children with ``iterchildren``,
+which lxml runs in C, where ``find`` and ``findall`` go through its ElementPath in Python.
+"""
 
 from __future__ import annotations
 
 import re
+from collections.abc import Callable
+from functools import cache
+from operator import methodcaller
+from typing import Any, TypeAlias
 
-from acordcs.descriptor.model import (
-    Application,
-    Bound,
-    Component,
-    Connection,
-    Container,
-    DescriptorError,
-    End,
-    Endpoint,
-    Monitor,
-    Operation,
-    Parameter,
-    Policy,
-    PolicySet,
-    Port,
-    Property,
-    Ref,
-    Rule,
-    Term,
-    Value,
-    Variable,
-)
-from acordcs.descriptor.schema import NS as _NS
-from acordcs.descriptor.schema import column as _column
-from acordcs.descriptor.schema import local_name as _local_name
-from acordcs.typed_values import parse_real
+from lxml import etree
+
+from acordcs.descriptor.declaration import Part, Plan, plan
+from acordcs.descriptor.model import Application, DescriptorError
+from acordcs.descriptor.schema import column, local_name
+from acordcs.typed_values import Value, parse_real
 
 _INT = re.compile(r"[+-]?[0-9]+")
 
+_Element: TypeAlias = etree._Element
+_Read = Callable[[_Element], Any]
+_NAME = methodcaller("get", "name")
 
-def read(root, data: bytes, file: str | None) -> Application:
+
+class _NotALiteral(Exception):
+    """A default that is not a literal of its kind, at ``el``'s attribute ``name``."""
+
+    def __init__(self, el: _Element, name: str, text: str | None, kind: str | None) -> None:
+        super().__init__(name)
+        self.el, self.name, self.text, self.kind = el, name, text, kind
+
+
+def read(root: _Element, data: bytes, file: str | None) -> Application:
     """The application of a descriptor ``root`` that validated (``data`` and ``file`` for errors)."""
-    return _Reader(data, file).application(root)
+    try:
+        application: Application = _reader(Application)(root)
+    except _NotALiteral as bad:
+        el = bad.el
+        raise DescriptorError(
+            f"property {el.get('name')!r}: {bad.name} {bad.text!r} is not a valid {bad.kind} literal",
+            file=file,
+            line=el.sourceline,
+            column=column(data, el.sourceline, local_name(el.tag), bad.name),
+            hint="int: digits; double: a finite number (1, 0.5, 2e3); bool: true or false",
+        ) from None
+    return application
 
 
-class _Reader:
-    """Builds the dataclasses from a tree that validated: the structure is the schema's."""
+@cache
+def _reader(cls: type) -> _Read:
+    """The reader of dataclass ``cls``'s element: each field read, then the constructor called."""
+    declared = plan(cls)
+    fields = tuple(_field(part, declared) for part in declared.fields)
+    make = declared.cls
+    return lambda el: make(*[read(el) for read in fields])
 
-    def __init__(self, data: bytes, file: str | None) -> None:
-        self.data = data
-        self.file = file
 
-    def application(self, root) -> Application:
-        groups = {_local_name(g.tag): list(g) for g in root if isinstance(g.tag, str)}
-        return Application(
-            name=root.get("name"),
-            containers=tuple(self.container(e) for e in self._elements(groups["containers"])),
-            components=tuple(self.component(e) for e in self._elements(groups["components"])),
-            connections=tuple(self.connection(e) for e in self._elements(groups["connections"])),
-            monitors=tuple(self.monitor(e) for e in self._elements(groups["monitors"])),
-            policy_sets=tuple(self.policy_set(e) for e in self._elements(groups["policy-sets"])),
-        )
+def _field(part: Part, declared: Plan) -> _Read:
+    role, tag = part.node.role, part.tag
+    if role == "attribute":
+        return _attribute(part, declared)
+    if role == "text":
+        return lambda el: el.text or ""
+    if role == "documentation":
+        return lambda el: "" if (doc := _first(el, tag)) is None else doc.text or ""
+    if role == "names":
+        return lambda el: tuple(map(_NAME, el.iterchildren(tag)))
+    assert part.plan is not None  # a child, children or group part holds a declared dataclass
+    sub = _reader(part.plan.cls)
+    if role == "child" and part.optional:
+        return lambda el: None if (c := _first(el, tag)) is None else sub(c)
+    if role == "child":
+        return lambda el: sub(_first(el, tag))
+    if role == "children":
+        return lambda el: tuple([sub(c) for c in el.iterchildren(tag)])
+    assert role == "group", role
+    item = part.item_tag
+    return lambda el: tuple([sub(c) for c in next(el.iterchildren(tag)).iterchildren(item)])
 
-    @staticmethod
-    def _elements(items):
-        return [e for e in items if isinstance(e.tag, str)]
 
-    def _children(self, el, tag: str) -> list:
-        return el.findall(_NS + tag)
+def _first(el: _Element, tag: str) -> _Element | None:
+    """``el.find(tag)`` for a tag: its first child ``tag``."""
+    return next(el.iterchildren(tag), None)
 
-    def _doc(self, el) -> str:
-        doc = el.find(_NS + "documentation")
-        return (doc.text or "") if doc is not None else ""
 
-    def _traced(self, el) -> tuple[str, str, str]:
-        return el.get("id"), el.get("name"), el.get("qname")
+def _attribute(part: Part, declared: Plan) -> _Read:
+    name, codec, optional = part.xml, part.codec, part.optional
+    if codec == "string":
+        if part.node.empty_absent:
+            return lambda el: el.get(name) or ""
+        return lambda el: el.get(name)
+    if codec == "typed":
+        kind = declared.part(part.node.typed_by).xml
+        if optional:
+            return lambda el: None if el.get(name) is None else _literal(name, kind, el)
+        return lambda el: _literal(name, kind, el)
+    if codec == "flag":
+        return lambda el: el.get(name) in ("true", "1")
+    if codec == "names":
+        return lambda el: tuple(el.get(name).split())
+    if codec == "reals":
+        return lambda el: tuple(map(parse_real, el.get(name).split()))
+    convert: Callable[[str], Any] = parse_real if codec == "real" else int
+    if optional:
+        return lambda el: None if (text := el.get(name)) is None else convert(text)
+    return lambda el: convert(el.get(name))
 
-    def _value(self, el, kind_attribute: str = "kind") -> Value:
-        kind, text = el.get(kind_attribute), el.get("default")
+
+def _literal(name: str, kind_attribute: str, el: _Element) -> Value:
+    """Attribute ``name`` of ``el`` read as a literal of the kind in ``kind_attribute``."""
+    kind: str | None = el.get(kind_attribute)
+    text: str | None = el.get(name)
+    if text is not None:  # always, after the schema (default is required) or the caller
         if kind == "string":
             return text
         if kind == "bool" and text in ("true", "false"):
             return text == "true"
         if kind == "int" and _INT.fullmatch(text):
             return int(text)
-        if kind == "double" and parse_real(text) is not None:
-            return parse_real(text)
-        raise DescriptorError(
-            f"property {el.get('name')!r}: default {text!r} is not a valid {kind} literal",
-            file=self.file,
-            line=el.sourceline,
-            column=_column(self.data, el.sourceline, _local_name(el.tag), "default"),
-            hint="int: digits; double: a finite number (1, 0.5, 2e3); bool: true or false",
-        )
-
-    def _real(self, text: str | None) -> float | None:
-        return None if text is None else parse_real(text)
-
-    def properties(self, el, tag: str = "property") -> tuple[Property, ...]:
-        return tuple(
-            Property(*self._traced(p), p.get("type"), p.get("kind"), self._value(p), self._doc(p))
-            for p in self._children(el, tag)
-        )
-
-    def operations(self, el) -> tuple[Operation, ...]:
-        return tuple(
-            Operation(
-                *self._traced(op),
-                tuple(
-                    Parameter(p.get("id"), p.get("name"), p.get("type"), p.get("direction"))
-                    for p in self._children(op, "parameter")
-                ),
-                op.get("returns"),
-                self._doc(op),
-            )
-            for op in self._children(el, "operation")
-        )
-
-    def refs(self, el, tag: str) -> tuple[Ref, ...]:
-        return tuple(
-            Ref(r.get("kind"), r.get("name"), r.get("ref")) for r in self._children(el, tag)
-        )
-
-    def container(self, el) -> Container:
-        ep = el.find(_NS + "endpoint")
-        endpoint = (
-            Endpoint(
-                ep.get("protocol"),
-                ep.get("object"),
-                ep.get("host"),
-                None if ep.get("port") is None else int(ep.get("port")),
-            )
-            if ep is not None
-            else None
-        )
-        return Container(
-            *self._traced(el),
-            el.get("host"),
-            endpoint,
-            self.refs(el, "hosts"),
-            self.properties(el),
-            self.operations(el),
-            self._doc(el),
-            tuple(r.get("name") for r in self._children(el, "reaches")),
-        )
-
-    def bound(self, el) -> Bound:
-        arity = el.get("arity")
-        default = None if el.get("default") is None else self._value(el, "value-kind")
-        return Bound(
-            el.get("kind"),
-            el.get("element"),
-            el.get("member"),
-            el.get("ref"),
-            tuple(el.get("names").split()),
-            el.get("value-kind"),
-            el.get("type") or "",
-            default,
-            None if arity is None else int(arity),
-        )
-
-    def port(self, el) -> Port:
-        return Port(
-            *self._traced(el),
-            el.get("kind"),
-            el.get("role"),
-            self.properties(el),
-            self.operations(el),
-            self._doc(el),
-        )
-
-    def component(self, el) -> Component:
-        return Component(
-            *self._traced(el),
-            el.get("language"),
-            self.properties(el),
-            self.operations(el),
-            tuple(self.port(p) for p in self._children(el, "port")),
-            self._doc(el),
-        )
-
-    def connection(self, el) -> Connection:
-        req, prov = (el.find(_NS + tag) for tag in ("required", "provided"))
-        return Connection(
-            *self._traced(el),
-            el.get("connector"),
-            End(req.get("component"), req.get("port"), req.get("ref")),
-            End(prov.get("component"), prov.get("port"), prov.get("ref")),
-            self.properties(el, "qos"),
-            self.operations(el),
-            self._doc(el),
-        )
-
-    def monitor(self, el) -> Monitor:
-        return Monitor(
-            *self._traced(el),
-            self._real(el.get("frequency")),
-            el.get("acquisition"),
-            el.get("xpath"),
-            el.get("operation"),
-            self.refs(el, "source"),
-            self.refs(el, "feeds"),
-            self.properties(el),
-            self.operations(el),
-            self._doc(el),
-        )
-
-    def policy_set(self, el) -> PolicySet:
-        policies = tuple(
-            Policy(
-                *self._traced(p),
-                tuple(
-                    Rule(
-                        r.get("label"),
-                        r.text or "",
-                        r.get("tag"),
-                        int(r.get("priority")),
-                        r.get("assigned-label") in ("true", "1"),
-                    )
-                    for r in self._children(p, "rule")
-                ),
-                self._doc(p),
-            )
-            for p in self._children(el, "policy")
-        )
-        variables = tuple(
-            Variable(
-                v.get("id"),
-                v.get("element"),
-                v.get("attribute"),
-                v.get("qname"),
-                parse_real(v.get("min")),
-                parse_real(v.get("max")),
-                tuple(
-                    Term(
-                        t.get("name"),
-                        t.get("shape"),
-                        tuple(parse_real(x) for x in t.get("parameters").split()),
-                    )
-                    for t in self._children(v, "term")
-                ),
-            )
-            for v in self._children(el, "variable")
-        )
-        return PolicySet(
-            *self._traced(el),
-            el.get("engine"),
-            el.get("semantics"),
-            el.get("trigger"),
-            self._real(el.get("frequency")),
-            self.refs(el, "adapts"),
-            policies,
-            variables,
-            self.properties(el),
-            self.operations(el),
-            self._doc(el),
-            tuple(self.bound(b) for b in self._children(el, "bound")),
-            *(
-                tuple(v.get("name") for v in self._children(el, tag))
-                for tag in ("input", "output", "trigger")
-            ),
-        )
+        number = parse_real(text) if kind == "double" else None
+        if number is not None:
+            return number
+    raise _NotALiteral(el, name, text, kind)

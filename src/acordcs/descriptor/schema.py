@@ -1,6 +1,7 @@
-"""The descriptor's schema: its namespace, the shipped ``acordcs-descriptor.xsd`` compiled once per
-thread, and validation that reports the first fault with a line and a column (libxml2 gives schema
-errors a line only: the column is found in the start tag the error names).
+"""The descriptor's schema: the shipped ``acordcs-descriptor.xsd`` (written from the declaration by
+:mod:`acordcs.descriptor.xsd`) compiled once per thread, and validation that reports the first
+fault with a line and a column (libxml2 gives schema errors a line only: the column is found in
+the start tag the error names).
 """
 
 from __future__ import annotations
@@ -12,11 +13,12 @@ from importlib import resources
 from lxml import etree
 
 from acordcs import safexml
+from acordcs.descriptor.declaration import NAMESPACE, NS
 from acordcs.descriptor.model import DescriptorError
 
-NAMESPACE = "http://acordcs.org/descriptor/1.0"
+__all__ = ["HINT", "NAMESPACE", "NS", "SCHEMA_FILE", "column", "local_name", "schema", "validate"]
+
 SCHEMA_FILE = "acordcs-descriptor.xsd"
-NS = "{" + NAMESPACE + "}"
 HINT = (
     f"a descriptor follows {SCHEMA_FILE} (shipped in acordcs/descriptor); write it with "
     "acordcs.descriptor.to_xml from the model rather than by hand"

@@ -1,10 +1,11 @@
 """The descriptor as an XML document: ``to_xml(app) -> bytes`` and ``from_xml(data) -> Application``.
 
 The document (namespace :data:`NAMESPACE`) follows ``acordcs-descriptor.xsd``, shipped beside this
-module (:mod:`acordcs.descriptor.schema`); it is what the generator's stylesheets read. ``to_xml`` writes UTF-8,
-indented, attributes in a fixed order: the same application gives the same bytes. A string XML 1.0
-cannot hold (control characters other than tab, newline and carriage return; U+FFFE, U+FFFF; lone
-surrogates) is refused with :class:`DescriptorError` naming the element and field; every other
+module (:mod:`acordcs.descriptor.schema`); it is what the generator's stylesheets read. ``to_xml``
+walks the declaration of the dataclasses (:func:`acordcs.descriptor.declaration.plan`) and writes
+UTF-8, indented, attributes in a fixed order: the same application gives the same bytes. A string
+XML 1.0 cannot hold (control characters other than tab, newline and carriage return; U+FFFE,
+U+FFFF; lone surrogates) is refused with :class:`DescriptorError` naming the element and field; every other
 string, quotes, ``<``, ``&``, ``]]>`` and newlines included, is escaped and read back unchanged:
 ``from_xml(to_xml(app)) == app``.
 
@@ -17,21 +18,13 @@ from __future__ import annotations
 
 import math
 import re
+from typing import Any, cast
 
 from lxml import etree
 
 from acordcs import safexml
-from acordcs.descriptor.model import (
-    Application,
-    Component,
-    Connection,
-    Container,
-    DescriptorError,
-    Monitor,
-    PolicySet,
-    Ref,
-    Value,
-)
+from acordcs.descriptor.declaration import NS, Part, Plan, plan
+from acordcs.descriptor.model import Application, DescriptorError
 from acordcs.descriptor.reader import read
 from acordcs.descriptor.schema import (
     HINT,
@@ -42,7 +35,7 @@ from acordcs.descriptor.schema import (
     schema,
     validate,
 )
-from acordcs.descriptor.schema import NS as _NS
+from acordcs.typed_values import Value
 
 __all__ = ["NAMESPACE", "SCHEMA_FILE", "from_xml", "schema", "to_xml"]
 
@@ -54,20 +47,96 @@ _FORBIDDEN = re.compile("[\x00-\x08\x0b\x0c\x0e-\x1f\ud800-\udfff\ufffe\uffff]")
 # ------------------------------------------------------------------------------------- writing
 def to_xml(app: Application) -> bytes:
     """``app`` as a descriptor document (UTF-8, indented, deterministic)."""
-    root = etree.Element(_NS + "application", nsmap={None: NAMESPACE})
-    _set(root, "name", app.name, "application")
-    w = _Writer()
-    for tag, items, write in (
-        ("containers", app.containers, w.container),
-        ("components", app.components, w.component),
-        ("connections", app.connections, w.connection),
-        ("monitors", app.monitors, w.monitor),
-        ("policy-sets", app.policy_sets, w.policy_set),
-    ):
-        group = etree.SubElement(root, _NS + tag)
-        for item in items:
-            write(group, item)
+    declared = plan(Application)
+    root = etree.Element(NS + declared.element.name, nsmap={None: NAMESPACE})
+    _write(root, app, declared, declared.element.label, root=True)
     return _DECLARATION + etree.tostring(root, encoding="UTF-8", pretty_print=True)
+
+
+def _write(el: etree._Element, item: Any, declared: Plan, where: str, root: bool = False) -> None:
+    """``item``'s attributes, text and children into ``el``; ``where`` names it in errors.
+
+    Every value that is not a string is formatted (and refused) before any string is checked, as
+    the writer always has: of two faults, the one a message names does not change."""
+    values: list[tuple[str, str]] = []
+    for part in declared.attributes:
+        value = getattr(item, part.field)
+        if part.codec != "string" or root or part.node.empty_absent:
+            value = _formatted(value, item, part, declared, where, root)
+        if value is not None:  # a None of a string attribute is left out, as it always was
+            values.append((part.xml, value))
+    for name, value in values:
+        el.set(name, _check(value, name, where))
+    text = declared.text
+    if text is not None:
+        el.text = _check(getattr(item, text.field), local_name(el.tag), where)
+    for part in declared.children:
+        value = getattr(item, part.field)
+        role = part.node.role
+        if role == "documentation":
+            if value:
+                sub = etree.SubElement(el, part.tag)
+                sub.text = _check(value, "documentation", where)
+        elif role == "child":
+            if value is not None or not part.optional:
+                _element(el, part.tag, value, part, where)
+        elif role == "children":
+            for each in value:
+                _element(el, part.tag, each, part, where)
+        elif role == "names":
+            for name in value:
+                sub = etree.SubElement(el, part.tag)
+                if name is not None:
+                    sub.set("name", _check(name, "name", where))
+        else:  # a group: the application's lists, where errors name their elements first
+            sub = etree.SubElement(el, part.tag)
+            for each in value:
+                _element(sub, part.item_tag, each, part, "")
+
+
+def _element(parent: etree._Element, tag: str, item: Any, part: Part, where: str) -> None:
+    held = part.plan
+    assert held is not None  # a child, children or group part holds a declared dataclass
+    label = held.element.label
+    if label:
+        named = f"{label} {getattr(item, held.element.label_by)!r}"
+        where = f"{where}, {named}" if where else named
+    _write(etree.SubElement(parent, tag), item, held, where)
+
+
+def _formatted(
+    value: Any, item: Any, part: Part, declared: Plan, where: str, root: bool
+) -> str | None:
+    """``value``, the attribute's, as written, None to leave it out; a string is checked when set
+    (but at the root, whose attributes are always set: a None is refused)."""
+    codec = part.codec
+    if codec == "string":
+        if part.node.empty_absent and value == "":
+            return None
+        return _check(value, part.xml, where) if root else value
+    if value is None and part.optional:
+        return None
+    if codec == "real":
+        return _real(value, part.xml, where)
+    if codec == "integer":
+        return str(value)
+    if codec == "flag":
+        return "true" if value else None
+    if codec == "reals":
+        return " ".join(_real(v, part.node.item, where) for v in value)
+    if codec == "names":
+        if not value or any(not n or any(c.isspace() for c in n) for n in value):
+            raise DescriptorError(
+                f"{where}: {part.xml} {value!r} must be one or more names without blanks",
+                hint=part.node.hint,
+            )
+        return " ".join(value)
+    # typed: a literal of the kind the field typed_by holds (when that field may be None, "" for
+    # none: a bound operation's default, were it set, "is not of kind ")
+    kind = getattr(item, part.node.typed_by)
+    if declared.part(part.node.typed_by).optional:
+        kind = kind or ""
+    return _value(kind, value, where)
 
 
 def _check(value: str, field: str, where: str) -> str:
@@ -86,18 +155,6 @@ def _check(value: str, field: str, where: str) -> str:
     return value
 
 
-def _set(el: etree._Element, name: str, value: str, where: str) -> None:
-    el.set(name, _check(value, name, where))
-
-
-def _sub(parent: etree._Element, tag: str, where: str, /, **attrs: str | None) -> etree._Element:
-    el = etree.SubElement(parent, _NS + tag)
-    for name, value in attrs.items():
-        if value is not None:
-            _set(el, name.rstrip("_").replace("_", "-"), value, where)
-    return el
-
-
 def _real(value: float, field: str, where: str) -> str:
     if isinstance(value, bool) or not isinstance(value, int | float) or not math.isfinite(value):
         raise DescriptorError(
@@ -112,7 +169,7 @@ def _value(kind: str, value: Value, where: str) -> str:
     if kind == "int" and type(value) is int:
         return str(value)
     if kind == "double" and type(value) in (int, float):
-        return _real(value, "default", where)
+        return _real(cast(float, value), "default", where)
     if kind == "bool" and type(value) is bool:
         return "true" if value else "false"
     if kind == "string" and isinstance(value, str):
@@ -121,168 +178,6 @@ def _value(kind: str, value: Value, where: str) -> str:
         f"{where}: default {value!r} is not of kind {kind}",
         hint="a property's default has the Python type of its kind (int, float, bool, str)",
     )
-
-
-class _Writer:
-    def traced(self, parent, tag: str, item, where: str, /, **attrs) -> etree._Element:
-        el = _sub(
-            parent, tag, where, id=item.id, name=item.name, qname=item.qualified_name, **attrs
-        )
-        self.documentation(el, item.documentation, where)
-        return el
-
-    @staticmethod
-    def documentation(el, text: str, where: str) -> None:
-        if text:
-            _sub(el, "documentation", where).text = _check(text, "documentation", where)
-
-    def members(self, el, item, where: str, properties=None, tag: str = "property") -> None:
-        """``item``'s properties (or ``properties``, written as ``tag``), then its operations."""
-        for prop in item.properties if properties is None else properties:
-            here = f"{where}, property {prop.name!r}"
-            default = _value(prop.kind, prop.default, here)
-            self.traced(el, tag, prop, here, type=prop.type, kind=prop.kind, default=default)
-        for op in item.operations:
-            here = f"{where}, operation {op.name!r}"
-            op_el = self.traced(el, "operation", op, here, returns=op.return_type)
-            for p in op.parameters:
-                _sub(
-                    op_el,
-                    "parameter",
-                    here,
-                    id=p.id,
-                    name=p.name,
-                    type=p.type,
-                    direction=p.direction,
-                )
-
-    @staticmethod
-    def refs(el, tag: str, refs: tuple[Ref, ...], where: str) -> None:
-        for r in refs:
-            _sub(el, tag, where, kind=r.kind, name=r.name, ref=r.id)
-
-    def container(self, parent, c: Container) -> None:
-        where = f"container {c.name!r}"
-        el = self.traced(parent, "container", c, where, host=c.host)
-        if c.endpoint is not None:
-            e = c.endpoint
-            port = None if e.port is None else str(e.port)
-            _sub(
-                el,
-                "endpoint",
-                where,
-                protocol=e.protocol,
-                object=e.object_name,
-                host=e.host,
-                port=port,
-            )
-        self.refs(el, "hosts", c.hosts, where)
-        for name in c.reaches:
-            _sub(el, "reaches", where, name=name)
-        self.members(el, c, where)
-
-    def component(self, parent, c: Component) -> None:
-        where = f"component {c.name!r}"
-        el = self.traced(parent, "component", c, where, language=c.language)
-        self.members(el, c, where)
-        for p in c.ports:
-            here = f"{where}, port {p.name!r}"
-            self.members(self.traced(el, "port", p, here, kind=p.kind, role=p.role), p, here)
-
-    def connection(self, parent, c: Connection) -> None:
-        where = f"connection {c.name!r}"
-        el = self.traced(parent, "connection", c, where, connector=c.connector)
-        for tag, end in (("required", c.required), ("provided", c.provided)):
-            _sub(el, tag, where, component=end.component, port=end.port, ref=end.id)
-        self.members(el, c, where, c.qos, "qos")
-
-    def monitor(self, parent, m: Monitor) -> None:
-        where = f"monitor {m.name!r}"
-        freq = None if m.frequency is None else _real(m.frequency, "frequency", where)
-        el = self.traced(
-            parent,
-            "monitor",
-            m,
-            where,
-            acquisition=m.acquisition,
-            frequency=freq,
-            xpath=m.xpath,
-            operation=m.operation,
-        )
-        self.refs(el, "source", m.sources, where)
-        self.refs(el, "feeds", m.feeds, where)
-        self.members(el, m, where)
-
-    def policy_set(self, parent, ps: PolicySet) -> None:
-        where = f"policy set {ps.name!r}"
-        freq = None if ps.frequency is None else _real(ps.frequency, "frequency", where)
-        el = self.traced(
-            parent,
-            "policy-set",
-            ps,
-            where,
-            engine=ps.engine,
-            semantics=ps.semantics,
-            trigger=ps.trigger,
-            frequency=freq,
-        )
-        self.refs(el, "adapts", ps.adapts, where)
-        for pol in ps.policies:
-            here = f"{where}, policy {pol.name!r}"
-            pol_el = self.traced(el, "policy", pol, here)
-            for rule in pol.rules:
-                rule_el = _sub(
-                    pol_el,
-                    "rule",
-                    here,
-                    label=rule.label,
-                    tag=rule.tag,
-                    priority=str(rule.priority),
-                    assigned_label="true" if rule.assigned_label else None,
-                )
-                rule_el.text = _check(rule.text, "rule", here)
-        for v in ps.variables:
-            here = f"{where}, variable {v.name!r}"
-            var_el = _sub(
-                el,
-                "variable",
-                here,
-                id=v.id,
-                element=v.element,
-                attribute=v.attribute,
-                qname=v.qualified_name,
-                min=_real(v.minimum, "min", here),
-                max=_real(v.maximum, "max", here),
-            )
-            for t in v.terms:
-                params = " ".join(_real(p, "parameter", here) for p in t.parameters)
-                _sub(var_el, "term", here, name=t.name, shape=t.shape, parameters=params)
-        self.members(el, ps, where)
-        for b in ps.bound:
-            here = f"{where}, bound name {b.target!r}"
-            if not b.names or any(not n or any(c.isspace() for c in n) for n in b.names):
-                raise DescriptorError(
-                    f"{here}: names {b.names!r} must be one or more names without blanks",
-                    hint="bound names are the rule names as written (Element.attribute)",
-                )
-            default = None if b.default is None else _value(b.value_kind or "", b.default, here)
-            _sub(
-                el,
-                "bound",
-                here,
-                kind=b.kind,
-                element=b.element,
-                member=b.member,
-                ref=b.id,
-                names=" ".join(b.names),
-                value_kind=b.value_kind,
-                type=b.type or None,
-                default=default,
-                arity=None if b.arity is None else str(b.arity),
-            )
-        for tag, names in (("input", ps.inputs), ("output", ps.outputs), ("trigger", ps.triggers)):
-            for name in names:
-                _sub(el, tag, where, name=name)
 
 
 # ------------------------------------------------------------------------------------- reading
@@ -310,7 +205,7 @@ def from_xml(data: bytes, *, file: str | None = None) -> Application:
             file=file,
             hint="write the descriptor as UTF-8 with a matching encoding declaration",
         ) from None
-    if root.tag != _NS + "application":
+    if root.tag != NS + "application":
         raise DescriptorError(
             f"the root element is {root.tag!r}, not an ACORD-CS descriptor's "
             f"{{{NAMESPACE}}}application",
