@@ -3,7 +3,7 @@
 The schema (``src/acordcs/descriptor/acordcs-descriptor.xsd``) is the contract users' own
 stylesheets read, so the package ships it as a file; its text is what
 :func:`acordcs.descriptor.xsd.schema_text` makes of the declaration in
-:mod:`acordcs.descriptor.model` (the dataclasses' fields, annotated), its enumerations the
+:mod:`acordcs.descriptor.application` (the dataclasses' fields, annotated), its enumerations the
 literals of the EEnums of ``acordcs.ecore`` (through :mod:`acordcs.vocabularies`). To change the
 schema, change the declaration (or, for what only the schema says, :mod:`acordcs.descriptor.xsd`)
 and run this. ``tests/descriptor/test_schema_is_the_declarations.py`` fails when the shipped file

@@ -12,8 +12,8 @@ from functools import cache
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
+from acordcs.descriptor.application import Application
 from acordcs.descriptor.diff import diff, elided, shown
-from acordcs.descriptor.model import Application
 from acordcs.generator.describe import describe
 from acordcs.model.reading import read_model
 from tests.support.generator import weblab_variant

@@ -1,5 +1,5 @@
 """The descriptor's structure is declared once, in the annotated dataclasses of
-:mod:`acordcs.descriptor.model`: the shipped schema is what that declaration writes (byte for
+:mod:`acordcs.descriptor.application`: the shipped schema is what that declaration writes (byte for
 byte), every field of every dataclass declares its XML form, and any application the declaration
 allows (every field, every optional one set or not, every enumerated value) is written as a
 document the schema validates and read back equal."""
@@ -17,8 +17,8 @@ from hypothesis import strategies as st
 from lxml import etree
 
 from acordcs import vocabularies
-from acordcs.descriptor import Application, from_xml, model, schema, to_xml, xsd
-from acordcs.descriptor.declaration import Element, Part, Plan, attr, plan
+from acordcs.descriptor import Application, application, from_xml, schema, to_xml, xsd
+from acordcs.descriptor.xml_form import Element, Layout, Part, attr, layout
 from tests.support.toolchain import ROOT
 
 SHIPPED = ROOT / "src" / "acordcs" / "descriptor" / "acordcs-descriptor.xsd"
@@ -28,7 +28,7 @@ COMMAND = ".venv/bin/python tools/write_schema_enumerations.py"
 # -------------------------------------------------------------------------------- the schema
 def test_the_shipped_schema_is_what_the_declaration_writes() -> None:
     assert SHIPPED.read_bytes() == xsd.schema_text().encode("utf-8"), (
-        f"{SHIPPED.name} is not what the declaration in acordcs/descriptor/model.py writes: "
+        f"{SHIPPED.name} is not what the declaration in acordcs/descriptor/application.py writes: "
         f"change the declaration, not the file, and run {COMMAND}"
     )
 
@@ -52,9 +52,9 @@ def test_the_enumerations_are_the_vocabularies() -> None:
             assert xsd.enumeration_values(simple) == tuple(
                 v for v in literals if v not in simple.left_out
             )
-    assert xsd.enumeration_values(enumerated["valueKind"]) == model.KINDS
-    assert xsd.enumeration_values(enumerated["elementKind"]) == model.ELEMENT_KINDS
-    assert xsd.enumeration_values(enumerated["memberKind"]) == model.MEMBER_KINDS
+    assert xsd.enumeration_values(enumerated["valueKind"]) == application.KINDS
+    assert xsd.enumeration_values(enumerated["elementKind"]) == application.ELEMENT_KINDS
+    assert xsd.enumeration_values(enumerated["memberKind"]) == application.MEMBER_KINDS
 
 
 def test_a_definition_the_layout_does_not_place_is_refused(monkeypatch) -> None:
@@ -67,24 +67,26 @@ def test_a_definition_the_layout_does_not_place_is_refused(monkeypatch) -> None:
 def _dataclasses() -> list[type]:
     return [
         c
-        for c in vars(model).values()
-        if isinstance(c, type) and dataclasses.is_dataclass(c) and c.__module__ == model.__name__
+        for c in vars(application).values()
+        if isinstance(c, type)
+        and dataclasses.is_dataclass(c)
+        and c.__module__ == application.__name__
     ]
 
 
-def _reachable(declared: Plan, found: set[type]) -> set[type]:
+def _reachable(declared: Layout, found: set[type]) -> set[type]:
     found.add(declared.cls)
     for part in declared.fields:
-        if part.plan is not None and part.plan.cls not in found:
-            _reachable(part.plan, found)
+        if part.layout is not None and part.layout.cls not in found:
+            _reachable(part.layout, found)
     return found
 
 
 def test_every_dataclass_of_the_model_is_declared_and_in_the_document() -> None:
     classes = _dataclasses()
     for cls in classes:
-        assert {p.field for p in plan(cls).fields} == {f.name for f in dataclasses.fields(cls)}
-    assert _reachable(plan(Application), set()) == set(classes)
+        assert {p.field for p in layout(cls).fields} == {f.name for f in dataclasses.fields(cls)}
+    assert _reachable(layout(Application), set()) == set(classes)
 
 
 def test_a_field_that_declares_no_xml_form_is_refused() -> None:
@@ -95,7 +97,7 @@ def test_a_field_that_declares_no_xml_form_is_refused() -> None:
         colour: str = "red"
 
     with pytest.raises(TypeError, match=r"Odd\.colour declares no XML form"):
-        plan(Odd)
+        layout(Odd)
 
 
 # ------------------------------------------------------- any application the declaration allows
@@ -160,7 +162,7 @@ def _attribute(part: Part) -> st.SearchStrategy[Any]:
 @st.composite
 def _instance(draw: st.DrawFn, cls: type, depth: int = 0) -> Any:
     """An instance of ``cls`` (lists of two elements at the application's level, one below)."""
-    declared = plan(cls)
+    declared = layout(cls)
     most = 2 if depth == 0 else 1
     values: dict[str, Any] = {}
     for part in declared.fields:  # a default's kind is drawn before it
@@ -176,12 +178,12 @@ def _instance(draw: st.DrawFn, cls: type, depth: int = 0) -> Any:
         elif role == "names":
             values[part.field] = tuple(draw(st.lists(_NAME, max_size=most)))
         elif role == "child":
-            assert part.plan is not None
-            one = _instance(part.plan.cls, depth + 1)
+            assert part.layout is not None
+            one = _instance(part.layout.cls, depth + 1)
             values[part.field] = draw(st.none() | one if part.optional else one)
         else:
-            assert part.plan is not None
-            many = st.lists(_instance(part.plan.cls, depth + 1), max_size=most)
+            assert part.layout is not None
+            many = st.lists(_instance(part.layout.cls, depth + 1), max_size=most)
             values[part.field] = tuple(draw(many))
     return cls(**values)
 

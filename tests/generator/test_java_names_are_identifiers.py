@@ -12,7 +12,7 @@ from pathlib import Path
 import pytest
 
 from acordcs.descriptor import Application
-from acordcs.descriptor.model import Operation, Parameter, Property
+from acordcs.descriptor.application import Operation, Parameter, Property
 from acordcs.generator.errors import BuildError
 from acordcs.generator.targets import targets
 from tests.support.generator import context

@@ -6,7 +6,7 @@ from __future__ import annotations
 
 from typing import ClassVar
 
-from acordcs.descriptor.model import Endpoint
+from acordcs.descriptor.application import Endpoint
 from acordcs.runtime.api import Container, ContainerServer, container_uri
 from acordcs.runtime.assembly import assemble
 from acordcs.runtime.clock import VirtualClock

@@ -14,7 +14,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from acordcs.descriptor.model import Operation, Parameter
+from acordcs.descriptor.application import Operation, Parameter
 from acordcs.runtime.run_arguments import MAX_TEXT, RunError, bind_run, parse_run
 
 WATCH = Operation("w", "watch", "D::watch", (Parameter("p1", "seconds", "int"),))

@@ -10,7 +10,7 @@ from __future__ import annotations
 
 from dataclasses import replace
 
-from acordcs.descriptor.model import (
+from acordcs.descriptor.application import (
     Application,
     Component,
     Connection,

@@ -1,7 +1,7 @@
 """The application descriptor: one source of truth between a model and what is built from it.
 
-A leaf package: frozen plain data (:mod:`.model`, whose annotated fields are the one declaration
-of the XML form: :mod:`.declaration`), and ``to_xml`` / ``from_xml`` (:mod:`.xml`) writing and
+A leaf package: frozen plain data (:mod:`.application`, whose annotated fields are the one declaration
+of the XML form: :mod:`.xml_form`), and ``to_xml`` / ``from_xml`` (:mod:`.xml`) writing and
 reading it as the XML deployment descriptor, validated against ``acordcs-descriptor.xsd`` (which
 :mod:`.xsd` writes from the declaration). It imports nothing of the toolchain: a generated
 application reads its descriptor with it. The toolchain makes a descriptor from a model with
@@ -16,7 +16,7 @@ application reads its descriptor with it. The toolchain makes a descriptor from 
     data = to_xml(app)
 """
 
-from acordcs.descriptor.model import (
+from acordcs.descriptor.application import (
     Application,
     Bound,
     Component,

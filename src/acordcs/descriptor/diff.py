@@ -40,8 +40,7 @@ from collections.abc import Callable, Iterable, Iterator, Sequence
 from dataclasses import dataclass
 from typing import Protocol, TypeVar
 
-from acordcs.descriptor.formatting import elided, hz, names, shown, signature
-from acordcs.descriptor.model import (
+from acordcs.descriptor.application import (
     Application,
     Component,
     Connection,
@@ -53,6 +52,7 @@ from acordcs.descriptor.model import (
     Property,
     Value,
 )
+from acordcs.descriptor.formatting import elided, hz, names, shown, signature
 from acordcs.descriptor.policy_diff import policy_set_changes
 
 RESTART = (

@@ -5,7 +5,7 @@ from __future__ import annotations
 
 from collections.abc import Iterable
 
-from acordcs.descriptor.model import Operation
+from acordcs.descriptor.application import Operation
 
 
 def shown(value: object) -> str:

@@ -6,8 +6,8 @@ from __future__ import annotations
 
 from collections.abc import Callable, Iterator, Sequence
 
+from acordcs.descriptor.application import Policy, PolicySet, Variable
 from acordcs.descriptor.formatting import elided, hz, names, shown
-from acordcs.descriptor.model import Policy, PolicySet, Variable
 
 
 def policy_set_changes(

@@ -1,9 +1,9 @@
 """Reading a descriptor tree that validated against the schema back into the dataclasses of
-:mod:`acordcs.descriptor.model`, by their declaration (:func:`acordcs.descriptor.declaration.plan`).
+:mod:`acordcs.descriptor.application`, by their declaration (:func:`acordcs.descriptor.xml_form.layout`).
 
 The structure is the schema's, so the reader only converts values; a property's default, a string
 in the schema, is checked against its kind here. Each dataclass's reader is made once from its
-plan: one function per field, called in the constructor's order (which is also the order faults
+layout: one function per field, called in the constructor's order (which is also the order faults
 are found in). It is on a generated application's start path, so it does no more per element
 than reading by hand did: the functions take the element alone (what an error needs besides, the
 document's bytes and file name, :func:`read` adds) and select children with ``iterchildren``,
@@ -20,9 +20,9 @@ from typing import Any, TypeAlias
 
 from lxml import etree
 
-from acordcs.descriptor.declaration import Part, Plan, plan
-from acordcs.descriptor.model import Application, DescriptorError
+from acordcs.descriptor.application import Application, DescriptorError
 from acordcs.descriptor.schema import column, local_name
+from acordcs.descriptor.xml_form import Layout, Part, layout
 from acordcs.typed_values import Value, parse_real
 
 _INT = re.compile(r"[+-]?[0-9]+")
@@ -59,13 +59,13 @@ def read(root: _Element, data: bytes, file: str | None) -> Application:
 @cache
 def _reader(cls: type) -> _Read:
     """The reader of dataclass ``cls``'s element: each field read, then the constructor called."""
-    declared = plan(cls)
+    declared = layout(cls)
     fields = tuple(_field(part, declared) for part in declared.fields)
     make = declared.cls
     return lambda el: make(*[read(el) for read in fields])
 
 
-def _field(part: Part, declared: Plan) -> _Read:
+def _field(part: Part, declared: Layout) -> _Read:
     role, tag = part.node.role, part.tag
     if role == "attribute":
         return _attribute(part, declared)
@@ -75,8 +75,8 @@ def _field(part: Part, declared: Plan) -> _Read:
         return lambda el: "" if (doc := _first(el, tag)) is None else doc.text or ""
     if role == "names":
         return lambda el: tuple(map(_NAME, el.iterchildren(tag)))
-    assert part.plan is not None  # a child, children or group part holds a declared dataclass
-    sub = _reader(part.plan.cls)
+    assert part.layout is not None  # a child, children or group part holds a declared dataclass
+    sub = _reader(part.layout.cls)
     if role == "child" and part.optional:
         return lambda el: None if (c := _first(el, tag)) is None else sub(c)
     if role == "child":
@@ -93,7 +93,7 @@ def _first(el: _Element, tag: str) -> _Element | None:
     return next(el.iterchildren(tag), None)
 
 
-def _attribute(part: Part, declared: Plan) -> _Read:
+def _attribute(part: Part, declared: Layout) -> _Read:
     name, codec, optional = part.xml, part.codec, part.optional
     if codec == "string":
         if part.node.empty_absent:

@@ -13,8 +13,8 @@ from importlib import resources
 from lxml import etree
 
 from acordcs import safexml
-from acordcs.descriptor.declaration import NAMESPACE, NS
-from acordcs.descriptor.model import DescriptorError
+from acordcs.descriptor.application import DescriptorError
+from acordcs.descriptor.xml_form import NAMESPACE, NS
 
 __all__ = ["HINT", "NAMESPACE", "NS", "SCHEMA_FILE", "column", "local_name", "schema", "validate"]
 

@@ -2,7 +2,7 @@
 
 The document (namespace :data:`NAMESPACE`) follows ``acordcs-descriptor.xsd``, shipped beside this
 module (:mod:`acordcs.descriptor.schema`); it is what the generator's stylesheets read. ``to_xml``
-walks the declaration of the dataclasses (:func:`acordcs.descriptor.declaration.plan`) and writes
+walks the declaration of the dataclasses (:func:`acordcs.descriptor.xml_form.layout`) and writes
 UTF-8, indented, attributes in a fixed order: the same application gives the same bytes. A string
 XML 1.0 cannot hold (control characters other than tab, newline and carriage return; U+FFFE,
 U+FFFF; lone surrogates) is refused with :class:`DescriptorError` naming the element and field; every other
@@ -23,8 +23,7 @@ from typing import Any, cast
 from lxml import etree
 
 from acordcs import safexml
-from acordcs.descriptor.declaration import NS, Part, Plan, plan
-from acordcs.descriptor.model import Application, DescriptorError
+from acordcs.descriptor.application import Application, DescriptorError
 from acordcs.descriptor.reader import read
 from acordcs.descriptor.schema import (
     HINT,
@@ -35,6 +34,7 @@ from acordcs.descriptor.schema import (
     schema,
     validate,
 )
+from acordcs.descriptor.xml_form import NS, Layout, Part, layout
 from acordcs.typed_values import Value
 
 __all__ = ["NAMESPACE", "SCHEMA_FILE", "from_xml", "schema", "to_xml"]
@@ -47,13 +47,13 @@ _FORBIDDEN = re.compile("[\x00-\x08\x0b\x0c\x0e-\x1f\ud800-\udfff\ufffe\uffff]")
 # ------------------------------------------------------------------------------------- writing
 def to_xml(app: Application) -> bytes:
     """``app`` as a descriptor document (UTF-8, indented, deterministic)."""
-    declared = plan(Application)
+    declared = layout(Application)
     root = etree.Element(NS + declared.element.name, nsmap={None: NAMESPACE})
     _write(root, app, declared, declared.element.label, root=True)
     return _DECLARATION + etree.tostring(root, encoding="UTF-8", pretty_print=True)
 
 
-def _write(el: etree._Element, item: Any, declared: Plan, where: str, root: bool = False) -> None:
+def _write(el: etree._Element, item: Any, declared: Layout, where: str, root: bool = False) -> None:
     """``item``'s attributes, text and children into ``el``; ``where`` names it in errors.
 
     Every value that is not a string is formatted (and refused) before any string is checked, as
@@ -95,7 +95,7 @@ def _write(el: etree._Element, item: Any, declared: Plan, where: str, root: bool
 
 
 def _element(parent: etree._Element, tag: str, item: Any, part: Part, where: str) -> None:
-    held = part.plan
+    held = part.layout
     assert held is not None  # a child, children or group part holds a declared dataclass
     label = held.element.label
     if label:
@@ -105,7 +105,7 @@ def _element(parent: etree._Element, tag: str, item: Any, part: Part, where: str
 
 
 def _formatted(
-    value: Any, item: Any, part: Part, declared: Plan, where: str, root: bool
+    value: Any, item: Any, part: Part, declared: Layout, where: str, root: bool
 ) -> str | None:
     """``value``, the attribute's, as written, None to leave it out; a string is checked when set
     (but at the root, whose attributes are always set: a None is refused)."""

@@ -1,8 +1,8 @@
 """The descriptor's schema, ``acordcs-descriptor.xsd``, written from the declaration.
 
 What the document holds (elements, attributes, their types, order and whether they may be left
-out) is read from the plans of :mod:`acordcs.descriptor.declaration` over the dataclasses of
-:mod:`acordcs.descriptor.model`, and the enumerations' values from the model's vocabularies and
+out) is read from the layouts of :mod:`acordcs.descriptor.xml_form` over the dataclasses of
+:mod:`acordcs.descriptor.application`, and the enumerations' values from the model's vocabularies and
 the metamodel's EEnums (:mod:`acordcs.vocabularies`). This module adds only what the schema says
 beyond the declaration: where each definition stands in the file (:data:`LAYOUT`), the shared
 groups (:data:`ATTRIBUTE_GROUPS`, :data:`GROUPS`), the documentation of types and elements, and
@@ -21,8 +21,8 @@ from dataclasses import dataclass
 from xml.sax.saxutils import escape, quoteattr
 
 from acordcs import vocabularies
-from acordcs.descriptor.declaration import NAMESPACE, Part, Plan, Simple, plan
-from acordcs.descriptor.model import Application
+from acordcs.descriptor.application import Application
+from acordcs.descriptor.xml_form import NAMESPACE, Layout, Part, Simple, layout
 
 HEADER = f"""\
 <?xml version="1.0" encoding="UTF-8"?>
@@ -188,23 +188,23 @@ class _Definitions:
     """The schema's definitions, found by walking the declaration from the application."""
 
     def __init__(self) -> None:
-        self.root = plan(Application)
-        self.types: dict[str, Plan] = {}
+        self.root = layout(Application)
+        self.types: dict[str, Layout] = {}
         self.name_lists: dict[str, Part] = {}
         self.simple_types: dict[str, Simple] = {}
         self.group_lines: dict[str, list[str]] = {}
         self.documented: set[str | tuple[str, str]] = set()
         self._walk(self.root)
 
-    def _walk(self, declared: Plan) -> None:
+    def _walk(self, declared: Layout) -> None:
         for part in declared.fields:
             if part.node.role == "attribute":
                 self._simple(part.node.type)
             if part.node.role == "names" and part.node.schema_type:
                 self.name_lists[part.node.schema_type] = part
-            if part.plan is not None and part.plan.element.name not in self.types:
-                self.types[part.plan.element.name] = part.plan
-                self._walk(part.plan)
+            if part.layout is not None and part.layout.element.name not in self.types:
+                self.types[part.layout.element.name] = part.layout
+                self._walk(part.layout)
 
     def _simple(self, simple: Simple | None) -> None:
         while simple is not None and simple.name and not simple.name.startswith("xs:"):
@@ -250,7 +250,7 @@ class _Definitions:
         lines += _annotation(documentation, 4)
         return [*lines, *_restriction(simple, 4), "  </xs:simpleType>"]
 
-    def complex_type(self, declared: Plan, indent: int = 2) -> list[str]:
+    def complex_type(self, declared: Layout, indent: int = 2) -> list[str]:
         pad = " " * indent
         name = declared.element.name
         lines = [f'{pad}<xs:complexType name="{name}">', *_annotation(self.documentation(name), 4)]
@@ -318,8 +318,8 @@ class _Definitions:
             schema_type = part.node.schema_type
             typed = f' type="d:{schema_type}"' if schema_type else ""
         else:
-            assert part.plan is not None
-            typed = f' type="d:{part.plan.element.name}"'
+            assert part.layout is not None
+            typed = f' type="d:{part.layout.element.name}"'
         occurs = ' minOccurs="0"' if role == "documentation" or part.optional else ""
         if role in ("children", "names"):
             occurs = ' minOccurs="0" maxOccurs="unbounded"'
@@ -338,8 +338,8 @@ class _Definitions:
         lines = [f'  <xs:element name="{root.element.name}">', "    <xs:complexType>"]
         lines.append("      <xs:sequence>")
         for part in root.children:  # the groups
-            assert part.plan is not None
-            item = part.plan.element.name
+            assert part.layout is not None
+            item = part.layout.element.name
             lines += [
                 f'        <xs:element name="{part.xml}">',
                 "          <xs:complexType><xs:sequence>",
@@ -377,13 +377,13 @@ class _Definitions:
         return lines
 
     def _steps(self, scope: tuple[str, ...], path: tuple[str, ...]) -> Iterator[Part]:
-        declared: Plan | None = self.root
+        declared: Layout | None = self.root
         for name in (*scope, *path):
             if declared is None:
                 raise ValueError(f"IDENTITY: {'.'.join(path)} goes past a name list")
             part = declared.part(name)
             yield part
-            declared = part.plan
+            declared = part.layout
 
     def xpath(self, scope: tuple[str, ...], path: tuple[str, ...]) -> str:
         steps = list(self._steps(scope, path))[len(scope) :]
@@ -394,11 +394,11 @@ class _Definitions:
 
     def attribute_of(self, scope: tuple[str, ...], path: tuple[str, ...], field: str) -> str:
         last = list(self._steps(scope, path))[-1]
-        if last.plan is None:  # a name list's elements have their name
+        if last.layout is None:  # a name list's elements have their name
             if field != "name":
                 raise ValueError(f"IDENTITY: a name list's elements have no {field}")
             return "name"
-        return last.plan.part(field).xml
+        return last.layout.part(field).xml
 
 
 def _annotation(documentation: str | None, indent: int) -> list[str]:

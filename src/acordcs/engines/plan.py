@@ -35,7 +35,7 @@ from acordcs.rules.binding import (
 )
 
 if TYPE_CHECKING:
-    from acordcs.descriptor.model import PolicySet as PolicySetDescription
+    from acordcs.descriptor.application import PolicySet as PolicySetDescription
 
 
 @dataclass(frozen=True, slots=True)

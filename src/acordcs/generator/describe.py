@@ -25,7 +25,7 @@ from collections.abc import Iterable
 from dataclasses import replace
 from typing import TypeVar
 
-from acordcs.descriptor.model import (
+from acordcs.descriptor.application import (
     Application,
     Bound,
     Component,

@@ -48,10 +48,10 @@ from acordcs.runtime.policy import PolicySet
 from acordcs.runtime.ports import Port
 
 if TYPE_CHECKING:
-    from acordcs.descriptor.model import Application, Connection
-    from acordcs.descriptor.model import Component as ComponentDescription
-    from acordcs.descriptor.model import Monitor as MonitorDescription
-    from acordcs.descriptor.model import PolicySet as PolicySetDescription
+    from acordcs.descriptor.application import Application, Connection
+    from acordcs.descriptor.application import Component as ComponentDescription
+    from acordcs.descriptor.application import Monitor as MonitorDescription
+    from acordcs.descriptor.application import PolicySet as PolicySetDescription
     from acordcs.runtime.context.core import ProviderCore
 
 MonitorMaker = Callable[..., Monitor]

@@ -44,7 +44,7 @@ from acordcs.runtime.ports import PortSpec
 from acordcs.vocabularies import ARGUMENT_DIRECTIONS, RESULT_DIRECTIONS
 
 if TYPE_CHECKING:
-    from acordcs.descriptor.model import Component, Operation, Port
+    from acordcs.descriptor.application import Component, Operation, Port
 
 # Names a generic operation cannot take: the component API every component inherits.
 _RESERVED = frozenset(dir(CtxComponent))

@@ -32,7 +32,7 @@ from typing import TYPE_CHECKING
 from acordcs.typed_values import Value, value_kind
 
 if TYPE_CHECKING:
-    from acordcs.descriptor.model import Operation
+    from acordcs.descriptor.application import Operation
 
 MAX_TEXT = 4096
 """Characters of one ``--run`` at most."""

@@ -39,7 +39,7 @@ from acordcs.runtime.errors import RuntimeFailure
 from acordcs.runtime.live.update_steps import Classes, Factories, Outcome, Part
 
 if TYPE_CHECKING:
-    from acordcs.descriptor.model import Application
+    from acordcs.descriptor.application import Application
 
 
 @dataclass

@@ -40,7 +40,7 @@ from acordcs.runtime.assembly import RunningApplication
 from acordcs.runtime.operations import has_code
 
 if TYPE_CHECKING:
-    from acordcs.descriptor.model import Application
+    from acordcs.descriptor.application import Application
 
 
 @dataclass(frozen=True)

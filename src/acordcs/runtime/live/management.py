@@ -49,8 +49,8 @@ from acordcs.runtime.live.observer import OBSERVE_OBJECT, Observer, ObserverEndp
 from acordcs.runtime.live.update_steps import Classes
 
 if TYPE_CHECKING:
+    from acordcs.descriptor.application import Application
     from acordcs.descriptor.diff import Change
-    from acordcs.descriptor.model import Application
     from acordcs.runtime.assembly import RunningApplication
     from acordcs.runtime.connectors.remote import ContainerServer
     from acordcs.runtime.events import Event

@@ -17,7 +17,7 @@ from acordcs.runtime.connectors.remote import RemotePort
 from acordcs.runtime.operations import OutParameters
 
 if TYPE_CHECKING:
-    from acordcs.descriptor.model import Application
+    from acordcs.descriptor.application import Application
     from acordcs.runtime.container import Container
     from acordcs.runtime.monitor import Monitor
 

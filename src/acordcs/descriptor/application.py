@@ -14,19 +14,19 @@ the architecture index or pyecore: a descriptor is written to and read from XML
 
 This module is also the one declaration of the XML form: each class's ``XML`` names its element
 type, each field's ``metadata`` says what it is in the document and its value type (see
-:mod:`acordcs.descriptor.declaration`); the writer, the reader and the schema
+:mod:`acordcs.descriptor.xml_form`); the writer, the reader and the schema
 (``acordcs-descriptor.xsd``, written by :mod:`acordcs.descriptor.xsd`) are derived from it.
 """
 
 # No ``from __future__ import annotations``: the fields' annotations are evaluated as the classes
-# are made, so that the plans of the declaration read them as they are (resolving them as strings
+# are made, so that the layouts of the declaration read them as they are (resolving them as strings
 # with typing.get_type_hints costs about 1.7 ms of a generated application's start).
 
 from collections.abc import Iterable, Sequence
 from dataclasses import dataclass, field
 from typing import Any, ClassVar
 
-from acordcs.descriptor.declaration import (
+from acordcs.descriptor.xml_form import (
     BOOLEAN,
     FREQUENCY,
     NAMES,

@@ -1,7 +1,7 @@
-"""How the descriptor declares its XML form, once, and the plans that writing, reading and the
+"""How the descriptor declares its XML form, once, and the layouts that writing, reading and the
 schema are derived from.
 
-Each field of the dataclasses of :mod:`acordcs.descriptor.model` says in its ``metadata`` (made
+Each field of the dataclasses of :mod:`acordcs.descriptor.application` says in its ``metadata`` (made
 by :func:`attr`, :func:`content`, :func:`doc`, :func:`child`, :func:`children`, :func:`name_list`
 or :func:`group`) what it is in the document: an attribute and its value type, the element's text,
 its documentation, one child element, a list of them, a list of names, or one of the application's
@@ -12,7 +12,7 @@ out is its annotation's: an ``X | None`` field is written only when set.
 
 Nothing else says what the document holds: :mod:`acordcs.descriptor.xml` writes it,
 :mod:`acordcs.descriptor.reader` reads it and :mod:`acordcs.descriptor.xsd` writes its schema,
-each by walking :func:`plan`.
+each by walking :func:`layout`.
 """
 
 from __future__ import annotations
@@ -245,10 +245,10 @@ class Element(_Record):
 class Part(_Record):
     """One field as the document has it: ``xml`` its attribute name or child tag (``tag`` with
     the namespace), ``optional`` when its annotation admits None, ``codec`` an attribute's,
-    ``plan`` the plan of the dataclass a child, children or group field holds, ``item_tag`` the
+    ``layout`` the layout of the dataclass a child, children or group field holds, ``item_tag`` the
     tag (with the namespace) of a group's elements."""
 
-    __slots__ = ("codec", "field", "item_tag", "node", "optional", "plan", "tag", "xml")
+    __slots__ = ("codec", "field", "item_tag", "layout", "node", "optional", "tag", "xml")
 
     def __init__(
         self,
@@ -258,7 +258,7 @@ class Part(_Record):
         tag: str,
         optional: bool,
         codec: Codec | None,
-        plan: Plan | None,
+        layout: Layout | None,
         item_tag: str,
     ) -> None:
         self.field = field
@@ -267,11 +267,11 @@ class Part(_Record):
         self.tag = tag
         self.optional = optional
         self.codec = codec
-        self.plan = plan
+        self.layout = layout
         self.item_tag = item_tag
 
 
-class Plan(_Record):
+class Layout(_Record):
     """A dataclass's element: its fields in their order (the constructor's), its attributes and
     children in the document's, the field holding its text if any."""
 
@@ -293,16 +293,16 @@ class Plan(_Record):
         self.text = text
         self.children = children
 
-    def __repr__(self) -> str:  # the parts' plans would repeat every held dataclass's
-        return f"Plan({self.cls.__name__})"
+    def __repr__(self) -> str:  # the parts' layouts would repeat every held dataclass's
+        return f"Layout({self.cls.__name__})"
 
     def part(self, field: str) -> Part:
         return next(p for p in self.fields if p.field == field)
 
 
 @cache
-def plan(cls: type) -> Plan:
-    """The plan of dataclass ``cls`` (of its children's, recursively), made once; ``TypeError``
+def layout(cls: type) -> Layout:
+    """The layout of dataclass ``cls`` (of its children's, recursively), made once; ``TypeError``
     for a field that declares no XML form or a declaration that does not hold together."""
     element = getattr(cls, "XML", None)
     if not isinstance(element, Element):
@@ -324,7 +324,7 @@ def plan(cls: type) -> Plan:
     for part in parts:
         if part.node.typed_by and part.node.typed_by not in {a.field for a in attributes}:
             raise TypeError(f"{cls.__name__}.{part.field}: typed by no attribute field")
-    return Plan(
+    return Layout(
         cls,
         element,
         tuple(parts),
@@ -339,13 +339,13 @@ def _part(cls: type, name: str, node: Any, hint: Any) -> Part:
         raise TypeError(f"{cls.__name__}.{name} declares no XML form (metadata={{KEY: Node}})")
     args = typing.get_args(hint)
     optional = type(None) in args
-    held: Plan | None = None
+    held: Layout | None = None
     if node.role in ("child", "children", "group"):
         # tuple[X, ...] for lists, X or X | None for one: X is a dataclass declaring its element
         found = [a for a in args if a is not Ellipsis and a is not type(None)] or [hint]
         if len(found) != 1 or not dataclasses.is_dataclass(found[0]):
             raise TypeError(f"{cls.__name__}.{name}: {hint} holds no one declared dataclass")
-        held = plan(typing.cast(type, found[0]))
+        held = layout(typing.cast(type, found[0]))
     xml = node.name or name.replace("_", "-")
     codec: Codec | None = None
     if node.role == "attribute":
