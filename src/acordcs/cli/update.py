@@ -230,8 +230,12 @@ def _build(model: str, app: Path, package: str, targets: list[str]) -> tuple[Bui
         if len(parts) == 2 and parts[1] == "descriptor.xml" and change.new is not None:
             return result, change.new
     path = app / package / "descriptor.xml"
+    from acordcs.generator.paths import Unreadable, read_bounded
+
     try:
-        return result, path.read_bytes()
+        return result, read_bounded(path)  # a FIFO or a huge file there is refused, not waited on
+    except Unreadable as err:
+        _fail(f"{printable(str(path))}: cannot read the new descriptor: it is {err.what}", 2)
     except OSError as err:
         _fail(f"{printable(str(path))}: cannot read the new descriptor: {err.strerror}", 2)
 
