@@ -125,19 +125,7 @@ def test_a_real_clock_runs_the_operation_in_a_worker_while_it_serves(tmp_path: P
 
 
 def test_the_start_script_passes_the_environment_variable_as_run_options(tmp_path: Path) -> None:
-    # A stand-in for the container module that records its arguments (tests.support.fake_container).
-    bin_ = scripts.built(tmp_path / "out")
-    args = tmp_path / "args"
-    env = scripts.environment(
-        tmp_path / "run",
-        FAKE_ARGS=str(args),
-        ACORDCS_UserSide_RUN="Navigator.run  Navigator.step",
-    )
-    try:
-        started = scripts.script(bin_, "UserSide-start", env)
-        assert started.returncode == 0, started.stdout + started.stderr
-    finally:
-        scripts.script(bin_, "UserSide-stop", env)
-    given = args.read_text().split("\0")
-    runs = [given[i + 1] for i, a in enumerate(given) if a == "--run"]
-    assert runs == ["Navigator.run", "Navigator.step"]
+    assert scripts.run_options_passed(tmp_path, "Navigator.run  Navigator.step") == [
+        "Navigator.run",
+        "Navigator.step",
+    ]

@@ -125,21 +125,10 @@ def test_a_parameter_of_a_model_class_cannot_be_given(built: Path) -> None:
 
 
 def test_the_start_script_passes_calls_with_their_arguments(tmp_path: Path) -> None:
-    bin_ = scripts.built(tmp_path / "out")
-    args = tmp_path / "args"
-    env = scripts.environment(
-        tmp_path / "run",
-        FAKE_ARGS=str(args),
-        ACORDCS_UserSide_RUN="Display.watch(5) Display.show('*',2.5,true)",
-    )
-    try:
-        started = scripts.script(bin_, "UserSide-start", env)
-        assert started.returncode == 0, started.stdout + started.stderr
-    finally:
-        scripts.script(bin_, "UserSide-stop", env)
-    given = args.read_text().split("\0")
-    runs = [given[i + 1] for i, a in enumerate(given) if a == "--run"]
-    assert runs == ["Display.watch(5)", "Display.show('*',2.5,true)"]
+    assert scripts.run_options_passed(tmp_path, "Display.watch(5) Display.show('*',2.5,true)") == [
+        "Display.watch(5)",
+        "Display.show('*',2.5,true)",
+    ]
 
 
 def test_the_build_pages_examples_are_what_it_prints(built: Path) -> None:

@@ -121,3 +121,19 @@ def pid_namespace() -> list[str]:
     if os.environ.get("CI") == "true":
         pytest.fail(f"the PID namespace test cannot run in CI: {reason}")
     pytest.skip(reason)
+
+
+def run_options_passed(tmp_path: Path, run: str) -> list[str]:
+    """The ``--run`` options ``bin/UserSide-start`` gives the container module when
+    ``ACORDCS_UserSide_RUN`` is ``run`` (the WebLab built into ``tmp_path``; a stand-in module,
+    tests.support.fake_container, records its arguments)."""
+    bin_ = built(tmp_path / "out")
+    args = tmp_path / "args"
+    env = environment(tmp_path / "run", FAKE_ARGS=str(args), ACORDCS_UserSide_RUN=run)
+    try:
+        started = script(bin_, "UserSide-start", env)
+        assert started.returncode == 0, started.stdout + started.stderr
+    finally:
+        script(bin_, "UserSide-stop", env)
+    given = args.read_text().split("\0")
+    return [given[i + 1] for i, a in enumerate(given) if a == "--run"]
