@@ -40,8 +40,12 @@ def test_the_tool_finds_the_schema_current(capsys: pytest.CaptureFixture[str]) -
     assert capsys.readouterr().out.endswith(": current\n")
 
 
-def test_the_written_schema_compiles() -> None:
-    etree.XMLSchema(etree.fromstring(xsd.schema_text().encode("utf-8")))
+def test_the_written_schema_compiles_and_judges_a_descriptor(weblab: Application) -> None:
+    written = etree.XMLSchema(etree.fromstring(xsd.schema_text().encode("utf-8")))
+    document = etree.fromstring(to_xml(weblab))
+    assert written.validate(document), written.error_log
+    del document.attrib["name"]  # an application has a name
+    assert not written.validate(document)
 
 
 def test_the_enumerations_are_the_vocabularies() -> None:

@@ -52,7 +52,7 @@ VARIANTS = port_models.variants()
 MUST_BUILD = {p for p in MODEL_FILES if "mistakes" not in p.parts}
 
 
-def _judge(model: Path, out: Path) -> tuple[int, set[str]]:
+def assert_validate_and_build_agree(model: Path, out: Path) -> tuple[int, set[str]]:
     """validate and build ``model``; the exit code (the same for both, asserted) and validate's
     error codes."""
     checked = run_main(["validate", str(model)])
@@ -100,15 +100,15 @@ def test_the_repository_holds_the_models_this_test_reads() -> None:
 
 @pytest.mark.parametrize("model", MODEL_FILES, ids=lambda p: p.relative_to(ROOT).as_posix())
 def test_every_model_file_of_the_repository(model: Path, tmp_path: Path) -> None:
-    code, errors = _judge(model, tmp_path / "out")
+    code, errors = assert_validate_and_build_agree(model, tmp_path / "out")
     if model in MUST_BUILD:
         assert code == 0, errors
 
 
 @pytest.mark.parametrize("case", hostile.CASES, ids=[c.id for c in hostile.CASES])
 def test_the_hostile_corpus(case, tmp_path: Path) -> None:
-    model = hostile._path_for(case, tmp_path)
-    _judge(model, tmp_path / "out")
+    model = hostile.path_for(case, tmp_path)
+    assert_validate_and_build_agree(model, tmp_path / "out")
 
 
 @pytest.mark.parametrize("base", sorted(dialects.BASES))
@@ -118,8 +118,8 @@ def test_the_hostile_dialects(base: str, shape: str | None, tmp_path: Path) -> N
     if shape is not None:
         text = dialects.SHAPES[shape][0](text, tmp_path)
     model = tmp_path / "model.xmi"
-    model.write_bytes(text.encode(dialects._encoding(text), errors="replace"))
-    _judge(model, tmp_path / "out")
+    model.write_bytes(text.encode(dialects.encoding_of(text), errors="replace"))
+    assert_validate_and_build_agree(model, tmp_path / "out")
 
 
 @pytest.mark.parametrize("spec", VARIANTS, ids=[s.id for s in VARIANTS])
@@ -128,7 +128,7 @@ def test_generated_variants(spec: port_models.Spec, tmp_path: Path) -> None:
     model.write_bytes(port_models.document(spec))
     if spec.file_form == "papyrus":  # beside the model, as Papyrus needs it (else T321)
         shutil.copy(PROFILE, tmp_path / PROFILE.name)
-    code, errors = _judge(model, tmp_path / "out")
+    code, errors = assert_validate_and_build_agree(model, tmp_path / "out")
     if spec.refused_with is None:
         checked = run_main(["validate", str(model)])
         assert code == 0 and " 0 errors, 0 warnings" in checked.out, checked.out

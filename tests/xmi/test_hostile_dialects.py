@@ -111,7 +111,7 @@ SHAPES = {
 }
 
 
-def _encoding(text: str) -> str:
+def encoding_of(text: str) -> str:
     return "cp1252" if "windows-1252" in text[:60] else "utf-8"
 
 
@@ -121,7 +121,7 @@ def test_hostile_shape_on_dialect(base: str, shape: str, tmp_path: Path) -> None
     make, code, exit_code = SHAPES[shape]
     text = BASES[base]
     path = tmp_path / "model.xmi"
-    path.write_bytes(make(text, tmp_path).encode(_encoding(text), errors="replace"))
+    path.write_bytes(make(text, tmp_path).encode(encoding_of(text), errors="replace"))
     result = run_main(["validate", str(path)])
     no_crash(result)
     assert result.code == exit_code, result.out
@@ -216,7 +216,7 @@ _PAYLOADS = [
 def mutated(draw) -> bytes:
     base = draw(st.sampled_from(sorted(BASES)))
     text = BASES[base]
-    data = bytearray(text.encode(_encoding(text)))
+    data = bytearray(text.encode(encoding_of(text)))
     for _ in range(draw(st.integers(1, 4))):
         pos = draw(st.integers(0, len(data) - 1))
         op = draw(st.sampled_from(["flip", "delete", "insert", "truncate"]))

@@ -194,7 +194,7 @@ CASES = [
 ]
 
 
-def _path_for(case: Case, tmp_path: Path) -> Path:
+def path_for(case: Case, tmp_path: Path) -> Path:
     if case.id == "directory":
         target = tmp_path / "model.xmi"
         target.mkdir()
@@ -208,7 +208,7 @@ def _path_for(case: Case, tmp_path: Path) -> Path:
 
 @pytest.mark.parametrize("case", CASES, ids=[c.id for c in CASES])
 def test_hostile_input_gives_a_clear_diagnostic(case: Case, tmp_path: Path) -> None:
-    path = _path_for(case, tmp_path)
+    path = path_for(case, tmp_path)
     result = run_main(["validate", "--fail-on", case.fail_on, str(path)])
     no_crash(result)
     assert result.code == case.exit, result.both
@@ -227,7 +227,7 @@ def test_hostile_files_in_one_process_run(tmp_path: Path) -> None:
     for n, case in enumerate(c for c in CASES if c.id != "huge-attribute"):
         sub = tmp_path / f"{n:02d}-{case.id}"
         sub.mkdir()
-        paths.append(str(_path_for(case, sub)))
+        paths.append(str(path_for(case, sub)))
     result = run_process(["validate", "--format", "json", *paths])
     no_crash(result)
     assert result.code == 2
