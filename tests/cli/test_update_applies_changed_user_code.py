@@ -22,8 +22,8 @@ from tests.support.greenhouse import (
     sensor,
     temperature,
     update,
-    wait_for,
 )
+from tests.support.scripts import wait_until
 
 
 @pytest.fixture(scope="module")
@@ -31,7 +31,7 @@ def house(tmp_path_factory) -> Iterator[tuple[Path, Path, dict[str, str]]]:
     root = tmp_path_factory.mktemp("code")
     model, app = built(root, "python,shell", code=sensor(0.0))
     with running(app) as env:
-        wait_for(lambda: temperature(env) >= 1.0, "the sensor's first reading")
+        wait_until(lambda: temperature(env) >= 1.0, "the sensor's first reading")
         yield model, app, env
 
 
@@ -71,7 +71,7 @@ def test_changed_code_is_planned_applied_with_its_state_kept_and_then_done(house
         "House: applied 1 change in " in done.out and f"runs descriptor {digest[:12]}" in done.out
     )
     # The new code reads 1000 + its count, the count kept from before the replacement.
-    wait_for(lambda: temperature(env) > 1000.0, "a reading of the new code")
+    wait_until(lambda: temperature(env) > 1000.0, "a reading of the new code")
     assert temperature(env) > 1000.0 + before
     log = (Path(env["ACORDCS_RUN_DIR"]) / "House.log").read_text()
     assert "model.updated: ~ code of component Sensor" in log
@@ -103,8 +103,8 @@ def test_code_that_does_not_import_is_rolled_back_and_applies_once_mended(house)
     assert "SyntaxError" in done.err and "fix the syntax there, then update again" in done.err
     assert "as before the update" in done.err
     last = temperature(env)
-    wait_for(lambda: temperature(env) > last, "a reading of the code that ran before")
+    wait_until(lambda: temperature(env) > last, "a reading of the code that ran before")
     path.write_text(good.replace("1000.0", "2000.0"), encoding="utf-8")
     mended = update(env, str(model), "-o", str(app))
     assert mended.code == 0, mended.both
-    wait_for(lambda: temperature(env) > 2000.0, "a reading of the mended code")
+    wait_until(lambda: temperature(env) > 2000.0, "a reading of the mended code")

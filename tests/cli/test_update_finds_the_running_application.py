@@ -8,7 +8,6 @@ its script."""
 
 from __future__ import annotations
 
-import contextlib
 import os
 import shutil
 import subprocess
@@ -19,7 +18,13 @@ import pytest
 
 from tests.generator.test_shell_scripts_parse_quote_and_run import free_ports
 from tests.support.generator import build, snapshot
-from tests.support.toolchain import ROOT, SMARTROOM, CliResult, no_crash, replace, run_main
+from tests.support.toolchain import (
+    ROOT,
+    SMARTROOM,
+    CliResult,
+    replace,
+    update_under,
+)
 
 LIGHT = "vacant: if occupancy is empty then Lights.dimmer is off"
 DIMMED = "vacant: if occupancy is empty then Lights.dimmer is low"
@@ -39,23 +44,8 @@ def environment(run: Path, port: int, **more: str) -> dict[str, str]:
     }
 
 
-@contextlib.contextmanager
-def environ(env: dict[str, str]) -> Iterator[None]:
-    saved = dict(os.environ)
-    os.environ.clear()
-    os.environ.update(env)
-    try:
-        yield
-    finally:
-        os.environ.clear()
-        os.environ.update(saved)
-
-
 def update(env: dict[str, str], *args: str) -> CliResult:
-    with environ(env):
-        done = run_main(["update", *args])
-    no_crash(done)
-    return done
+    return update_under(env, *args)
 
 
 @pytest.fixture(scope="module")

@@ -11,13 +11,12 @@ import os
 import shutil
 import socket
 import subprocess
-import time
 from collections.abc import Iterator
 from pathlib import Path
 from typing import Any
 
 from tests.support.generator import build
-from tests.support.toolchain import ROOT, CliResult, no_crash, run_main
+from tests.support.toolchain import ROOT, CliResult, update_under
 
 GREENHOUSE = ROOT / "samples" / "tutorial" / "greenhouse.uml"
 PACKAGE = "greenhouse_app"
@@ -103,24 +102,9 @@ def running(app: Path, **more: str) -> Iterator[dict[str, str]]:
         script(app, "stop-all", env)
 
 
-@contextlib.contextmanager
-def environ(env: dict[str, str]) -> Iterator[None]:
-    saved = dict(os.environ)
-    os.environ.clear()
-    os.environ.update(env)
-    try:
-        yield
-    finally:
-        os.environ.clear()
-        os.environ.update(saved)
-
-
 def update(env: dict[str, str], *args: str) -> CliResult:
     """``acordcs-gen update ARGS...`` in this process, under ``env``."""
-    with environ(env):
-        done = run_main(["update", *args])
-    no_crash(done)
-    return done
+    return update_under(env, *args)
 
 
 def manage(env: dict[str, str], method: str, *args: Any) -> Any:
@@ -139,11 +123,3 @@ def manage(env: dict[str, str], method: str, *args: Any) -> Any:
 def temperature(env: dict[str, str]) -> float:
     """The Climate monitor's temperature now: the sensor's last reading."""
     return float(manage(env, "properties", ["Climate"])["Climate"]["temperature"])
-
-
-def wait_for(condition, what: str, timeout: float = 30.0) -> None:
-    """Poll ``condition()`` until true; fail naming ``what`` after ``timeout`` s."""
-    deadline = time.monotonic() + timeout
-    while not condition():
-        assert time.monotonic() < deadline, f"not within {timeout} s: {what}"
-        time.sleep(0.05)

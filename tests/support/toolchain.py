@@ -9,7 +9,7 @@ import os
 import re
 import subprocess
 import sys
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -215,3 +215,25 @@ def rule_and_tag_findings(tmp_path: Path, build: Callable) -> list[tuple[str, st
     path.write_text(gen.BoumlWriter("Model").write(root), encoding="utf-8")
     reading = read_model(str(path))
     return [(d.code, d.message) for d in reading.diagnostics if d.code[0] in "LT"]
+
+
+@contextlib.contextmanager
+def environ(env: dict[str, str]) -> Iterator[None]:
+    """This process's environment is ``env`` (only) for the block."""
+    saved = dict(os.environ)
+    os.environ.clear()
+    os.environ.update(env)
+    try:
+        yield
+    finally:
+        os.environ.clear()
+        os.environ.update(saved)
+
+
+def update_under(env: dict[str, str], *args: str) -> CliResult:
+    """``acordcs-gen update ARGS...`` in this process, under the environment ``env`` (the one the
+    application's scripts run with)."""
+    with environ(env):
+        done = run_main(["update", *args])
+    no_crash(done)
+    return done
