@@ -169,6 +169,7 @@ def test_a_broken_entry_point_is_reported_and_the_others_load(tmp_path: Path, mo
         metadata.EntryPoint("gone", "no_such_module_xyz:target", ENTRY_POINT_GROUP),
         metadata.EntryPoint("number", "math:pi", ENTRY_POINT_GROUP),
         metadata.EntryPoint("config", "json:dumps", ENTRY_POINT_GROUP),
+        metadata.EntryPoint("all", "json:dumps", ENTRY_POINT_GROUP),
     ]
     given = builtin.table(entry_points=lambda group: points)
     monkeypatch.setattr(builtin, "TARGETS", given)
@@ -176,13 +177,14 @@ def test_a_broken_entry_point_is_reported_and_the_others_load(tmp_path: Path, mo
         result = build(WEBLAB, tmp_path, "--target", "config")
         assert result.code == 0, result.both
         warnings = [line for line in result.err.splitlines() if "warning" in line]
-        assert len(warnings) == 3
+        assert len(warnings) == 4
         assert "entry point gone = no_such_module_xyz:target" in warnings[0]
         assert (
             "ModuleNotFoundError" in warnings[0] and "fix or uninstall that package" in warnings[0]
         )
         assert "entry point number = math:pi" in warnings[1] and "not a target" in warnings[1]
         assert "target 'config' already exists (acordcs); not loaded" in warnings[2]
+        assert "entry point all = json:dumps" in warnings[3] and "names no target" in warnings[3]
         assert builtin.targets()["config"].origin == "acordcs"
     finally:
         monkeypatch.undo()

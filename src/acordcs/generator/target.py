@@ -158,10 +158,13 @@ def accept(name: str, loaded: Any, origin: str) -> Target:
     if isinstance(loaded, Target):
         return loaded if origin == "acordcs" else replace(loaded, origin=origin)
     if callable(loaded):
-        check_name(name)
+        try:
+            check_name(name)
+        except ValueError as err:  # a plug-in's entry point named like no target can be
+            raise Refused(f"names no target: {err}") from None
         doc = (loaded.__doc__ or "").strip().splitlines()
         return Target(name, doc[0] if doc else name, function=loaded, origin=origin)
     raise Refused(
-        f"is {article(type(loaded).__name__)} {type(loaded).__name__}, not a target; point it at a function "
-        "decorated with acordcs.generator.target or made by xslt_target"
+        f"is {article(type(loaded).__name__)} {type(loaded).__name__}, not a target; point it at "
+        "a function decorated with acordcs.generator.target or made by xslt_target"
     )
