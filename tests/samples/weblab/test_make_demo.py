@@ -12,7 +12,6 @@ import subprocess
 import sys
 from pathlib import Path
 
-import pytest
 from weblab_experiment import tuning
 from weblab_experiment.grid import CONDITIONS, SWEEP, fixed_name
 from weblab_experiment.summary import METRICS
@@ -36,21 +35,6 @@ def experiment_lines(block: list[str]) -> list[str]:
     """The transcript's lines after the experiment's command, timings left out."""
     shown = block[block.index(next(ln for ln in block if ln.startswith("cd "))) + 1 :]
     return [ln for ln in shown if not TIMING.search(ln)]
-
-
-@pytest.fixture(scope="module")
-def demo(tmp_path_factory, weblab_app) -> tuple[list[str], Path]:
-    """The experiment as make demo runs it (10 seeds, every condition and profile)."""
-    out = tmp_path_factory.mktemp("demo")
-    done = subprocess.run(
-        [sys.executable, "-m", "weblab_experiment", "--out", str(out), "--no-progress"],
-        cwd=SAMPLE_DIR,
-        capture_output=True,
-        text=True,
-        timeout=600,
-    )
-    assert done.returncode == 0, done.stdout + done.stderr
-    return done.stdout.splitlines(), out
 
 
 def test_the_readme_shows_the_commands_make_demo_runs():
