@@ -348,7 +348,14 @@ MONITORS: dict[str, type[Monitor]] = {{
 """Monitor name -> its class."""
 
 DESCRIPTOR = Path(__file__).with_name("descriptor.xml")
-
+</xsl:text>
+    <xsl:if test="$components[@language = 'java']">
+      <xsl:text>JAVA_SOURCES = Path(__file__).resolve().parent.parent / "java"
+"""The ``java`` target's sources: the classes of the components tagged language=java
+({string-join($components[@language = 'java']/py:inline(@name), ', ')}), which the container compiles and hosts."""
+</xsl:text>
+    </xsl:if>
+    <xsl:text>
 
 def descriptor() -> Application:
     """The application descriptor, read (and validated) from ``descriptor.xml``."""
@@ -376,7 +383,12 @@ def assemble_application(
         only=only,
         remote=remote,
         remote_timeout=remote_timeout,
-    )
+</xsl:text>
+    <xsl:if test="$components[@language = 'java']">
+      <xsl:text>        java_sources=JAVA_SOURCES,
+</xsl:text>
+    </xsl:if>
+    <xsl:text>    )
 </xsl:text>
   </xsl:template>
 

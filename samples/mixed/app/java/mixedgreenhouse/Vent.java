@@ -1,0 +1,36 @@
+// Created by acordcs-gen 0.1.0 (target java) from component 'Vent' (Vent, id _Vent)
+// in model file greenhouse.uml. Written once: yours to edit, never overwritten by a build.
+package mixedgreenhouse;
+
+/**
+ * The greenhouse's vent, in Java: the Ventilation policy set sets its {@code opening}; its report
+ * asks the sensor (Python) for the temperature through {@code ThermoPort}.
+ */
+public class Vent extends VentBase {
+    private int changes;
+
+    public Vent() {
+        super();
+    }
+
+    @java.lang.Override
+    public java.lang.String report() {
+        double temperature = ((Number) ThermoPort.call("readTemperature")).doubleValue();
+        return java.lang.String.format(java.util.Locale.ROOT,
+                "opening %.1f %% at %.1f C after %d change(s)", opening, temperature, changes);
+    }
+
+    @java.lang.Override
+    public double calibrate(double reference) {
+        if (reference < 0 || reference > 50) {
+            throw new java.lang.IllegalArgumentException(
+                    "reference " + reference + " C is outside the sensor's range, 0 to 50 C");
+        }
+        return reference - ((Number) ThermoPort.call("readTemperature")).doubleValue();
+    }
+
+    @java.lang.Override
+    public void onPropertyChanged(java.lang.String property, java.lang.Object old, java.lang.Object value) {
+        changes++;
+    }
+}
