@@ -3,7 +3,7 @@
 The classes of an application's Java components are kept in the private cache directory
 (:func:`acordcs.cachedir.private_dir`, under ``java/``), in a directory named by the digest of
 every ``.java`` file of the ``java`` target's output (path and bytes) and of the ``javac``
-version: a start with unchanged sources compiles nothing, a change compiles afresh into a new
+used (its real path, size and time): a start with unchanged sources compiles nothing, a change compiles afresh into a new
 directory (made beside it, then renamed: a reader sees a complete directory or none). Without a
 private cache directory the classes go to a temporary one, removed when the process exits.
 
@@ -46,11 +46,12 @@ def source_digest(sources: Path, javac: str) -> str:
     return digest.hexdigest()[:32]
 
 
-def javac_version(javac: str) -> str:
-    done = subprocess.run(
-        [javac, "-version"], capture_output=True, text=True, timeout=60, check=False
-    )
-    return (done.stdout or done.stderr).strip()
+def javac_identity(javac: str) -> str:
+    """Which javac: its real path, size and modification time (running ``javac -version`` would
+    cost every start a JVM's start)."""
+    real = os.path.realpath(javac)
+    info = os.stat(real)
+    return f"{real} {info.st_size} {info.st_mtime_ns}"
 
 
 def compiled_classes(sources: Path, roots: Iterable[Path], components: str) -> Path:
@@ -64,7 +65,7 @@ def compiled_classes(sources: Path, roots: Iterable[Path], components: str) -> P
             "javac is on PATH",
             hint=JDK_HINT,
         )
-    version = javac_version(javac)
+    version = javac_identity(javac)
     try:
         digest = source_digest(sources, version)
     except OSError as err:
