@@ -26,6 +26,7 @@ import pytest
 
 from acordcs.runtime import events as ev
 from acordcs.runtime.errors import ComponentError
+from acordcs.runtime.jvm import java_factory
 from tests.support.generator import build
 from tests.support.toolchain import SAMPLES
 
@@ -111,6 +112,44 @@ def test_a_java_setter_changes_the_property_through_the_container(app):
     house.find("Vent").instance.java.setOpening(33.0)
     assert house.get_property("Vent", "opening") == 33.0
     assert [(e.attribute, e.value, e.old) for e in seen] == [("opening", 33.0, 0.0)]
+
+
+def test_java_code_uses_the_four_rule_engine_calls_over_a_policy_set(app):
+    house = app.container("House")
+    # Vent.advise: defrule, set, fire, get over the Ventilation set's engine (its own rules,
+    # in a rule set named Vent); the oracle: the same rules defined and fired from Python.
+    engine = house.policy_set("Ventilation").engine
+    for temperature in (10.0, 27.0, 40.0):
+        advised = house.find("Vent").call("advise", temperature)
+        engine.defrule("py_cool: if temperature is cool then Vent.opening is closed", "oracle")
+        engine.defrule("py_hot: if temperature is hot then Vent.opening is wide", "oracle")
+        engine.set("temperature", temperature)
+        engine.fire("oracle")
+        assert advised == pytest.approx(engine.get("Vent.opening"))
+    assert (
+        house.find("Vent").call("advise", 40.0) > 80 > 20 > house.find("Vent").call("advise", 10.0)
+    )
+
+
+def test_a_replaced_java_component_runs_its_new_code_with_its_properties(app, registry, out,
+                                                                         tmp_path):  # fmt: skip
+    house = app.container("House")
+    ref = house.find("Vent")
+    house.remove_policy_set("Ventilation")  # only this test's write changes the opening
+    house.set_property("Vent", "opening", 42.0)
+    sources = tmp_path / "java"
+    shutil.copytree(out / "java", sources)
+    user = sources / "mixedgreenhouse" / "Vent.java"
+    user.write_text(user.read_text(encoding="utf-8").replace('"opening %.1f', '"v2: opening %.1f'),
+                    encoding="utf-8")  # fmt: skip
+    descriptor = next(c for c in registry.descriptor().components if c.name == "Vent")
+    house.remove_factory("Vent")
+    house.install_factory(java_factory(descriptor, "MixedGreenhouse", sources))
+    house.replace("Vent", "Vent")
+    assert ref.call("report") == "v2: opening 42.0 % at 16.0 C after 0 change(s)"  # same handle
+    assert float(ref.instance.java.getOpening()) == 42.0  # the state restored into its field
+    assert house.find("Sensor").call("ventReport").startswith("the vent says: v2:")  # its ports
+    assert not house.faults.recent
 
 
 def test_a_java_exception_is_a_fault_with_its_java_stack_and_the_container_goes_on(app):

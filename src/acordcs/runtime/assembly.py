@@ -95,8 +95,10 @@ class RunningApplication:
         feeds: tuple[Feed, ...] = (),
         release: Iterable[Callable[[], None]] = (),
         token: str | None = None,
+        java_sources: Path | None = None,
     ) -> None:
         self.descriptor = descriptor
+        self.java_sources = java_sources  # where its Java components' classes are (or None)
         self.name = descriptor.name
         self.clock = clock
         self.containers = containers
@@ -302,7 +304,13 @@ class Assembler:
                 target.add_policy_set(self.policy_set(ps, target))
         release = [self.relay.close] if self.relay is not None else []
         return RunningApplication(
-            self.app, self.clock, self.containers, feeds=feeds, release=release, token=self.token
+            self.app,
+            self.clock,
+            self.containers,
+            feeds=feeds,
+            release=release,
+            token=self.token,
+            java_sources=self.java_sources,
         )
 
     def factory(self, comp: ComponentDescription) -> ComponentFactory:

@@ -4,7 +4,8 @@ package mixedgreenhouse;
 
 /**
  * The greenhouse's vent, in Java: the Ventilation policy set sets its {@code opening}; its report
- * asks the sensor (Python) for the temperature through {@code ThermoPort}.
+ * asks the sensor (Python) for the temperature through {@code ThermoPort}; {@code advise} uses the
+ * paper's four rule-engine calls over the Ventilation policy set's engine.
  */
 public class Vent extends VentBase {
     private int changes;
@@ -18,6 +19,17 @@ public class Vent extends VentBase {
         double temperature = ((Number) ThermoPort.call("readTemperature")).doubleValue();
         return java.lang.String.format(java.util.Locale.ROOT,
                 "opening %.1f %% at %.1f C after %d change(s)", opening, temperature, changes);
+    }
+
+    /** The opening its own two rules advise at {@code temperature}, in the policy set's engine. */
+    @java.lang.Override
+    public double advise(double temperature) {
+        org.acordcs.runtime.RuleEngine rules = ruleEngine("Ventilation");
+        rules.defrule("own_cool: if temperature is cool then Vent.opening is closed");
+        rules.defrule("own_hot: if temperature is hot then Vent.opening is wide");
+        rules.set("temperature", temperature);
+        rules.fire();
+        return ((Number) rules.get("Vent.opening")).doubleValue();
     }
 
     @java.lang.Override
