@@ -1,9 +1,11 @@
 """A component tagged ``language=java`` runs: its container compiles its class, starts a JVM
 (JPype) and hosts it as a Python one (``acordcs.runtime.jvm``), on the sample
 ``samples/mixed/greenhouse.uml`` built once for the module: the Python sensor and the Java vent
-call each other through their ports, in process; the shed's Python panel calls the vent over
-Pyro5 from another process; the fuzzy policy set writes the vent's property into its Java field;
-a Java exception is a fault with its Java stack, and the container goes on. A start without javac
+call each other through their ports (synchronous and asynchronous), in process; the shed's
+Python panel calls the vent over Pyro5 from another process; the fuzzy policy set writes the
+vent's property into its Java field; the vent's own rules use the paper's four calls; a replaced
+vent runs its new classes with its properties; a Java exception is a fault with its Java stack,
+and the container goes on. A start without javac
 or with a Java class that does not compile says so (exit 2, no traceback); a container hosting
 no Java component loads no JPype.
 
@@ -114,6 +116,17 @@ def test_a_java_setter_changes_the_property_through_the_container(app):
     assert [(e.attribute, e.value, e.old) for e in seen] == [("opening", 33.0, 0.0)]
 
 
+def test_notifications_cross_both_ways_through_asynchronous_ports(app):
+    house = app.container("House")
+    house.find("Sensor").call("notice", "door open")  # Python -> Java: Vent.onMessage
+    app.clock.run_until(app.clock.now() + 0.1)  # the receiving port's queue is pumped by the clock
+    assert house.find("Vent").call("lastNotice") == "NoticeInPort: door open"
+    with pytest.raises(ComponentError):  # Java -> Python: the alarm, then the exception
+        house.find("Vent").call("calibrate", -5.0)
+    app.clock.run_until(app.clock.now() + 0.1)
+    assert house.find("Sensor").call("alarms") == "calibration to -5.0 C refused"
+
+
 def test_java_code_uses_the_four_rule_engine_calls_over_a_policy_set(app):
     house = app.container("House")
     # Vent.advise: defrule, set, fire, get over the Ventilation set's engine (its own rules,
@@ -157,7 +170,7 @@ def test_a_java_exception_is_a_fault_with_its_java_stack_and_the_container_goes_
     with pytest.raises(ComponentError) as raised:
         house.find("Vent").call("calibrate", 80.0)
     assert "java.lang.IllegalArgumentException: reference 80.0 C is outside" in str(raised.value)
-    (fault,) = house.faults.recent
+    (fault,) = house.faults.recent  # one fault: the alarm it sent first went through
     assert house.faults.counts["component"] == 1 and fault.where == "Vent.calibrate"
     stack = fault.error.splitlines()[1:]
     assert stack and re.fullmatch(

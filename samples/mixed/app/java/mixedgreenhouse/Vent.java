@@ -5,10 +5,12 @@ package mixedgreenhouse;
 /**
  * The greenhouse's vent, in Java: the Ventilation policy set sets its {@code opening}; its report
  * asks the sensor (Python) for the temperature through {@code ThermoPort}; {@code advise} uses the
- * paper's four rule-engine calls over the Ventilation policy set's engine.
+ * paper's four rule-engine calls over the Ventilation policy set's engine; it sends the sensor an
+ * alarm on {@code AlarmPort} when it refuses a calibration, and keeps the sensor's last notice.
  */
 public class Vent extends VentBase {
     private int changes;
+    private java.lang.String notice = "";
 
     public Vent() {
         super();
@@ -35,10 +37,22 @@ public class Vent extends VentBase {
     @java.lang.Override
     public double calibrate(double reference) {
         if (reference < 0 || reference > 50) {
+            AlarmPort.notify("calibration to " + reference + " C refused");
             throw new java.lang.IllegalArgumentException(
                     "reference " + reference + " C is outside the sensor's range, 0 to 50 C");
         }
         return reference - ((Number) ThermoPort.call("readTemperature")).doubleValue();
+    }
+
+    @java.lang.Override
+    public java.lang.String lastNotice() {
+        return notice;
+    }
+
+    /** A notice from the sensor, on {@code NoticeInPort}. */
+    @java.lang.Override
+    public void onMessage(java.lang.String port, java.lang.Object message) {
+        notice = port + ": " + message;
     }
 
     @java.lang.Override
