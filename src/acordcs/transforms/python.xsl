@@ -528,8 +528,19 @@ class {@name}Base(CtxComponent):
   <xsl:template match="d:component" mode="user">
     <xsl:param name="pkg" tunnel="yes"/>
     <xsl:sequence select="py:header('component ''' || @name || ''' ('|| @qname || ', id ' || @id || ')', $yours)"/>
-    <xsl:text>"""Component {@name}: implement its operations here (see {@name}Base)."""
-
+    <xsl:choose>
+      <xsl:when test="@language = 'java'">
+        <xsl:text>"""Component {py:inline(@name)} is tagged language=java: its container runs its Java class, whose
+code is yours in the java target's java/&lt;package&gt;/ directory; this Python class is not used
+while the tag says java (implement its operations here if you tag it python)."""
+</xsl:text>
+      </xsl:when>
+      <xsl:otherwise>
+        <xsl:text>"""Component {@name}: implement its operations here (see {@name}Base)."""
+</xsl:text>
+      </xsl:otherwise>
+    </xsl:choose>
+    <xsl:text>
 from __future__ import annotations
 
 from {$pkg}.base.{@name} import {@name}Base
