@@ -85,8 +85,11 @@ class JavaComponent(CtxComponent):
             raise fault(exc, f"{self.name}.{what}") from None
 
     def on_start(self) -> None:
-        for name, value in self.props.items():
-            self._java("setProperty", lambda n=name, v=value: self.java.setProperty(n, to_java(v)))
+        def write_fields() -> None:
+            for name, value in self.props.items():
+                self.java.setProperty(name, to_java(value))
+
+        self._java("setProperty", write_fields)
         self._java("onStart", self.java.onStart)
 
     def on_stop(self) -> None:
