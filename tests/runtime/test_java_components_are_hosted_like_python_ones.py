@@ -29,6 +29,8 @@ import pytest
 from acordcs.runtime import events as ev
 from acordcs.runtime.errors import ComponentError
 from acordcs.runtime.jvm import java_factory
+from acordcs.runtime.live.management import Management
+from acordcs.runtime.live.reloading import PackageClasses
 from tests.support.generator import build
 from tests.support.toolchain import SAMPLES
 
@@ -163,6 +165,27 @@ def test_a_replaced_java_component_runs_its_new_code_with_its_properties(app, re
     assert float(ref.instance.java.getOpening()) == 42.0  # the state restored into its field
     assert house.find("Sensor").call("ventReport").startswith("the vent says: v2:")  # its ports
     assert not house.faults.recent
+
+
+def test_an_update_replaces_a_java_component_whose_java_class_changed(app, out):
+    house = app.container("House")
+    classes = PackageClasses(PACKAGE)
+    loaded = classes.code(["Vent", "Sensor"])
+    assert loaded["Vent"]["file"] == "java/mixedgreenhouse/Vent.java"  # what update compares
+    assert loaded["Sensor"]["file"] == f"{PACKAGE}/components/Sensor.py"
+    descriptor = (out / PACKAGE / "descriptor.xml").read_bytes()
+    managed = Management(app, "House", descriptor, classes=classes, code=loaded)
+    user = out / "java" / "mixedgreenhouse" / "Vent.java"
+    before = user.read_bytes()
+    try:
+        user.write_bytes(before.replace(b'"opening %.1f', b'"updated: opening %.1f'))
+        reply = managed.apply(descriptor.decode(), managed.digest, {}, False, ["Vent"])
+        assert reply["status"] == "applied" and reply["applied"] == ["~ code of component Vent"]
+        opening = house.get_property("Vent", "opening")
+        assert house.find("Vent").call("report").startswith(f"updated: opening {opening:.1f} %")
+        assert managed.status()["code"]["Vent"]["sha256"] != loaded["Vent"]["sha256"]
+    finally:
+        user.write_bytes(before)
 
 
 def test_a_java_exception_is_a_fault_with_its_java_stack_and_the_container_goes_on(app):
