@@ -27,6 +27,8 @@ from types import ModuleType
 import pytest
 
 from acordcs.runtime import events as ev
+from acordcs.runtime.clock import VirtualClock
+from acordcs.runtime.container import Container
 from acordcs.runtime.errors import ComponentError
 from acordcs.runtime.jvm import java_factory
 from acordcs.runtime.live.management import Management
@@ -263,3 +265,30 @@ def test_a_java_class_that_does_not_compile_stops_the_start_at_its_line(out: Pat
     assert f"{source}:{at + 1}: error: component 'Vent' (Vent, id _Vent): its Java class does " \
         "not compile: ';' expected" in done.stderr  # fmt: skip
     assert "Traceback" not in done.stderr
+
+
+def test_a_throwing_constructor_and_a_call_to_a_missing_port_are_faults(registry, out, tmp_path):
+    sources = tmp_path / "java"
+    shutil.copytree(out / "java", sources)
+    user = sources / "mixedgreenhouse" / "Vent.java"
+    text = user.read_text(encoding="utf-8")
+    text = text.replace(
+        "    public Vent() {\n        super();\n",
+        "    private static int made;\n\n"
+        "    public Vent() {\n        super();\n        if (made++ > 0) {\n"
+        '            throw new IllegalStateException("one vent only");\n        }\n',
+    )
+    text = text.replace('double temperature = ((Number) ThermoPort.call(',
+                        'double temperature = ((Number) port("Nope").call(')  # fmt: skip
+    user.write_text(text, encoding="utf-8")
+    descriptor = next(c for c in registry.descriptor().components if c.name == "Vent")
+    with Container("Test", clock=VirtualClock()) as test:
+        test.install_factory(java_factory(descriptor, "MixedGreenhouse", sources))
+        vent = test.create("Vent", "Vent")
+        with pytest.raises(ComponentError, match="IllegalArgumentException: Vent has no port Nope"):
+            vent.call("report")
+        with pytest.raises(ComponentError, match="one vent only"):
+            test.create("Vent", "Another")
+        assert [(f.where, f.context.get("phase")) for f in test.faults.recent] == [
+            ("Vent.report", None), ("Another", "create")]  # fmt: skip
+        assert vent.call("lastNotice") == ""  # the container and the first vent go on
