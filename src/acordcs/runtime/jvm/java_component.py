@@ -105,8 +105,9 @@ class JavaComponent(CtxComponent):
 
 
 class JavaHost:
-    """What a hosted Java object calls (the Java API's ``CtxComponent.Host``, through a JPype
-    proxy): each call goes to its component's ports and container, with Python values."""
+    """What a hosted Java object calls (the Java API's ``CtxComponent.Host``, implemented for
+    each class loader by :func:`implementing`): each call goes to its component's ports and
+    container, with Python values."""
 
     def __init__(self, component: JavaComponent) -> None:
         self.component = component
