@@ -7,6 +7,7 @@ the target with a message saying which."""
 from __future__ import annotations
 
 import dataclasses
+import re
 from pathlib import Path
 
 import pytest
@@ -95,3 +96,22 @@ def test_names_that_still_collide_stop_the_target(tmp_path: Path, weblab):
     twins = r(weblab.components[1], name="AccessBase")
     with pytest.raises(BuildError, match=r"Java class names of components would collide"):
         generate(r(weblab, components=(weblab.components[0], twins)), tmp_path)
+
+
+NAMES = ("wait", "default", "ruleEngine", "onStart", "x-y", "2nd", "\u00e9t\u00e9", "var", "java")
+
+
+def test_the_java_host_names_classes_and_methods_as_the_stylesheet_does(tmp_path: Path, weblab):
+    """The host (``acordcs.runtime.jvm.java_names``) finds the class and the methods the
+    stylesheet wrote, for names that are keywords, taken, or not identifiers at all."""
+    from acordcs.runtime.jvm.java_names import identifier, method, package
+
+    ops = tuple(Operation(f"o{i}", n, f"M::C::{n}") for i, n in enumerate(NAMES))
+    comps = (r(weblab.components[0], name="class", operations=ops), *weblab.components[1:])
+    files = generate(r(weblab, name="Lab 2", components=comps), tmp_path)
+    user = f"java/{package('Lab 2')}/{identifier('class')}.java"
+    assert user == "java/lab_2/class_.java" and user in files
+    declared = set(re.findall(r"public void (\w+)\(\)", files[user]))
+    assert declared == {method(n) for n in NAMES}
+    assert {method(n) for n in ("wait", "default", "ruleEngine", "onStart")} == {
+        "wait_", "default_", "ruleEngine_", "onStart_"}  # fmt: skip

@@ -56,6 +56,7 @@ def compile_tree(sources: Path, classes: Path) -> set[str]:
 
 API = {
     "org.acordcs.runtime.CtxComponent",
+    "org.acordcs.runtime.CtxComponent$Host",
     "org.acordcs.runtime.Port",
     "org.acordcs.runtime.Port$Kind",
     "org.acordcs.runtime.Port$Role",

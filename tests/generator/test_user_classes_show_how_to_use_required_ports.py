@@ -171,11 +171,11 @@ def test_the_java_user_class_lists_what_each_required_port_reaches(out: Path):
     text = (out / "java" / "weblab" / "Navigator.java").read_text(encoding="ascii")
     block = text.split("public class Navigator extends NavigatorBase {\n", 1)[1].split("\n\n")[0]
     assert block.splitlines() == [
-        "    // Its required ports. This Java API holds them (port(name)) and calls nothing "
-        "through them:",
-        "    // the application runs on the Python runtime, where components/Navigator.py calls "
-        "one",
-        "    // as self.port(name).call(operation, arguments...). What each reaches:",
+        "    // Its required ports: a synchronous one calls as port(name).call(operation, "
+        "arguments...)",
+        "    // (the result boxed: a Double, Long, Boolean or String), an asynchronous one sends "
+        "with",
+        "    // port(name).notify(message), a stream one with push(item). What each reaches:",
         "    //   NavAccessPort (synchronous), to Access.AccessPort (connection AccessLink):",
         "    //     boolean authenticate(java.lang.String user, java.lang.String token)",
         "    //     int countUsers()",

@@ -11,7 +11,8 @@ added later is found too), except ``*.profile.uml`` (a profile, not a model) and
 the diagnostics).
 
 A sample's own code: the user classes it ships in ``samples/<folder>/app/<package>/components/``
-and ``monitors/`` (as the WebLab does, ``samples/weblab/app``) are put in the output directory
+and ``monitors/`` (as the WebLab does, ``samples/weblab/app``), and the Java classes of its
+``language=java`` components in ``samples/<folder>/app/java/`` (``samples/mixed``), are put in the output directory
 before the build, which keeps them. A sample whose generic components would do nothing ships the
 smallest code that lets its policies act: the tutorial's simulated sensor (``samples/tutorial``),
 the thermostat's simulated room (``samples/papyrus``). The settings a sample runs with are its
@@ -98,6 +99,8 @@ RUNS = {
     "papyrus/thermostat.uml": Run("Home", "Comfort", "Heater.power"),
     # The ventilation's office gets stale by 100 ppm of CO2 a second; Airflow speeds the fan up.
     "papyrus/ventilation.uml": Run("Plant", "Airflow", "Fan.speed"),
+    # The greenhouse with its vent in Java: Ventilation opens the Java component's vent.
+    "mixed/greenhouse.uml": Run("House", "Ventilation", "Vent.opening"),
 }
 
 
@@ -132,7 +135,13 @@ def sample_code(model: Path, package: str, out: Path) -> list[str]:
             target = out / package / kind / source.name
             target.parent.mkdir(parents=True, exist_ok=True)
             shutil.copyfile(source, target)
-            copied.append(f"{kind}/{source.name}")
+            copied.append(f"{package}/{kind}/{source.name}")
+    java = model.parent / "app"  # the Java user classes of language=java components
+    for source in sorted((java / "java").rglob("*.java")):
+        target = out / source.relative_to(java)
+        target.parent.mkdir(parents=True, exist_ok=True)
+        shutil.copyfile(source, target)
+        copied.append(source.relative_to(java).as_posix())
     return copied
 
 
@@ -240,7 +249,7 @@ def test_the_sample_validates_builds_runs_and_compiles(model: Path, tmp_path: Pa
     shipped = sample_code(model, package, out)
     built = build(model, out)
     assert built.code == 0, built.both
-    assert all((out / package / f).read_bytes() == (model.parent / "app" / package / f).read_bytes()
+    assert all((out / f).read_bytes() == (model.parent / "app" / f).read_bytes()
                for f in shipped)  # fmt: skip
 
     # 3. Its scripts start it, it shows its behaviour, its scripts stop it, with no fault.

@@ -23,6 +23,7 @@ from __future__ import annotations
 import logging
 from collections.abc import Callable, Iterable, Mapping
 from dataclasses import dataclass
+from pathlib import Path
 from typing import TYPE_CHECKING
 
 from acordcs.engines.plan import plan_from_descriptor
@@ -94,8 +95,10 @@ class RunningApplication:
         feeds: tuple[Feed, ...] = (),
         release: Iterable[Callable[[], None]] = (),
         token: str | None = None,
+        java_sources: Path | None = None,
     ) -> None:
         self.descriptor = descriptor
+        self.java_sources = java_sources  # where its Java components' classes are (or None)
         self.name = descriptor.name
         self.clock = clock
         self.containers = containers
@@ -173,12 +176,16 @@ def assemble(
     remote_timeout: float = 5.0,
     context: ProviderCore | None = None,
     token: str | None = None,
+    java_sources: Path | None = None,
 ) -> RunningApplication:
     """Build the containers of ``descriptor`` (all, or those named in ``only``) on one clock
     (default: a :class:`VirtualClock` with seed 0) and one context provider (default: an embedded
     one, inline on a virtual clock; give an MQTT one to share context between processes); see the
     module's docstring. ``token``: the application's token, presented to the containers given by
-    ``remote`` and required by the ones this process serves (default: ``$ACORDCS_TOKEN``)."""
+    ``remote`` and required by the ones this process serves (default: ``$ACORDCS_TOKEN``).
+    ``java_sources``: the ``java`` target's output, where the classes of the components tagged
+    ``language=java`` are (:mod:`acordcs.runtime.jvm` hosts them; none: such a component is
+    refused)."""
     clock = clock or VirtualClock()
     owned = context is None
     if context is None:
@@ -199,6 +206,7 @@ def assemble(
             remote_timeout=remote_timeout,
             context=provider,
             token=token,
+            java_sources=java_sources,
         ).run()
     except BaseException:
         if owned:
@@ -227,8 +235,10 @@ class Assembler:
         context: ProviderCore,
         token: str | None = None,
         containers: dict[str, Container] | None = None,
+        java_sources: Path | None = None,
     ) -> None:
         self.app = app
+        self.java_sources = java_sources
         self.token = token
         self.context = context
         self.factories = factories
@@ -294,11 +304,22 @@ class Assembler:
                 target.add_policy_set(self.policy_set(ps, target))
         release = [self.relay.close] if self.relay is not None else []
         return RunningApplication(
-            self.app, self.clock, self.containers, feeds=feeds, release=release, token=self.token
+            self.app,
+            self.clock,
+            self.containers,
+            feeds=feeds,
+            release=release,
+            token=self.token,
+            java_sources=self.java_sources,
         )
 
     def factory(self, comp: ComponentDescription) -> ComponentFactory:
-        """The factory of component ``comp``: its class given, else one made from the model."""
+        """The factory of component ``comp``: a Java host for one tagged ``language=java``, else
+        its class given, else one made from the model."""
+        if comp.language == "java":
+            from acordcs.runtime.jvm import java_factory  # here: only a Java component loads JPype
+
+            return java_factory(comp, self.app.name, self.java_sources)
         given = self.factories.get(comp.name) or generic_component(comp)
         if isinstance(given, ComponentFactory):
             return given

@@ -57,7 +57,8 @@
     'getClass', 'notify', 'notifyAll', 'wait', 'hashCode', 'equals', 'toString', 'clone',
     'finalize', 'componentName', 'addPort', 'port', 'ports', 'propertyNames', 'propertyType',
     'getProperty', 'setProperty', 'asInt', 'asLong', 'asDouble', 'asBoolean', 'asString',
-    'unknownProperty')"/>
+    'unknownProperty', 'attachHost', 'host', 'hostSet', 'ruleEngine', 'onStart', 'onStop',
+    'onPropertyChanged', 'onMessage')"/>
 
   <!-- ============================================================ names -->
 
@@ -358,9 +359,11 @@
         '    }'),
       $setters ! (
         '',
-        '    /** Sets property ' || j:code(@name) || '. */',
+        '    /** Sets property ' || j:code(@name) || ' (through the container when hosted: policies and monitors see it). */',
         '    public void ' || j:accessor('set', @name) || '(' || j:property-type(.) || ' value) {',
-        '        this.' || j:ident(@name) || ' = value;',
+        '        if (!hostSet(' || j:string(@name) || ', value)) {',
+        '            this.' || j:ident(@name) || ' = value;',
+        '        }',
         '    }'),
       $ops ! (
         '',
@@ -436,9 +439,9 @@
     <xsl:variable name="required" select="$c/d:port[@role = 'required']"/>
     <xsl:if test="$required">
       <xsl:sequence select="
-        '    // Its required ports. This Java API holds them (port(name)) and calls nothing through them:',
-        '    // the application runs on the Python runtime, where components/' || j:doc($c/@name) || '.py calls one',
-        '    // as self.port(name).call(operation, arguments...). What each reaches:'"/>
+        '    // Its required ports: a synchronous one calls as port(name).call(operation, arguments...)',
+        '    // (the result boxed: a Double, Long, Boolean or String), an asynchronous one sends with',
+        '    // port(name).notify(message), a stream one with push(item). What each reaches:'"/>
       <xsl:for-each select="$required">
         <xsl:variable name="port" select="."/>
         <xsl:variable name="links" select="$app/d:connections/d:connection[d:required/@ref = $port/@id]"/>

@@ -348,7 +348,14 @@ MONITORS: dict[str, type[Monitor]] = {{
 """Monitor name -> its class."""
 
 DESCRIPTOR = Path(__file__).with_name("descriptor.xml")
-
+</xsl:text>
+    <xsl:if test="$components[@language = 'java']">
+      <xsl:text>JAVA_SOURCES = Path(__file__).resolve().parent.parent / "java"
+"""The ``java`` target's sources: the classes of the components tagged language=java
+({string-join($components[@language = 'java']/py:inline(@name), ', ')}), which the container compiles and hosts."""
+</xsl:text>
+    </xsl:if>
+    <xsl:text>
 
 def descriptor() -> Application:
     """The application descriptor, read (and validated) from ``descriptor.xml``."""
@@ -376,7 +383,12 @@ def assemble_application(
         only=only,
         remote=remote,
         remote_timeout=remote_timeout,
-    )
+</xsl:text>
+    <xsl:if test="$components[@language = 'java']">
+      <xsl:text>        java_sources=JAVA_SOURCES,
+</xsl:text>
+    </xsl:if>
+    <xsl:text>    )
 </xsl:text>
   </xsl:template>
 
@@ -516,8 +528,19 @@ class {@name}Base(CtxComponent):
   <xsl:template match="d:component" mode="user">
     <xsl:param name="pkg" tunnel="yes"/>
     <xsl:sequence select="py:header('component ''' || @name || ''' ('|| @qname || ', id ' || @id || ')', $yours)"/>
-    <xsl:text>"""Component {@name}: implement its operations here (see {@name}Base)."""
-
+    <xsl:choose>
+      <xsl:when test="@language = 'java'">
+        <xsl:text>"""Component {py:inline(@name)} is tagged language=java: its container runs its Java class, whose
+code is yours in the java target's java/&lt;package&gt;/ directory; this Python class is not used
+while the tag says java (implement its operations here if you tag it python)."""
+</xsl:text>
+      </xsl:when>
+      <xsl:otherwise>
+        <xsl:text>"""Component {@name}: implement its operations here (see {@name}Base)."""
+</xsl:text>
+      </xsl:otherwise>
+    </xsl:choose>
+    <xsl:text>
 from __future__ import annotations
 
 from {$pkg}.base.{@name} import {@name}Base

@@ -11,7 +11,7 @@ The modules it replaced are kept until :meth:`keep` (the update is done) or :met
 (rolled back: they are put back, as if nothing had been read).
 
 The code of a component or monitor you changed in its file (``components/<C>.py``,
-``monitors/<M>.py``) is read afresh the same way: :meth:`PackageClasses.code` gives the sha256 of
+``monitors/<M>.py``, or the Java class of a component tagged ``language=java``) is read afresh the same way: :meth:`PackageClasses.code` gives the sha256 of
 each such file as the container imported it (at start, and after each update that read it again),
 which the container reports, so that ``acordcs-gen update`` finds the files changed since and plans
 them (``~ code of component C``).
@@ -68,26 +68,49 @@ class PackageClasses:
 
     def code(self, names: Collection[str]) -> dict[str, dict[str, str]]:
         """The user's file of each element of ``names`` (``components/<name>.py``, else
-        ``monitors/<name>.py`` of the package) as it is now: its ``kind`` (component or
-        monitor), its ``file`` (from the package's parent directory, ``/``-separated) and the
-        ``sha256`` of its bytes. Called right after the classes are imported: what the container
-        runs, which ``acordcs-gen update`` compares with the files to find changed code."""
+        ``monitors/<name>.py`` of the package; for a component tagged ``language=java``, its
+        Java class ``java/<package>/<Class>.java`` beside the package) as it is now: its
+        ``kind`` (component or monitor), its ``file`` (from the package's parent directory,
+        ``/``-separated) and the ``sha256`` of its bytes. Called right after the classes are
+        imported: what the container runs, which ``acordcs-gen update`` compares with the files
+        to find changed code."""
         root = _directory(self.package)
+        java = self._java_files(names) if root else {}
         out: dict[str, dict[str, str]] = {}
         for name in names:
-            for kind, folder in (("component", "components"), ("monitor", "monitors")):
+            places = [("component", f"{self.package}/components/{name}.py"),
+                      ("monitor", f"{self.package}/monitors/{name}.py")]  # fmt: skip
+            if name in java:
+                places = [("component", java[name])]
+            for kind, file in places:
                 try:
-                    data = (root / folder / f"{name}.py").read_bytes() if root else None
+                    data = (root.parent / file).read_bytes() if root else None
                 except OSError:
                     continue
                 if data is not None:
                     out[name] = {
                         "kind": kind,
-                        "file": f"{self.package}/{folder}/{name}.py",
+                        "file": file,
                         "sha256": hashlib.sha256(data).hexdigest(),
                     }
                     break
         return out
+
+    def _java_files(self, names: Collection[str]) -> dict[str, str]:
+        """The Java user files of the components of ``names`` tagged ``language=java`` (their
+        language from the package's descriptor, read only when the package has Java ones)."""
+        registry = sys.modules.get(f"{self.package}.registry")
+        if registry is None or getattr(registry, "JAVA_SOURCES", None) is None:
+            return {}
+        from acordcs.runtime.jvm.java_names import identifier, package
+
+        app = registry.descriptor()
+        where = f"java/{package(app.name)}"
+        return {
+            c.name: f"{where}/{identifier(c.name)}.java"
+            for c in app.components
+            if c.language == "java" and c.name in names
+        }
 
     def restore(self) -> None:
         for module, saved in self._saved.items():

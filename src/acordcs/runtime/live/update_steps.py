@@ -146,6 +146,7 @@ class Part:
             context=self.container.context,
             token=self.token,
             containers=self.running.containers,
+            java_sources=self.running.java_sources,
         )
         return asm
 

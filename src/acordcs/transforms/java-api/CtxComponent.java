@@ -13,10 +13,35 @@ import java.util.Objects;
  * by name (what a policy's rules adapt). A generated {@code <Component>Base} class implements the
  * property methods over its typed fields; the user's {@code <Component>} subclass implements the
  * operations.
+ *
+ * <p>A component tagged {@code language=java} is hosted by its container (acordcs.runtime.jvm):
+ * the container gives it a {@link Host}, through which its ports call, notify and push, its
+ * setters change its properties (so that policies and monitors see the change), and
+ * {@link #ruleEngine} reaches a policy set's engine. The container keeps the property fields
+ * current: a policy's write lands in the field, then {@link #onPropertyChanged} runs.
  */
 public abstract class CtxComponent {
+    /** What the container hosting a component gives it (implemented by the container). */
+    public interface Host {
+        /** Calls {@code operation} through the synchronous required port {@code port}. */
+        Object call(String port, String operation, Object[] args);
+
+        /** Sends {@code message} through the asynchronous port {@code port}. */
+        void notify(String port, Object message);
+
+        /** Pushes {@code item} through the stream port {@code port}. */
+        void push(String port, Object item);
+
+        /** Sets property {@code property} through the container (policies and monitors see it). */
+        void set(String property, Object value);
+
+        /** The rule engine of policy set {@code policySet} of the container. */
+        RuleEngine ruleEngine(String policySet);
+    }
+
     private final String name;
     private final Map<String, Port> ports = new LinkedHashMap<>();
+    private Host host;
 
     protected CtxComponent(String name) {
         this.name = Objects.requireNonNull(name, "name");
@@ -33,7 +58,65 @@ public abstract class CtxComponent {
         if (ports.putIfAbsent(port.name(), port) != null) {
             throw new IllegalArgumentException(name + " already has a port " + port.name());
         }
+        port.owner = this;
         return port;
+    }
+
+    /** Called once by the container hosting the component; a second call is an IllegalStateException. */
+    public final void attachHost(Host host) {
+        Objects.requireNonNull(host, "host");
+        if (this.host != null) {
+            throw new IllegalStateException(name + " is already hosted");
+        }
+        this.host = host;
+    }
+
+    /** The container's host, or null when the component is not hosted (constructed by hand). */
+    public final Host host() {
+        return host;
+    }
+
+    /**
+     * Sets property {@code property} through the container when hosted (it then writes the field
+     * back, and policies and monitors see the change): true; false when not hosted (the caller
+     * sets its field itself). The generated setters call it.
+     */
+    protected final boolean hostSet(String property, Object value) {
+        if (host == null) {
+            return false;
+        }
+        host.set(property, value);
+        return true;
+    }
+
+    /**
+     * The paper's rule-engine interface over policy set {@code policySet} of the container: the
+     * component's own rules ({@code defrule}) in a rule set named after it, over the variables
+     * of that policy set.
+     *
+     * @throws IllegalStateException when the component is not hosted
+     */
+    public final RuleEngine ruleEngine(String policySet) {
+        if (host == null) {
+            throw new IllegalStateException(name + " is not hosted: no rule engine");
+        }
+        return host.ruleEngine(policySet);
+    }
+
+    /** Called once hosted (ports and properties ready), and after a replacement. */
+    public void onStart() {
+    }
+
+    /** Called before the component is destroyed or replaced. */
+    public void onStop() {
+    }
+
+    /** Called after property {@code property} changed (its field already holds {@code value}). */
+    public void onPropertyChanged(String property, Object old, Object value) {
+    }
+
+    /** Called with each message (asynchronous port) or item (stream port) arriving at {@code port}. */
+    public void onMessage(String port, Object message) {
     }
 
     /**

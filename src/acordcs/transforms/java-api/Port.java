@@ -18,6 +18,7 @@ public final class Port {
     private final Kind kind;
     private final Role role;
     private Port peer;
+    CtxComponent owner; // set by CtxComponent.addPort
 
     public Port(String name, Kind kind, Role role) {
         this.name = Objects.requireNonNull(name, "name");
@@ -65,6 +66,35 @@ public final class Port {
         }
         peer = provided;
         provided.peer = this;
+    }
+
+    /**
+     * Calls {@code operation} of the component this synchronous required port is connected to,
+     * through the container (interceptors, connectors, remote containers); its result, boxed.
+     *
+     * @throws IllegalStateException when the component is not hosted
+     */
+    public Object call(String operation, Object... args) {
+        return hosted("call").call(name, operation, args);
+    }
+
+    /** Sends {@code message} to every peer of this asynchronous port, through the container. */
+    public void notify(Object message) {
+        hosted("notify").notify(name, message);
+    }
+
+    /** Pushes {@code item} to the consumers of this stream port, through the container. */
+    public void push(Object item) {
+        hosted("push").push(name, item);
+    }
+
+    private CtxComponent.Host hosted(String what) {
+        CtxComponent.Host host = owner == null ? null : owner.host();
+        if (host == null) {
+            throw new IllegalStateException(
+                    "port " + name + ": cannot " + what + ": its component is not hosted by a container");
+        }
+        return host;
     }
 
     @Override
