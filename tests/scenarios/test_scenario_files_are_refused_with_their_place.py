@@ -1,0 +1,122 @@
+"""Scenario files are hostile input: what the reader refuses, it refuses with file:line:col and
+what to do (exit 2, nothing run); names the model lacks get a "did you mean"; values outside a
+variable's range are refused with the range; a model that does not validate runs nothing."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+
+from tests.support.toolchain import SAMPLES, run_main
+
+GREENHOUSE = str(SAMPLES / "tutorial" / "greenhouse.uml")
+
+
+def scenario(steps: str = "[{at: 0, set: {Climate.temperature: 20}}]", extra: str = "") -> str:
+    return f"scenarios:\n  - name: s\n    steps: {steps}\n{extra}"
+
+
+CASES = [
+    # (file text, line, what the column points at, code, words of the message)
+    ("scenarios:\n  - &a {name: s, steps: []}\n  - *a\n", 2, "&a", "S802", "anchors and aliases"),
+    (
+        "scenarios:\n  - name: !!python/object/apply:os.system ['true']\n    steps: []\n",
+        2,
+        "!!python",
+        "S802",
+        "tags",
+    ),
+    (scenario(extra="    expct: []\n"), 4, "expct", "S803", "did you mean 'expect'"),
+    (
+        scenario("[{at: 0, set: {Climate.temprature: 20}}]"),
+        3,
+        "Climate.temprature",
+        "S804",
+        "no attribute 'Climate.temprature' (did you mean 'Climate.temperature'?)",
+    ),
+    (
+        scenario("[{at: 0, set: {Climate.temperature: .nan}}]"),
+        3,
+        ".nan",
+        "S805",
+        "not a finite number",
+    ),
+    (
+        scenario("[{at: 0, set: {Climate.temperature: 60}}]"),
+        3,
+        "60",
+        "S805",
+        "Climate.temperature = 60 is outside its range 0..50",
+    ),
+    (
+        scenario("[{at: 5, set: {Vent.opening: 1}}, {at: 1, set: {Vent.opening: 2}}]"),
+        3,
+        "1, set",
+        "S805",
+        "give the steps in time order",
+    ),
+    (
+        scenario(extra="    expect: [{at: 0, fired: [col]}]\n"),
+        4,
+        "col]",
+        "S804",
+        "no rule 'col' in the scenario's policy sets (did you mean 'cool'?)",
+    ),
+    (
+        scenario(extra="    expect: [{at: 0, term: {Vent.opening: wid}}]\n"),
+        4,
+        "wid}",
+        "S804",
+        "no term of Vent.opening 'wid' (did you mean 'wide'?)",
+    ),
+    ("scenarios: [\n", 2, "", "S802", "not valid YAML"),
+]
+
+
+@pytest.mark.parametrize(("text", "line", "marker", "code", "words"), CASES)
+def test_a_bad_scenario_file_is_refused_at_its_place(
+    tmp_path: Path, text: str, line: int, marker: str, code: str, words: str
+):
+    rows = [*text.splitlines(), ""]
+    column = rows[line - 1].index(marker) + 1
+    path = tmp_path / "bad.yaml"
+    path.write_text(text, encoding="utf-8")
+    result = run_main(["test", GREENHOUSE, str(path)])
+    assert result.code == 2, result.out + result.err
+    assert result.out == ""  # nothing was run
+    first = result.err.splitlines()[0]
+    assert first.startswith(f"{path}:{line}:{column}: error: {code} "), first
+    assert words in first, first
+    assert "no scenario was run" in result.err
+
+
+def test_a_file_over_the_size_limit_is_refused_unread(tmp_path: Path):
+    path = tmp_path / "huge.yaml"
+    path.write_bytes(b"# " + b"x" * (1 << 20) + b"\n")
+    result = run_main(["test", GREENHOUSE, str(path)])
+    assert result.code == 2
+    assert f"{path}: error: S801 scenario file is " in result.err
+
+
+def test_too_deep_a_document_is_refused(tmp_path: Path):
+    path = tmp_path / "deep.yaml"
+    path.write_text("a: " + "[" * 40 + "]" * 40 + "\n", encoding="utf-8")
+    result = run_main(["test", GREENHOUSE, str(path)])
+    assert result.code == 2 and "S806 nested deeper than 32 levels" in result.err
+
+
+def test_a_model_that_does_not_validate_runs_nothing(tmp_path: Path):
+    path = tmp_path / "any.yaml"
+    path.write_text(scenario(), encoding="utf-8")
+    result = run_main(["test", str(SAMPLES / "mistakes" / "broken-weblab.xmi"), str(path)])
+    assert result.code == 2 and result.out == ""
+    assert "the model does not validate" in result.err.splitlines()[-1]
+
+
+def test_no_scenario_file_is_a_usage_error_naming_the_convention(tmp_path: Path):
+    model = tmp_path / "greenhouse.uml"
+    model.write_bytes(Path(GREENHOUSE).read_bytes())
+    result = run_main(["test", str(model)])
+    assert result.code == 2
+    assert "greenhouse.scenarios.yaml" in result.err and "greenhouse.scenarios/" in result.err
