@@ -56,8 +56,20 @@ def scenario_files(model: str) -> list[str]:
     default=None,
     help="Fail (exit 1) when the scenarios fire less than N % of the model's rules.",
 )
+@click.option(
+    "--trace",
+    "trace",
+    type=click.Path(file_okay=False),
+    help="Write into DIR, per scenario, a CSV of every input, output and rule degree per step and "
+    "a plot of them (SVG and PNG; needs matplotlib: pip install 'acordcs[plots]').",
+)
 def test(
-    model: str, scenarios: tuple[str, ...], fmt: str, junit: str | None, min_coverage: float | None
+    model: str,
+    scenarios: tuple[str, ...],
+    fmt: str,
+    junit: str | None,
+    min_coverage: float | None,
+    trace: str | None,
 ) -> None:
     """Run the policies of MODEL against SCENARIOS (YAML files; default: MODEL's stem +
     .scenarios.yaml, and the *.yaml of the directory MODEL's stem + .scenarios/, beside it), in
@@ -80,6 +92,11 @@ def test(
     from acordcs.scenarios.scenario_run import run_scenario
     from acordcs.scenarios.yaml_reading import ScenarioFileError, read_scenario_yaml
 
+    if trace is not None:
+        from acordcs.scenarios.trace_files import MISSING_PLOTS, plots_available
+
+        if not plots_available():
+            raise click.UsageError(MISSING_PLOTS)
     reading = read_one(model)
     errors = [d for d in reading.diagnostics if d.severity >= Severity.ERROR]
     if reading.unreadable or errors or reading.architecture is None:
@@ -129,6 +146,13 @@ def test(
             Path(junit).write_bytes(junit_xml(model, outcomes))
         except OSError as exc:
             raise click.FileError(junit, hint=exc.strerror or str(exc)) from None
+    if trace is not None:
+        from acordcs.scenarios.trace_files import write_traces
+
+        try:
+            write_traces(trace, outcomes, names)
+        except OSError as exc:
+            raise click.FileError(trace, hint=exc.strerror or str(exc)) from None
     if fmt == "sarif":
         from acordcs.cli.report import sarif_of
 

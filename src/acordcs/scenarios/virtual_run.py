@@ -11,7 +11,7 @@ binding). What is the scenario's instead of the application's:
   returns the result the scenario gives for it, else None;
 - monitors acquire nothing by themselves: a step's values are published through them
   (``Monitor.update``), as their acquisition would, and fire the sets they feed;
-- the policy sets the scenario does not name are removed before the first step.
+- only the policy sets the scenario names are assembled.
 
 Each policy set's firings are kept as the runtime reports them (``PolicySet.last_firing``: time,
 inputs, outputs, each rule's degree), with a snapshot of the attributes the scenario watches.
@@ -19,6 +19,7 @@ inputs, outputs, each rule's degree), with a snapshot of the attributes the scen
 
 from __future__ import annotations
 
+import dataclasses
 import logging
 from collections.abc import Callable, Iterable
 from dataclasses import dataclass, field
@@ -50,10 +51,12 @@ class Call:
 
 @dataclass(frozen=True, slots=True)
 class Sample:
-    """The watched attributes' values at ``time`` (after a step, or after a firing)."""
+    """The watched attributes' values at ``time``, after a step (``fired`` None) or after the
+    firing of the policy set ``fired``."""
 
     time: float
     values: dict[str, object]
+    fired: str | None = None
 
 
 @dataclass
@@ -96,30 +99,32 @@ class VirtualApplication:
         self.run = Run()
         self.clock = VirtualClock()
         factories = {c.name: self._recording(c, results) for c in app.components if c.operations}
+        keep = set(policy_sets)
+        # Only the sets kept are assembled: an engine not run is not built.
+        only = dataclasses.replace(
+            app, policy_sets=tuple(ps for ps in app.policy_sets if ps.name in keep)
+        )
         self.application = assemble(
-            app,
+            only,
             factories=factories,
             monitors={m.name: _inert for m in app.monitors},
             clock=self.clock,
         )
-        keep = set(policy_sets)
         self.home: dict[str, Container] = {}
         for container in self.application.containers.values():
             for ref in container.components():
                 self.home.setdefault(ref.name, container)
             for monitor in container.monitors():
                 self.home.setdefault(monitor, container)
-            for ps in app.policy_sets:
+            for ps in only.policy_sets:
                 try:
                     hosted = container.policy_set(ps.name)
                 except ComponentNotFoundError:
                     continue  # another container's
-                if ps.name in keep:
-                    hosted.trace_rules = True  # crisp sets: which rules fired, per firing
-                else:
-                    container.remove_policy_set(ps.name)
+                hosted.trace_rules = True  # crisp sets: which rules fired, per firing
             container.subscribe(ev.POLICY_FIRED, self._fired(container), name="scenario:firings")
-        self.watched = [(n, *self._split(n)) for n in watched]
+        self.monitors = {m for c in self.application.containers.values() for m in c.monitors()}
+        self.watched = [(n, self._reader(n)) for n in watched]
 
     def _recording(self, comp: Component, results: dict[str, object]) -> type:
         base = generic_component(comp)
@@ -145,7 +150,7 @@ class VirtualApplication:
             firing = container.policy_set(event.element).last_firing
             if firing is not None:
                 self.run.firings.append((event.element, firing))
-                self.sample()
+                self.sample(event.element)
 
         return handler
 
@@ -154,20 +159,19 @@ class VirtualApplication:
         owner = element.split(".", 1)[0]
         return self.home[owner], element, attribute
 
-    def value(self, name: str) -> object:
+    def _reader(self, name: str) -> Callable[[], object]:
+        """What reads ``name``'s value now: a monitor's attribute, or a property."""
         container, element, attribute = self._split(name)
-        if element in self.home and element in container.monitors():
-            return container.monitor(element).attributes.get(attribute)
-        return container.get_property(element, attribute)
+        if element in self.monitors:
+            attributes = container.monitor(element).attributes
+            return lambda: attributes.get(attribute)
+        return lambda: container.get_property(element, attribute)
 
-    def sample(self) -> None:
-        values = {}
-        for name, container, element, attribute in self.watched:
-            if element in container.monitors():
-                values[name] = container.monitor(element).attributes.get(attribute)
-            else:
-                values[name] = container.get_property(element, attribute)
-        self.run.samples.append(Sample(self.clock.now(), values))
+    def sample(self, fired: str | None = None) -> None:
+        """Record the watched attributes' values now (after policy set ``fired``'s firing)."""
+        self.run.samples.append(
+            Sample(self.clock.now(), {name: read() for name, read in self.watched}, fired)
+        )
 
     def advance(self, time: float) -> None:
         """Run the clock to ``time`` (periodic sets fire on the way)."""
@@ -178,7 +182,7 @@ class VirtualApplication:
         by_monitor: dict[str, dict[str, object]] = {}
         for name, value in values:
             container, element, attribute = self._split(name)
-            if element in container.monitors():
+            if element in self.monitors:
                 by_monitor.setdefault(element, {})[attribute] = value
             else:
                 container.set_property(element, attribute, value)
