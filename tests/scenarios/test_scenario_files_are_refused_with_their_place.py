@@ -120,3 +120,22 @@ def test_no_scenario_file_is_a_usage_error_naming_the_convention(tmp_path: Path)
     result = run_main(["test", str(model)])
     assert result.code == 2
     assert "greenhouse.scenarios.yaml" in result.err and "greenhouse.scenarios/" in result.err
+
+
+def test_a_context_document_the_provider_refuses_fails_the_scenario_at_its_step(tmp_path: Path):
+    path = tmp_path / "entities.yaml"
+    path.write_text(
+        "scenarios:\n"
+        "  - name: a bomb\n"
+        "    policy-sets: [Recovering]\n"
+        "    steps:\n"
+        "      - at: 0\n"
+        "        context:\n"
+        "          publisher: Locomotion\n"
+        "          document: '<!DOCTYPE t [<!ENTITY a \"aaaa\">]><telemetry>&a;</telemetry>'\n",
+        encoding="utf-8",
+    )
+    result = run_main(["test", str(SAMPLES / "weblab" / "weblab.xmi"), str(path)])
+    assert result.code == 1
+    assert f"  {path}:8:21: error: S811 the document of Locomotion was refused: " in result.out
+    assert "entit" in result.out.lower()

@@ -181,6 +181,17 @@ def _findings(model: str, outcomes: list[Outcome], covered: Coverage) -> list[Di
                     subject=f"{o.scenario.name}#{o.scenario.expectations.index(f.expectation)}",
                 )
             )
+        for at, why in o.refused:
+            found.append(
+                diagnostic(
+                    "S811",
+                    f"scenario {o.scenario.name!r}: {why}",
+                    file=at.file,
+                    line=at.line,
+                    column=at.column,
+                    subject=o.scenario.name,
+                )
+            )
         for fault in o.faults:
             at = o.scenario.at
             found.append(
@@ -247,6 +258,13 @@ def _as_text(
                 ).format_text()
             )
             lines.append(printable(f"      {rules_text(f)}"))
+        for at, why in o.refused:
+            lines.append(
+                "  "
+                + diagnostic(
+                    "S811", why, file=at.file, line=at.line, column=at.column
+                ).format_text()
+            )
         lines += [f"  {s.file}: error: S811 {printable(fault)}" for fault in o.faults]
     lines += [d.format_text() for d in findings if d.code == "S812"]
     passed = sum(1 for o in outcomes if o.passed)
@@ -282,7 +300,7 @@ def _as_json(outcomes: list[Outcome], covered: Coverage, findings: list[Diagnost
                     }
                     for f in o.failures
                 ],
-                "faults": o.faults,
+                "faults": o.faults + [f"{at.where()}: {why}" for at, why in o.refused],
             }
             for o in outcomes
         ],

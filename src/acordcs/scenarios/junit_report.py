@@ -35,7 +35,7 @@ def junit_xml(model: str, outcomes: Iterable[Outcome]) -> bytes:
             name=file,
             tests=str(len(mine)),
             failures=str(sum(1 for o in mine if o.failures)),
-            errors=str(sum(1 for o in mine if o.faults and not o.failures)),
+            errors=str(sum(1 for o in mine if (o.faults or o.refused) and not o.failures)),
             time=f"{sum(o.seconds for o in mine):.6f}",
         )
         for o in mine:
@@ -47,8 +47,9 @@ def junit_xml(model: str, outcomes: Iterable[Outcome]) -> bytes:
                     case, "failure", message=f"{f.expectation.at.where()}: {f.message}", type="S810"
                 )
                 node.text = f"{f.expectation.at.where()}: {failure_text(f)}"
-            if o.faults:
-                node = ET.SubElement(case, "error", message=o.faults[0], type="S811")
-                node.text = "\n".join(o.faults)
+            problems = [f"{at.where()}: {why}" for at, why in o.refused] + o.faults
+            if problems:
+                node = ET.SubElement(case, "error", message=problems[0], type="S811")
+                node.text = "\n".join(problems)
     ET.indent(root)
     return ET.tostring(root, encoding="utf-8", xml_declaration=True) + b"\n"

@@ -11,6 +11,7 @@ not finite, or outside its variable's range; S806 a limit exceeded).
         results: {Vent.calibrate: 0}        # optional: what operations return (else None)
         steps:
           - {at: 0, set: {Sensor.temperature: 35}}
+          - {at: 5, context: {publisher: Station, document: "<air><temperature>36</temperature></air>"}}
         expect:
           - {at: 0, value: {Vent.opening: 85}, tolerance: 5}
           - {at: 0, term: {Vent.opening: wide}}
@@ -33,15 +34,21 @@ MAX_SCENARIOS = 1_000
 MAX_STEPS = 100_000  # per scenario
 MAX_EXPECTATIONS = 10_000  # per scenario
 MAX_TIME = 1e9  # seconds of virtual time
+MAX_DOCUMENT = 65_536  # characters of one context document
 
 KINDS = ("value", "term", "fired", "not-fired", "called", "not-called")
 
 
 @dataclass(frozen=True, slots=True)
 class Step:
+    """A step: at ``time``, the ``values`` given (Element.attribute -> value, in the file's
+    order), then the context ``documents`` published ((publisher, XML text, where the text is),
+    for the monitors that subscribe with XPath)."""
+
     time: float
-    values: tuple[tuple[str, object], ...]  # Element.attribute -> value, in the file's order
+    values: tuple[tuple[str, object], ...]
     at: Located
+    documents: tuple[tuple[str, str, Located], ...] = ()
 
 
 @dataclass(frozen=True, slots=True)
@@ -133,14 +140,32 @@ def _scenario(item: Located, names: ModelNames) -> Scenario:
 
 
 def _step(item: Located, names: ModelNames) -> Step:
-    fields = _mapping(item, "a step", required=("at", "set"), allowed=("at", "set"))
+    fields = _mapping(item, "a step", required=("at",), allowed=("at", "set", "context"))
+    if "set" not in fields and "context" not in fields:
+        raise item.fail("S803", "a step needs 'set' (values) or 'context' (documents), or both")
     time = _time(fields["at"])
     values = []
-    keyed = _mapping(fields["set"], "'set'")
-    for key, value in keyed.items():
-        name = _choice(fields["set"].value.keys_at[key], names.attributes, "attribute")
-        values.append((name, _typed(value, name, names)))
-    return Step(time, tuple(values), fields["at"])
+    if "set" in fields:
+        for key, value in _mapping(fields["set"], "'set'").items():
+            name = _choice(fields["set"].value.keys_at[key], names.attributes, "attribute")
+            values.append((name, _typed(value, name, names)))
+    documents = []
+    if "context" in fields:
+        node = fields["context"]
+        for doc in _list(node, "'context'") if isinstance(node.value, list) else [node]:
+            spec = _mapping(
+                doc,
+                "a context document",
+                required=("publisher", "document"),
+                allowed=("publisher", "document"),
+            )
+            text = spec["document"].value
+            if not isinstance(text, str) or len(text) > MAX_DOCUMENT:
+                raise spec["document"].fail(
+                    "S805", f"a document is XML text of at most {MAX_DOCUMENT} characters"
+                )
+            documents.append((_string(spec["publisher"], "a publisher"), text, spec["document"]))
+    return Step(time, tuple(values), fields["at"], tuple(documents))
 
 
 def _expectations(item: Located, names: ModelNames, sets: tuple[str, ...]) -> list[Expectation]:

@@ -17,12 +17,14 @@ import bisect
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING
 
+from acordcs.errors import AcordError
 from acordcs.scenarios.virtual_run import Run, Sample, VirtualApplication
 
 if TYPE_CHECKING:
     from acordcs.runtime.policy import Firing
     from acordcs.scenarios.model_names import ModelNames
     from acordcs.scenarios.scenario_file import Expectation, Scenario
+    from acordcs.scenarios.yaml_reading import Located
 
 EPSILON = 1e-6  # seconds: two times this close are one time
 
@@ -44,11 +46,13 @@ class Outcome:
     run: Run
     failures: list[Failure] = field(default_factory=list)
     faults: list[str] = field(default_factory=list)
+    # context documents the provider refused: where the step is, and why
+    refused: list[tuple[Located, str]] = field(default_factory=list)
     seconds: float = 0.0
 
     @property
     def passed(self) -> bool:
-        return not self.failures and not self.faults
+        return not self.failures and not self.faults and not self.refused
 
 
 def watched_names(scenario: Scenario, names: ModelNames) -> list[str]:
@@ -81,14 +85,21 @@ def run_scenario(scenario: Scenario, names: ModelNames) -> Outcome:
     )
     steps = iter(scenario.steps)
     step = next(steps, None)
+    refused: list[tuple[Located, str]] = []
     for t in times:
         app.advance(t)
         while step is not None and step.time <= t:
             app.apply(step.values)
+            for publisher, document, where in step.documents:
+                try:
+                    app.publish(publisher, document)
+                except AcordError as exc:
+                    refused.append((where, f"the document of {publisher} was refused: {exc}"))
             step = next(steps, None)
         app.sample()
     faults = app.close()
     outcome = Outcome(scenario, app.run)
+    outcome.refused = refused
     outcome.faults = [f"{f.kind} {f.where} at t={f.time:g} s: {f.error}" for f in faults]
     judge = _Judge(app.run, names)
     for e in scenario.expectations:

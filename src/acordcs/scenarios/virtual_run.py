@@ -10,7 +10,9 @@ binding). What is the scenario's instead of the application's:
 - components are the model's generic ones whose operations are recorded, not executed: a call
   returns the result the scenario gives for it, else None;
 - monitors acquire nothing by themselves: a step's values are published through them
-  (``Monitor.update``), as their acquisition would, and fire the sets they feed;
+  (``Monitor.update``), as their acquisition would, and fire the sets they feed; a monitor that
+  subscribes with XPath is the runtime's own, and takes the context documents a step publishes
+  (the application's one context provider, embedded, inline);
 - only the policy sets the scenario names are assembled.
 
 Each policy set's firings are kept as the runtime reports them (``PolicySet.last_firing``: time,
@@ -26,6 +28,7 @@ from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any
 
 from acordcs.runtime import events as ev
+from acordcs.runtime.acquisition import MONITOR_KINDS
 from acordcs.runtime.assembly import assemble
 from acordcs.runtime.clock import VirtualClock
 from acordcs.runtime.errors import ComponentNotFoundError
@@ -82,6 +85,13 @@ def _inert(name: str, *, attributes: dict[str, object] | None = None, **_how: ob
     return Monitor(name, attributes=attributes)
 
 
+def _subscribing(
+    name: str, *, xpath: str, attributes: dict[str, object] | None = None, **_how: object
+) -> Monitor:
+    """A subscribing monitor as the runtime's, reading the documents the steps publish."""
+    return MONITOR_KINDS["subscribe"](name, xpath=xpath, attributes=attributes)
+
+
 class VirtualApplication:
     """The model's application assembled in virtual time for one scenario (see the module's
     docstring): ``policy_sets`` kept, ``results`` returned by the operations (``Component.op``),
@@ -107,7 +117,10 @@ class VirtualApplication:
         self.application = assemble(
             only,
             factories=factories,
-            monitors={m.name: _inert for m in app.monitors},
+            monitors={
+                m.name: _subscribing if m.acquisition == "subscribe" else _inert
+                for m in app.monitors
+            },
             clock=self.clock,
         )
         self.home: dict[str, Container] = {}
@@ -188,6 +201,11 @@ class VirtualApplication:
                 container.set_property(element, attribute, value)
         for monitor, given in by_monitor.items():
             self.home[monitor].monitor(monitor).update(**given)
+
+    def publish(self, publisher: str, document: str) -> None:
+        """Publish a context document (the subscribing monitors whose XPath it matches take it).
+        Raises the provider's PublishError for a document it refuses."""
+        next(iter(self.application.containers.values())).publish_context(publisher, document)
 
     def close(self) -> list[Fault]:
         """End the run; the faults its containers recorded."""
