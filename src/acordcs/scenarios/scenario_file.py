@@ -27,6 +27,7 @@ from dataclasses import dataclass, field
 from typing import Any
 
 from acordcs.diagnostics import suggestion
+from acordcs.scenarios.csv_steps import read_csv_cells
 from acordcs.scenarios.model_names import ModelNames
 from acordcs.scenarios.yaml_reading import Keyed, Located
 
@@ -104,8 +105,8 @@ def _scenario(item: Located, names: ModelNames) -> Scenario:
     fields = _mapping(
         item,
         "a scenario",
-        required=("name", "steps"),
-        allowed=("name", "policy-sets", "results", "steps", "expect"),
+        required=("name",),
+        allowed=("name", "policy-sets", "results", "steps", "csv", "expect"),
     )
     name = _string(fields["name"], "the scenario's name")
     sets = tuple(names.plans)
@@ -119,9 +120,11 @@ def _scenario(item: Located, names: ModelNames) -> Scenario:
         for key, value in _mapping(fields["results"], "results").items():
             op = _choice(fields["results"].value.keys_at[key], names.operations, "operation")
             results[op] = _plain(value)
-    steps = [_step(s, names) for s in _list(fields["steps"], "steps")]
+    steps = [_step(s, names) for s in _list(fields["steps"], "steps")] if "steps" in fields else []
+    if "csv" in fields:
+        steps = sorted(steps + _csv_steps(fields["csv"], names), key=lambda s: s.time)
     if not steps:
-        raise fields["steps"].fail("S803", "'steps' is empty; give at least one step")
+        raise item.fail("S803", "a scenario needs 'steps', or a 'csv' file with at least one row")
     if len(steps) > MAX_STEPS:
         raise steps[MAX_STEPS].at.fail("S806", f"more than {MAX_STEPS} steps in a scenario")
     for before, after in itertools.pairwise(steps):
@@ -166,6 +169,20 @@ def _step(item: Located, names: ModelNames) -> Step:
                 )
             documents.append((_string(spec["publisher"], "a publisher"), text, spec["document"]))
     return Step(time, tuple(values), fields["at"], tuple(documents))
+
+
+def _csv_steps(node: Located, names: ModelNames) -> list[Step]:
+    """The steps of the CSV file ``node`` names: a header ``time`` then attributes, a row a step."""
+    steps = []
+    for time, cells in read_csv_cells(node, _string(node, "'csv' (a file name)")):
+        values = []
+        for header, cell in cells:
+            name = _choice(header, names.attributes, "attribute")
+            values.append((name, _typed(cell, name, names)))
+        steps.append(Step(_time(time), tuple(values), time))
+        if len(steps) > MAX_STEPS:
+            raise time.fail("S806", f"more than {MAX_STEPS} steps in a scenario")
+    return steps
 
 
 def _expectations(item: Located, names: ModelNames, sets: tuple[str, ...]) -> list[Expectation]:
