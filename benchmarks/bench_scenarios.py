@@ -5,7 +5,9 @@ Prints, measured in one run:
   and described once beforehand (not timed): the scenario's whole run (the application assembled
   on a virtual clock, 1,000 monitor updates each firing the set, one expectation judged per step)
   and the same with every firing's rule degrees computed (what coverage and a failure report ask
-  for); medians of 7 (target: under 50 ms beyond reading the model);
+  for); medians of 7 (target: under 50 ms beyond reading the model); beside them, the peer: the
+  same application and the same 1,000 monitor updates, nothing recorded or judged (the runtime's
+  own cost, which bench_runtime.py measures per firing);
 - B: the time lxml takes to parse and re-serialise ``samples/weblab/weblab.xmi`` (as in
   docs/benchmarks.md), and the whole process of ``acordcs-gen test samples/weblab/weblab.xmi``
   (the WebLab's scenarios, interpreter start included) as a multiple of B, alternated with it,
@@ -67,6 +69,7 @@ def main() -> int:
     from acordcs.model.reading import read_model
     from acordcs.scenarios.model_names import ModelNames
     from acordcs.scenarios.scenario_run import run_scenario
+    from acordcs.scenarios.virtual_run import VirtualApplication
 
     started = time.perf_counter()
     names = ModelNames.of(describe(read_model(str(WEBLAB)).architecture))
@@ -80,13 +83,25 @@ def main() -> int:
         for _set, firing in done.run.firings:
             firing.rules  # noqa: B018 (computed when first asked)
 
+    def runtime_alone() -> None:
+        # The peer: the same application assembled, the same 1,000 updates of the Control
+        # monitor firing the same set, nothing recorded or judged (the runtime's own cost).
+        app = VirtualApplication(names.app, policy_sets=["SpeedLimiting"], results={}, watched=[])
+        control = app.home["Control"].monitor("Control")
+        for step in scenario.steps:
+            control.update(**{n.split(".")[1]: v for n, v in step.values})
+        app.close()
+
     run_ms = median_ms(lambda: run_scenario(scenario, names))
     degrees_ms = median_ms(with_degrees)
+    alone_ms = median_ms(runtime_alone)
     print(f"model read and described once (not timed below): {read_ms:.1f} ms")
     print(
         f"{STEPS:,} steps of SpeedLimiting in process: {run_ms:.1f} ms "
         f"({1000 * run_ms / STEPS:.1f} us per step; target < 50 ms); "
-        f"with every firing's rule degrees: {degrees_ms:.1f} ms"
+        f"with every firing's rule degrees: {degrees_ms:.1f} ms; the runtime alone (the same "
+        f"application and updates, nothing recorded or judged): {alone_ms:.1f} ms, so the "
+        f"scenario's own share is {run_ms / alone_ms:.2f}x the runtime's time"
     )
 
     def b() -> None:

@@ -245,8 +245,8 @@ def _as_text(
         verdict = "PASS" if o.passed else "FAIL"
         lines.append(
             printable(
-                f"{verdict} {s.file}: {s.name} ({len(s.steps)} steps, "
-                f"{len(s.expectations)} expectations, {o.seconds * 1000:.0f} ms)"
+                f"{verdict} {s.file}: {s.name} ({_count(len(s.steps), 'step')}, "
+                f"{_count(len(s.expectations), 'expectation')})"
             )
         )
         for f in o.failures:
@@ -277,7 +277,7 @@ def _as_text(
         else ""
     )
     lines.append(
-        f"{len(outcomes)} scenarios: {passed} passed, {len(outcomes) - passed} failed; "
+        f"{_count(len(outcomes), 'scenario')}: {passed} passed, {len(outcomes) - passed} failed; "
         f"rules fired: {fired} of {total} ({percent:.0f} %){under}"
     )
     return "\n".join(lines) + "\n"
@@ -311,3 +311,7 @@ def _as_json(outcomes: list[Outcome], covered: Coverage, findings: list[Diagnost
         },
         "diagnostics": [d.to_dict() for d in findings],
     }
+
+
+def _count(n: int, what: str) -> str:
+    return f"{n} {what}{'s' if n != 1 else ''}"
