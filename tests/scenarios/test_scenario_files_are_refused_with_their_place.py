@@ -139,3 +139,37 @@ def test_a_context_document_the_provider_refuses_fails_the_scenario_at_its_step(
     assert result.code == 1
     assert f"  {path}:8:21: error: S811 the document of Locomotion was refused: " in result.out
     assert "entit" in result.out.lower()
+
+
+def test_a_periodic_set_run_for_too_long_is_refused_before_it_runs(tmp_path: Path):
+    path = tmp_path / "long.yaml"
+    path.write_text(
+        "scenarios:\n  - name: a year\n    policy-sets: [BandwidthLimiting]\n"
+        "    steps: [{at: 0, set: {Usage.numUsers: 1}}, {at: 31536000, set: {Usage.numUsers: 2}}]\n",
+        encoding="utf-8",
+    )
+    result = run_main(["test", str(SAMPLES / "weblab" / "weblab.xmi"), str(path)])
+    assert result.code == 2 and result.out == ""
+    column = path.read_text(encoding="utf-8").splitlines()[3].index("31536000") + 1
+    assert (
+        f"{path}:4:{column}: error: S806 policy set BandwidthLimiting fires at 0.5 Hz: 3.1536e+07 s"
+        in result.err
+    )
+
+
+def test_a_name_with_control_characters_stays_on_its_line_and_in_valid_junit(tmp_path: Path):
+    from junitparser import JUnitXml
+
+    path = tmp_path / "names.yaml"
+    path.write_text(
+        'scenarios:\n  - name: "hot\\nPASS forged\\u0001"\n'
+        "    steps: [{at: 0, set: {Climate.temperature: 40}}]\n"
+        "    expect: [{at: 0, term: {Vent.opening: closed}}]\n",
+        encoding="utf-8",
+    )
+    junit = tmp_path / "results.xml"
+    result = run_main(["test", GREENHOUSE, str(path), "--junit", str(junit)])
+    assert result.code == 1
+    assert not [line for line in result.out.splitlines() if line.startswith("PASS")]
+    (case,) = [case for suite in JUnitXml.fromfile(str(junit)) for case in suite]
+    assert case.name == "hot\nPASS forged\\u0001" and not case.is_passed

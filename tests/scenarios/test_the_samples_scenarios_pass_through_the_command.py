@@ -116,3 +116,17 @@ def test_the_documented_naming_convention_finds_the_files():
     assert scenario_files(str(SAMPLES / "tutorial" / "greenhouse.uml")) == [
         str(SAMPLES / "tutorial" / "greenhouse.scenarios.yaml")
     ]
+
+
+def test_json_gives_each_failure_with_its_place_and_the_rules_in_effect(mutated: Path):
+    result = run_main(["test", str(mutated), "--format", "json"])
+    assert result.code == 1
+    data = json.loads(result.out)
+    failed = [s for s in data["scenarios"] if not s["passed"]]
+    assert [s["name"] for s in failed] == [
+        "a slow control cycle on a straight line limits the speed to slow"
+    ]
+    first = failed[0]["failures"][0]
+    assert first["location"].startswith(str(mutated.with_name("weblab.scenarios.yaml")) + ":")
+    assert first["rules"] == [{"rule": "SpeedLimiting.StraightRules.smallNarrow", "degree": 1.0}]
+    assert data["coverage"]["percent"] == 100.0

@@ -5,6 +5,7 @@ for faults the run recorded."""
 
 from __future__ import annotations
 
+import re
 import xml.etree.ElementTree as ET
 from collections.abc import Iterable
 
@@ -21,6 +22,14 @@ def rules_text(failure: Failure) -> str:
 def failure_text(failure: Failure, separator: str = "\n  ") -> str:
     """The failure's message, and the rules that had fired then with their degrees."""
     return f"{failure.message}{separator}{rules_text(failure)}"
+
+
+# What XML 1.0 cannot hold (a scenario's name may have any character YAML escapes allow)
+_NOT_XML = re.compile("[^\t\n\r\x20-\ud7ff\ue000-\ufffd\U00010000-\U0010ffff]")
+
+
+def _xml_text(text: str) -> str:
+    return _NOT_XML.sub(lambda m: f"\\u{ord(m[0]):04x}", text)
 
 
 def junit_xml(model: str, outcomes: Iterable[Outcome]) -> bytes:
@@ -51,5 +60,9 @@ def junit_xml(model: str, outcomes: Iterable[Outcome]) -> bytes:
             if problems:
                 node = ET.SubElement(case, "error", message=problems[0], type="S811")
                 node.text = "\n".join(problems)
+    for node in root.iter():
+        node.attrib = {k: _xml_text(v) for k, v in node.attrib.items()}
+        if node.text:
+            node.text = _xml_text(node.text)
     ET.indent(root)
     return ET.tostring(root, encoding="utf-8", xml_declaration=True) + b"\n"

@@ -41,6 +41,7 @@ class ModelNames:
     variables: dict[str, Linguistic] = field(default_factory=dict)
     plans: dict[str, PolicyPlan] = field(default_factory=dict)
     operations: dict[str, int] = field(default_factory=dict)  # Component.operation -> inputs
+    periodic: dict[str, float] = field(default_factory=dict)  # policy set -> its frequency (Hz)
 
     @classmethod
     def of(cls, app: Application) -> ModelNames:
@@ -60,6 +61,8 @@ class ModelNames:
                 names.attributes[f"{mon.name}.{p.name}"] = p.kind
         for ps in app.policy_sets:
             names.plans[ps.name] = plan_from_descriptor(ps)
+            if ps.trigger == "periodic" and ps.frequency:
+                names.periodic[ps.name] = ps.frequency
             for v in ps.variables:
                 key = f"{v.element}.{v.attribute}"
                 if key not in names.variables:

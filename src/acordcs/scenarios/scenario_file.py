@@ -36,6 +36,7 @@ MAX_STEPS = 100_000  # per scenario
 MAX_EXPECTATIONS = 10_000  # per scenario
 MAX_TIME = 1e9  # seconds of virtual time
 MAX_DOCUMENT = 65_536  # characters of one context document
+MAX_PERIODIC_FIRINGS = 1_000_000  # of one periodic policy set in a scenario
 
 KINDS = ("value", "term", "fired", "not-fired", "called", "not-called")
 
@@ -139,6 +140,7 @@ def _scenario(item: Located, names: ModelNames) -> Scenario:
         expectations += _expectations(e, names, sets)
         if len(expectations) > MAX_EXPECTATIONS:
             raise e.fail("S806", f"more than {MAX_EXPECTATIONS} expectations in a scenario")
+    _check_firings(steps, expectations, names, sets)
     return Scenario(name, item.file, sets, steps, expectations, results, item)
 
 
@@ -169,6 +171,24 @@ def _step(item: Located, names: ModelNames) -> Step:
                 )
             documents.append((_string(spec["publisher"], "a publisher"), text, spec["document"]))
     return Step(time, tuple(values), fields["at"], tuple(documents))
+
+
+def _check_firings(
+    steps: list[Step], expectations: list[Expectation], names: ModelNames, sets: tuple[str, ...]
+) -> None:
+    """A periodic set fires frequency x duration times: bounded, as the steps are."""
+    last = max(
+        [(s.time, s.at) for s in steps] + [(e.end, e.at) for e in expectations],
+        key=lambda x: x[0],
+    )
+    for name in sets:
+        frequency = names.periodic.get(name)
+        if frequency and frequency * last[0] > MAX_PERIODIC_FIRINGS:
+            raise last[1].fail(
+                "S806",
+                f"policy set {name} fires at {frequency:g} Hz: {last[0]:g} s of virtual time "
+                f"is more than {MAX_PERIODIC_FIRINGS} firings; shorten the scenario",
+            )
 
 
 def _csv_steps(node: Located, names: ModelNames) -> list[Step]:

@@ -72,12 +72,17 @@ def run_scenario(scenario: Scenario, names: ModelNames) -> Outcome:
     import time as wallclock
 
     started = wallclock.perf_counter()
-    app = VirtualApplication(
-        names.app,
-        policy_sets=scenario.policy_sets,
-        results=scenario.results,
-        watched=watched_names(scenario, names),
-    )
+    try:
+        app = VirtualApplication(
+            names.app,
+            policy_sets=scenario.policy_sets,
+            results=scenario.results,
+            watched=watched_names(scenario, names),
+        )
+    except AcordError as exc:  # the runtime refuses to assemble what the model describes
+        outcome = Outcome(scenario, Run())
+        outcome.faults = [f"the application could not be assembled: {exc}"]
+        return outcome
     times = sorted(
         {s.time for s in scenario.steps}
         | {e.start for e in scenario.expectations}
