@@ -71,6 +71,13 @@ CASES = [
         "no term of Vent.opening 'wid' (did you mean 'wide'?)",
     ),
     ("scenarios: [\n", 2, "", "S802", "not valid YAML"),
+    (
+        scenario(extra="    expect: [{at: 0, term: {Vent.opening: off}}]\n"),
+        4,
+        "off}",
+        "S803",
+        "not the boolean false: YAML reads yes, no, on, off, true and false unquoted as booleans",
+    ),
 ]
 
 

@@ -359,6 +359,12 @@ def _plain(node: Located) -> object:
 
 
 def _string(node: Located, what: str) -> str:
+    if isinstance(node.value, bool):
+        raise node.fail(
+            "S803",
+            f"{what} must be a name, not the boolean {str(node.value).lower()}: YAML reads yes, "
+            "no, on, off, true and false unquoted as booleans; quote it ('off')",
+        )
     if not isinstance(node.value, str) or not node.value:
         raise node.fail("S803", f"{what} must be a name (text), not {node.value!r}")
     return node.value
