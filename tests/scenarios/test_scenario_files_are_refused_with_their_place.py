@@ -180,3 +180,20 @@ def test_a_name_with_control_characters_stays_on_its_line_and_in_valid_junit(tmp
     assert not [line for line in result.out.splitlines() if line.startswith("PASS")]
     (case,) = [case for suite in JUnitXml.fromfile(str(junit)) for case in suite]
     assert case.name == "hot\nPASS forged\\u0001" and not case.is_passed
+
+
+def test_sarif_gives_a_refused_file_and_an_unwritable_junit_is_exit_2(tmp_path: Path):
+    import json
+
+    path = tmp_path / "bad.yaml"
+    path.write_text(scenario("[{at: 0, set: {Climate.temprature: 20}}]"), encoding="utf-8")
+    result = run_main(["test", GREENHOUSE, str(path), "--format", "sarif"])
+    assert result.code == 2
+    run = json.loads(result.out)["runs"][0]
+    assert [r["ruleId"] for r in run["results"]] == ["S804"]
+    assert run["invocations"][0] == {"executionSuccessful": False, "exitCode": 2}
+    good = tmp_path / "good.yaml"
+    good.write_text(scenario(), encoding="utf-8")
+    unwritable = tmp_path / "no" / "such" / "dir" / "results.xml"
+    result = run_main(["test", GREENHOUSE, str(good), "--junit", str(unwritable)])
+    assert result.code == 2 and "cannot write it" in result.err

@@ -100,6 +100,7 @@ def test(
     reading = read_one(model)
     errors = [d for d in reading.diagnostics if d.severity >= Severity.ERROR]
     if reading.unreadable or errors or reading.architecture is None:
+        _sarif_of_refusal(fmt, errors or reading.diagnostics)
         for d in errors or reading.diagnostics:
             click.echo(d.format_text(), err=True)
         click.echo(
@@ -125,6 +126,7 @@ def test(
         except ScenarioFileError as exc:
             problems.append(exc.diagnostic)
     if problems:
+        _sarif_of_refusal(fmt, problems)
         for d in problems:
             click.echo(d.format_text(), err=True)
         click.echo(
@@ -145,14 +147,14 @@ def test(
         try:
             Path(junit).write_bytes(junit_xml(model, outcomes))
         except OSError as exc:
-            raise click.FileError(junit, hint=exc.strerror or str(exc)) from None
+            raise _unwritable(junit, exc) from None
     if trace is not None:
         from acordcs.scenarios.trace_files import write_traces
 
         try:
             write_traces(trace, outcomes, names)
         except OSError as exc:
-            raise click.FileError(trace, hint=exc.strerror or str(exc)) from None
+            raise _unwritable(trace, exc) from None
     if fmt == "sarif":
         from acordcs.cli.report import sarif_of
 
@@ -162,6 +164,20 @@ def test(
     else:
         click.echo(_as_text(outcomes, covered, findings, min_coverage), nl=False)
     raise click.exceptions.Exit(code)
+
+
+def _sarif_of_refusal(fmt: str, found: list[Diagnostic]) -> None:
+    """With --format sarif, what refused the run as SARIF too (a dashboard shows it), exit 2."""
+    if fmt == "sarif":
+        from acordcs.cli.report import sarif_of
+
+        click.echo(json.dumps(sarif_of(found, exit_code=2), indent=2))
+
+
+def _unwritable(path: str, exc: OSError) -> click.FileError:
+    error = click.FileError(path, hint=f"cannot write it: {exc.strerror or exc}")
+    error.exit_code = 2
+    return error
 
 
 def _findings(model: str, outcomes: list[Outcome], covered: Coverage) -> list[Diagnostic]:
