@@ -138,6 +138,8 @@ class VirtualApplication:
             container.subscribe(ev.POLICY_FIRED, self._fired(container), name="scenario:firings")
         self.monitors = {m for c in self.application.containers.values() for m in c.monitors()}
         self.watched = [(n, self._reader(n)) for n in watched]
+        # Element.attribute -> its container, element, attribute and monitor (None: a property)
+        self._targets: dict[str, tuple[Container, str, str, Monitor | None]] = {}
 
     def _recording(self, comp: Component, results: dict[str, object]) -> type:
         base = generic_component(comp)
@@ -192,15 +194,20 @@ class VirtualApplication:
 
     def apply(self, values: Iterable[tuple[str, object]]) -> None:
         """Give the values of one step: a monitor's in one update, a property each on its own."""
-        by_monitor: dict[str, dict[str, object]] = {}
+        by_monitor: dict[Monitor, dict[str, object]] = {}
         for name, value in values:
-            container, element, attribute = self._split(name)
-            if element in self.monitors:
-                by_monitor.setdefault(element, {})[attribute] = value
+            target = self._targets.get(name)
+            if target is None:
+                container, element, attribute = self._split(name)
+                monitor = container.monitor(element) if element in self.monitors else None
+                target = self._targets[name] = (container, element, attribute, monitor)
+            container, element, attribute, monitor = target
+            if monitor is not None:
+                by_monitor.setdefault(monitor, {})[attribute] = value
             else:
                 container.set_property(element, attribute, value)
         for monitor, given in by_monitor.items():
-            self.home[monitor].monitor(monitor).update(**given)
+            monitor.update(**given)
 
     def publish(self, publisher: str, document: str) -> None:
         """Publish a context document (the subscribing monitors whose XPath it matches take it).
