@@ -130,3 +130,15 @@ def test_json_gives_each_failure_with_its_place_and_the_rules_in_effect(mutated:
     assert first["location"].startswith(str(mutated.with_name("weblab.scenarios.yaml")) + ":")
     assert first["rules"] == [{"rule": "SpeedLimiting.StraightRules.smallNarrow", "degree": 1.0}]
     assert data["coverage"]["percent"] == 100.0
+
+
+def test_a_container_named_in_policy_sets_runs_the_sets_it_hosts(tmp_path: Path):
+    path = tmp_path / "side.yaml"
+    path.write_text(
+        "scenarios:\n  - name: the weblab side\n    policy-sets: [WebLabSide]\n"
+        "    steps: [{at: 0, set: {Control.cycleRate: 0.5, Control.angle: 2, Control.speed: 0}}]\n"
+        "    expect: [{at: 0, fired: [smallNarrow, count]}, {at: 2, fired: [smallLow]}]\n",
+        encoding="utf-8",
+    )
+    result = run_main(["test", str(WEBLAB), str(path)])
+    assert result.code == 0, result.out + result.err

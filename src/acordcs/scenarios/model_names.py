@@ -42,6 +42,7 @@ class ModelNames:
     plans: dict[str, PolicyPlan] = field(default_factory=dict)
     operations: dict[str, int] = field(default_factory=dict)  # Component.operation -> inputs
     periodic: dict[str, float] = field(default_factory=dict)  # policy set -> its frequency (Hz)
+    containers: dict[str, tuple[str, ...]] = field(default_factory=dict)  # -> its policy sets
 
     @classmethod
     def of(cls, app: Application) -> ModelNames:
@@ -55,6 +56,8 @@ class ModelNames:
             for op in comp.operations:
                 inputs = sum(1 for a in op.parameters if a.direction in ("in", "inout"))
                 names.operations[f"{comp.name}.{op.name}"] = inputs
+        for container in app.containers:
+            names.containers[container.name] = container.hosted("policy-set")
         for mon in app.monitors:
             names.monitors.add(mon.name)
             for p in mon.properties:

@@ -7,7 +7,7 @@ not finite, or outside its variable's range; S806 a limit exceeded).
 
     scenarios:
       - name: hot afternoon
-        policy-sets: [VentControl]          # optional: every policy set of the model
+        policy-sets: [VentControl]          # optional (a container: its sets): every set
         results: {Vent.calibrate: 0}        # optional: what operations return (else None)
         steps:
           - {at: 0, set: {Sensor.temperature: 35}}
@@ -112,10 +112,17 @@ def _scenario(item: Located, names: ModelNames) -> Scenario:
     name = _string(fields["name"], "the scenario's name")
     sets = tuple(names.plans)
     if "policy-sets" in fields:
-        given = _list(fields["policy-sets"], "policy-sets")
-        sets = tuple(_choice(s, names.plans, "policy set") for s in given)
+        chosen: dict[str, None] = {}
+        for s in _list(fields["policy-sets"], "policy-sets"):
+            if isinstance(s.value, str) and s.value in names.containers:  # a container's sets
+                chosen.update(dict.fromkeys(names.containers[s.value]))
+            else:
+                chosen[_choice(s, {**names.plans, **names.containers}, "policy set")] = None
+        sets = tuple(chosen)
         if not sets:
-            raise fields["policy-sets"].fail("S803", "'policy-sets' is empty; leave it out for all")
+            raise fields["policy-sets"].fail(
+                "S803", "'policy-sets' names no policy set; leave it out for all"
+            )
     results: dict[str, object] = {}
     if "results" in fields:
         for key, value in _mapping(fields["results"], "results").items():
