@@ -21,7 +21,7 @@ $(STAMP): pyproject.toml | $(BIN)/python
 	touch $@
 
 $(DEV_STAMP): pyproject.toml | $(BIN)/python
-	$(BIN)/python -m pip install -q -e '.[dev,weblab]'
+	$(BIN)/python -m pip install -q -e '.[dev,weblab,plots]'
 	$(BIN)/python -m compileall -q src > /dev/null
 	touch $@ $(STAMP)
 

@@ -197,6 +197,16 @@ CODES: dict[str, tuple[Severity, str]] = {
     ),
     "G704": (W, "your code implements an operation or port the model renamed or removed"),
     "G705": (W, "your class does not compile: the container hosting it refuses to start"),
+    # S: scenario files and their runs (acordcs-gen test)
+    "S801": (E, "scenario file cannot be read (missing, not UTF-8, or larger than 1 MiB)"),
+    "S802": (E, "scenario file is not YAML this reader takes (syntax, anchors, aliases, tags)"),
+    "S803": (E, "scenario file does not follow the format (unknown key, wrong shape, missing key)"),
+    "S804": (E, "scenario names something the model does not have"),
+    "S805": (E, "scenario value of the wrong type, not finite, or outside its variable's range"),
+    "S806": (E, "scenario file exceeds a limit (scenarios, steps, expectations, nesting, values)"),
+    "S810": (E, "a scenario's expectation did not hold"),
+    "S811": (E, "a scenario's run recorded a fault (an action, operation or engine raised)"),
+    "S812": (W, "a rule no scenario fired, or a term no input reached (rule coverage)"),
     # Z: the toolchain itself
     "Z901": (E, "internal error in a check (a bug in acordcs: please report it)"),
     "Z902": (W, "a check another package declares could not be loaded"),

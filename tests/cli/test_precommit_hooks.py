@@ -91,7 +91,7 @@ def test_the_reader_reads_its_subset_and_refuses_the_rest():
 
 
 def test_the_file_declares_the_two_hooks_as_pre_commit_expects():
-    assert list(HOOKS) == ["acordcs-validate", "acordcs-build-check"]
+    assert list(HOOKS) == ["acordcs-validate", "acordcs-build-check", "acordcs-test"]
     for hook in HOOKS.values():
         assert {"id", "name", "entry", "language"} <= hook.keys()
         assert hook["language"] == "python"  # installs this repository, which provides acordcs-gen
@@ -100,6 +100,9 @@ def test_the_file_declares_the_two_hooks_as_pre_commit_expects():
         assert files.search("models/app.xmi") and files.search("model.uml")
         assert not files.search("app.xmi.bak") and not files.search("gen/app.py")
     assert HOOKS["acordcs-validate"]["pass_filenames"] is True
+    # a test reads exactly one model too, and runs when its scenario files change
+    assert HOOKS["acordcs-test"]["pass_filenames"] is False
+    assert re.search(HOOKS["acordcs-test"]["files"], "models/app.scenarios.yaml")
     # a build reads exactly one model: given in args, never the staged file names
     assert HOOKS["acordcs-build-check"]["pass_filenames"] is False
 
@@ -229,3 +232,10 @@ def test_readme_pre_commit_config_names_the_hooks():
     ids = re.findall(r"^\s+- id: (\S+)$", _section(), flags=re.M)
     assert ids and set(ids) <= set(HOOKS)
     assert set(HOOKS) <= set(ids)
+
+
+def test_test_hook_runs_the_scenarios_of_the_model_given():
+    model = WEBLAB.relative_to(ROOT).as_posix()
+    done = run_hook("acordcs-test", ROOT, ["samples/weblab/weblab.scenarios.yaml"], [model])
+    assert done.returncode == 0, done.stdout + done.stderr
+    assert done.stdout.splitlines()[-1].startswith("7 scenarios: 7 passed, 0 failed")

@@ -6,7 +6,7 @@ import json
 from collections import Counter
 
 from acordcs import __version__
-from acordcs.diagnostics import CODES, Severity, help_uri, printable
+from acordcs.diagnostics import CODES, Diagnostic, Severity, help_uri, printable
 from acordcs.model.reading import ModelReading
 
 _SARIF_LEVEL = {Severity.ERROR: "error", Severity.WARNING: "warning", Severity.INFO: "note"}
@@ -76,13 +76,18 @@ def _uri(path: str) -> str:
 
 
 def as_sarif(readings: list[ModelReading], *, exit_code: int = 0) -> dict:
+    """SARIF 2.1.0 of the readings' diagnostics: see :func:`sarif_of`."""
+    return sarif_of([d for r in readings for d in r.diagnostics], exit_code=exit_code)
+
+
+def sarif_of(diagnostics: list[Diagnostic], *, exit_code: int = 0) -> dict:
     """SARIF 2.1.0 in the subset GitHub code scanning accepts (rules with levels, regions >= line 1).
 
     A result's fingerprint is its code, element id and subject (tag, rule), never its message:
     rewording a message must not reopen every alert. Two results with one fingerprint (two
     misspelt variables in one rule) are told apart by their order.
     """
-    used = sorted({d.code for r in readings for d in r.diagnostics})
+    used = sorted({d.code for d in diagnostics})
     rules = []
     for code in used:
         rule = {
@@ -98,31 +103,30 @@ def as_sarif(readings: list[ModelReading], *, exit_code: int = 0) -> dict:
     index = {code: n for n, code in enumerate(used)}
     results = []
     seen: Counter = Counter()
-    for reading in readings:
-        for d in reading.diagnostics:
-            physical: dict = {"artifactLocation": {"uri": _uri(d.file)}}
-            if d.line >= 1:
-                region = {"startLine": d.line}
-                if d.column >= 1:
-                    region["startColumn"] = d.column
-                physical["region"] = region
-            location: dict = {"physicalLocation": physical}
-            if d.element:
-                location["logicalLocations"] = [{"fullyQualifiedName": d.element, "kind": "type"}]
-            key = d.fingerprint()
-            seen[(d.file, key)] += 1
-            if seen[(d.file, key)] > 1:
-                key += f":{seen[(d.file, key)]}"
-            results.append(
-                {
-                    "ruleId": d.code,
-                    "ruleIndex": index[d.code],
-                    "level": _SARIF_LEVEL[d.severity],
-                    "message": {"text": d.message},
-                    "locations": [location],
-                    "partialFingerprints": {"acordcsFinding/v2": key},
-                }
-            )
+    for d in diagnostics:
+        physical: dict = {"artifactLocation": {"uri": _uri(d.file)}}
+        if d.line >= 1:
+            region = {"startLine": d.line}
+            if d.column >= 1:
+                region["startColumn"] = d.column
+            physical["region"] = region
+        location: dict = {"physicalLocation": physical}
+        if d.element:
+            location["logicalLocations"] = [{"fullyQualifiedName": d.element, "kind": "type"}]
+        key = d.fingerprint()
+        seen[(d.file, key)] += 1
+        if seen[(d.file, key)] > 1:
+            key += f":{seen[(d.file, key)]}"
+        results.append(
+            {
+                "ruleId": d.code,
+                "ruleIndex": index[d.code],
+                "level": _SARIF_LEVEL[d.severity],
+                "message": {"text": d.message},
+                "locations": [location],
+                "partialFingerprints": {"acordcsFinding/v2": key},
+            }
+        )
     return {
         "$schema": "https://json.schemastore.org/sarif-2.1.0.json",
         "version": "2.1.0",

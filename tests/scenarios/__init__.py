@@ -1,0 +1,1 @@
+"""Tests of acordcs.scenarios and acordcs-gen test."""
