@@ -107,6 +107,11 @@ CODES: dict[str, tuple[Severity, str]] = {
     "X108": (E, "XML not well-formed and not recoverable"),
     "X109": (E, "not an XMI/UML file"),
     "X110": (W, "the file declares a single-byte encoding but its bytes are UTF-8"),
+    # M: reading the text notation (docs/notation.md)
+    "M101": (E, "the text is not in the notation (syntax error)"),
+    "M102": (E, "the text exceeds a safety limit (size, words, nesting)"),
+    "M103": (E, "a relation names no element of the text, or several"),
+    "M104": (E, "two elements of the text have the same id"),
     # R: reading XMI as UML
     "R201": (
         W,
@@ -201,6 +206,10 @@ CODES: dict[str, tuple[Severity, str]] = {
     "Z901": (E, "internal error in a check (a bug in acordcs: please report it)"),
     "Z902": (W, "a check another package declares could not be loaded"),
 }
+
+
+UNREADABLE_TEXT = frozenset(("M101", "M102"))
+"""The codes of a text in the notation that could not be read at all (exit code 2), as X codes are."""
 
 
 def documentation_url() -> str | None:
@@ -307,7 +316,8 @@ def diagnostic(
         column or 0,
         element,
         xmi_id,
-        unreadable=code.startswith("X") and code != "X107" and severity is Severity.ERROR,
+        unreadable=code in UNREADABLE_TEXT
+        or (code.startswith("X") and code != "X107" and severity is Severity.ERROR),
         subject=subject,
         because=because,
         explains=explains,

@@ -32,7 +32,8 @@ class PolicyRule:
     tag: str
     index: int  # 1-based position among the tag's rules
     text: str
-    line: int  # file line of the tag
+    line: int  # file line of the tag (of the rule, when the file writes it on its own line)
+    column: int = 0  # file column where the rule starts, when known (the text notation)
 
 
 def policy_rules(policy: Role) -> list[PolicyRule]:
@@ -43,8 +44,13 @@ def policy_rules(policy: Role) -> list[PolicyRule]:
         if declared is None or not declared.matches(tag):
             continue
         line = policy.tag_line(tag)
+        places = policy.application.tag_places.get(tag, ())
         for n, rule_line in enumerate(split_rules(value), start=1):
-            out.append(PolicyRule(policy, tag, n, rule_line.text, line))
+            if rule_line.line <= len(places):  # the rule's own line in the file
+                at, column = places[rule_line.line - 1]
+                out.append(PolicyRule(policy, tag, n, rule_line.text, at, column))
+            else:
+                out.append(PolicyRule(policy, tag, n, rule_line.text, line))
     return out
 
 

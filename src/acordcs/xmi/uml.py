@@ -117,8 +117,11 @@ class StereotypeApplication:
     line: int = 0
     tags: dict[str, str] = field(default_factory=dict)
     tag_lines: dict[str, int] = field(default_factory=dict)
+    # Where each line of a tag's value starts, (line, column), when the file writes the value
+    # over its own lines (the text notation's rules blocks); empty for XMI.
+    tag_places: dict[str, tuple[tuple[int, int], ...]] = field(default_factory=dict)
     id: str | None = None
-    places: set[str] = field(default_factory=set)  # root, extension, xmi12, eclipse
+    places: set[str] = field(default_factory=set)  # root, extension, xmi12, eclipse, text
 
     @property
     def key(self) -> str:
@@ -159,7 +162,7 @@ class UmlModel:
     """Everything read from one file."""
 
     file: str
-    dialect: str  # bouml-xmi2, omg-xmi2, eclipse-uml2, bouml-xmi12, xmi1
+    dialect: str  # bouml-xmi2, omg-xmi2, eclipse-uml2, bouml-xmi12, xmi1, acord-text
     name: str = ""
     exporter: str | None = None  # as the file states it: name and version
     tool: str | None = None  # the known tool it names (see readers.exporters.KNOWN_TOOLS)
