@@ -65,7 +65,7 @@ class Block:
 @dataclass
 class Parameter:
     name: str
-    type: str
+    type: str | None
     direction: str = "in"
     id: str | None = None  # None: derived from the qualified name
     place: Place = Place()
@@ -147,7 +147,13 @@ class Outline:
 
 
 def derived_id(path: tuple[str, ...]) -> str:
-    """The id an element whose qualified name is ``path`` gets when the text gives none:
-    ``_`` and its names joined by dots (``_Deployment.House``, ``_Fan.setSpeed.level``), the
-    shape of the ids of the Papyrus samples."""
+    """The id a package, or an element of a package, whose qualified name is ``path`` gets when
+    the text gives none: ``_`` and its names joined by dots (``_Deployment.House``)."""
     return "_" + ".".join(path)
+
+
+def member_id(owner_id: str, name: str) -> str:
+    """The id a member of an element (an attribute, an operation, a parameter of one, a port or
+    another element inside it) gets when the text gives none: its owner's id, a dot and its name
+    (``_Fan.speed``, ``_Fan.setSpeed.level``), the shape of the Papyrus samples' ids."""
+    return f"{owner_id}.{name}"

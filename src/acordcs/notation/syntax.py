@@ -310,7 +310,7 @@ class _Builder:
             if tag is None:  # "()": maybe_placeholders gives the empty list as one None
                 continue
             name, value = tag.children
-            out.append(Tag(str(name.value), self.value(value), Place(name.line, name.column)))
+            out.append(Tag(self.value(name), self.value(value), Place(name.line, name.column)))
         return out
 
     def block(self, node: Tree, lines: list[Token]) -> Block:
@@ -356,7 +356,7 @@ class _Builder:
             op.parameters.append(
                 Parameter(
                     self.value(p_name),
-                    self.value(p_type),
+                    self.value(p_type) if p_type is not None else None,
                     str(direction.value) if direction is not None else "in",
                     self.ident(p_ident),
                     _place(p_name),
@@ -367,5 +367,5 @@ class _Builder:
 
 def _doc_text(token: Token) -> str:
     """``/// text`` -> ``text`` (one space after the slashes is the comment's, not the text's)."""
-    text = str(token.value)[3:]
-    return (text[1:] if text.startswith(" ") else text).rstrip()
+    text = str(token.value)[3:].rstrip("\r")
+    return text[1:] if text.startswith(" ") else text

@@ -46,7 +46,10 @@ class _Builder:
     def build(self) -> UmlModel:
         out = self.outline
         root = Package(
-            self.identify(out.id, ("model",), out.place), "Model", out.name, out.place.line
+            self.identify(out.id, o.derived_id(("model",)), out.place),
+            "Model",
+            out.name,
+            out.place.line,
         )
         root.comments = _comment(out.doc)
         self.model.elements[root.id] = root
@@ -57,10 +60,10 @@ class _Builder:
         return self.model
 
     # ------------------------------------------------------------------------------- ids
-    def identify(self, given: str | None, path: tuple[str, ...], place: o.Place) -> str:
-        ident = given if given is not None else o.derived_id(path)
+    def identify(self, given: str | None, derived: str, place: o.Place) -> str:
+        ident = given if given is not None else derived
         if ident in self.ids:
-            how = "given" if given is not None else f"derived from {'::'.join(path)!r}"
+            how = "given" if given is not None else "derived from its qualified name"
             self.model.diagnostics.append(
                 diagnostic(
                     "M104",
@@ -80,7 +83,8 @@ class _Builder:
     def item(self, item: o.Package | o.Element, owner: Element, path: tuple[str, ...]) -> None:
         path = (*path, item.name)
         if isinstance(item, o.Package):
-            pkg = Package(self.identify(item.id, path, item.place), "Package", item.name)
+            ident = self.identify(item.id, o.derived_id(path), item.place)
+            pkg = Package(ident, "Package", item.name)
             pkg.line, pkg.owner, pkg.comments = item.place.line, owner, _comment(item.doc)
             self.model.elements[pkg.id] = pkg
             self.model.packages.append(pkg)
@@ -92,7 +96,9 @@ class _Builder:
         self.element(item, owner, path)
 
     def element(self, item: o.Element, owner: Element, path: tuple[str, ...]) -> None:
-        ident = self.identify(item.id, path, item.place)
+        inside = isinstance(owner, Classifier | Property)
+        derived = o.member_id(owner.id, item.name) if inside else o.derived_id(path)
+        ident = self.identify(item.id, derived, item.place)
         line = item.place.line
         if item.keyword == "port" and isinstance(owner, Classifier):
             port = Property(ident, "Port", item.name, line, owner, aggregation="composite")
@@ -116,9 +122,9 @@ class _Builder:
             app.tag_places[tag] = tuple((p.line, p.column) for _, p in block.lines)
         if isinstance(element, Classifier):
             for attr in item.attributes:
-                self.attribute(attr, element, path)
+                self.attribute(attr, element)
             for op in item.operations:
-                self.operation(op, element, path)
+                self.operation(op, element)
         for relation in item.relations:
             self.pending.append((relation, ident, path, owner))
         for nested in item.nested:
@@ -137,8 +143,8 @@ class _Builder:
         self.model.applications[(base, f"{PROFILE_NAME}:{stereotype}")] = app
         return app
 
-    def attribute(self, attr: o.Attribute, owner: Classifier, path: tuple[str, ...]) -> None:
-        ident = self.identify(attr.id, (*path, attr.name), attr.place)
+    def attribute(self, attr: o.Attribute, owner: Classifier) -> None:
+        ident = self.identify(attr.id, o.member_id(owner.id, attr.name), attr.place)
         prop = Property(ident, "Property", attr.name, attr.place.line, owner)
         prop.type_name, prop.default, prop.comments = attr.type, attr.default, _comment(attr.doc)
         owner.attributes.append(prop)
@@ -152,13 +158,12 @@ class _Builder:
                 app.tags[o.TERMS_TAG] = terms_value([t for t, _ in var.terms.lines])
                 app.tag_lines[o.TERMS_TAG] = var.terms.place.line
 
-    def operation(self, op: o.Operation, owner: Classifier, path: tuple[str, ...]) -> None:
-        op_path = (*path, op.name)
-        ident = self.identify(op.id, op_path, op.place)
+    def operation(self, op: o.Operation, owner: Classifier) -> None:
+        ident = self.identify(op.id, o.member_id(owner.id, op.name), op.place)
         operation = Operation(ident, "Operation", op.name, op.place.line, owner)
         operation.comments = _comment(op.doc)
         for p in op.parameters:
-            p_id = self.identify(p.id, (*op_path, p.name), p.place)
+            p_id = self.identify(p.id, o.member_id(ident, p.name), p.place)
             param = Parameter(p_id, "Parameter", p.name, p.place.line, operation)
             param.type_name, param.direction = p.type, p.direction
             operation.parameters.append(param)
@@ -209,9 +214,8 @@ class _Builder:
                     )
                 )
                 continue
-            ident = self.identify(None, (relation.keyword, *path, "to", *wanted), place).replace(
-                "#", "."
-            )
+            derived = o.derived_id((relation.keyword, *path, "to", *wanted))
+            ident = self.identify(None, derived, place).replace("#", ".")
             dep = Dependency(ident, "Dependency", f"{relation.keyword}{wanted[-1]}", place.line)
             dep.owner, dep.clients, dep.suppliers = owner, [source], [target]
             self.model.dependencies.append(dep)
