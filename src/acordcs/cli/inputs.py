@@ -1,4 +1,5 @@
-"""The model files a command is given: ``-`` for standard input, and files that are not models
+"""The model files a command is given: ``-`` for standard input (XMI, or the text notation when
+it does not start with '<'), and files that are not models
 (a Papyrus diagram ``.notation``, its ``.di``) refused before they are read.
 
 A Papyrus ``.notation`` file is XMI and declares the UML namespace, so the reader alone would read
@@ -17,6 +18,7 @@ from pathlib import Path
 
 from acordcs.diagnostics import diagnostic
 from acordcs.model.reading import ModelReading, read_model
+from acordcs.notation import SUFFIX as NOTATION_SUFFIX
 from acordcs.xmi.uml import UmlModel
 
 STDIN = "-"
@@ -75,6 +77,14 @@ def _not_a_model(path: str) -> str | None:
     )
 
 
+def _is_text_notation(path: str) -> bool:
+    """Standard input has no name to tell its form by: XMI starts with '<' (after blanks and a
+    byte order mark), the text notation does not."""
+    with open(path, "rb") as handle:
+        head = handle.read(4096).lstrip(b"\xef\xbb\xbf \t\r\n")
+    return bool(head) and not head.startswith(b"<")
+
+
 def _refused(path: str, why: str) -> ModelReading:
     refusal = diagnostic("X109", why, file=path)
     return ModelReading(path, UmlModel(file=path, dialect="unreadable"), None, [refusal])
@@ -97,6 +107,8 @@ def _read_stdin(check: bool) -> ModelReading:
         copy = os.path.join(folder, "stdin.xmi")
         with open(copy, "wb") as handle:
             shutil.copyfileobj(stream, handle)
+        if _is_text_notation(copy):
+            os.replace(copy, copy := os.path.join(folder, "stdin" + NOTATION_SUFFIX))
         reading = read_model(copy, check=check)
     finally:
         shutil.rmtree(folder, ignore_errors=True)
