@@ -1,5 +1,5 @@
 """The model files a command is given: ``-`` for standard input (XMI, or the text notation when
-it does not start with '<'), and files that are not models
+it starts as one does: a comment or a keyword), and files that are not models
 (a Papyrus diagram ``.notation``, its ``.di``) refused before they are read.
 
 A Papyrus ``.notation`` file is XMI and declares the UML namespace, so the reader alone would read
@@ -77,12 +77,19 @@ def _not_a_model(path: str) -> str | None:
     )
 
 
+# How a model in the text notation starts: a comment, or a keyword of a model's first line.
+_NOTATION_START = re.compile(
+    rb"(//|#|/\*|(model|package|container|component|port|connection|monitor|policyset|policy)\b)"
+)
+
+
 def _is_text_notation(path: str) -> bool:
-    """Standard input has no name to tell its form by: XMI starts with '<' (after blanks and a
-    byte order mark), the text notation does not."""
+    """Standard input has no name to tell its form by: the text notation starts with a comment
+    or a keyword (after blanks and a byte order mark); anything else is read as XMI, which says
+    what is wrong with what is not XML (X108)."""
     with open(path, "rb") as handle:
         head = handle.read(4096).lstrip(b"\xef\xbb\xbf \t\r\n")
-    return bool(head) and not head.startswith(b"<")
+    return _NOTATION_START.match(head) is not None
 
 
 def _refused(path: str, why: str) -> ModelReading:
