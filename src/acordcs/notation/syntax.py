@@ -19,6 +19,7 @@ from lark import Lark, Token, Tree, UnexpectedCharacters, UnexpectedInput, Unexp
 from acordcs.cachedir import lark_cache
 from acordcs.diagnostics import suggestion
 from acordcs.errors import UnreadableInputError
+from acordcs.notation.fast_text import read_outline
 from acordcs.notation.outline import (
     KINDS,
     RELATIONS,
@@ -110,17 +111,23 @@ _KEYWORDS = [
 ]
 
 
+def _word(terminal: str) -> str:
+    """What a terminal of the grammar is called in a message: a keyword (``_MODEL``) as written."""
+    if terminal in _EXPECT_WORDS:
+        return _EXPECT_WORDS[terminal]
+    return repr(terminal.lstrip("_").lower())
+
+
 def _expected(expected: set[str]) -> str:
-    words = sorted({_EXPECT_WORDS.get(e, repr(e.lower().strip('"'))) for e in expected})
-    words = [w for w in words if not w.startswith("'__")]  # lark's names of anonymous keywords
+    words = sorted({_word(e) for e in expected})
     if len(words) > 8:
         words = [*words[:8], "..."]
     return ", ".join(words) or "something else"
 
 
-def _anonymous_keywords(expected: set[str]) -> set[str]:
-    """lark names a keyword of the grammar written in quotes (``"model"``) MODEL: those names."""
-    return {e for e in expected if e.isupper() and e.lower() in _KEYWORDS}
+def _keywords(expected: set[str]) -> list[str]:
+    """The keywords among the terminals ``expected`` (``_MODEL`` -> ``model``)."""
+    return [e.lstrip("_").lower() for e in expected if e.lstrip("_").lower() in _KEYWORDS]
 
 
 def _syntax_error(err: UnexpectedInput, text: str, path: str) -> NotationError:
@@ -137,7 +144,7 @@ def _syntax_error(err: UnexpectedInput, text: str, path: str) -> NotationError:
         expected = set(interactive.accepts()) if interactive is not None else set(err.expected)
         hint = ""
         if token.type == "NAME":
-            keywords = [e.lower() for e in _anonymous_keywords(expected)]
+            keywords = _keywords(expected)
             keywords += [k for k in KINDS if "KIND" in expected]
             keywords += [r for r in RELATIONS if "RELATION" in expected]
             hint = suggestion(str(token.value), keywords)
@@ -160,7 +167,9 @@ def _syntax_error(err: UnexpectedInput, text: str, path: str) -> NotationError:
 
 # ------------------------------------------------------------------------------------ the reading
 def parse_text(data: bytes, path: str = "<input>") -> Outline:
-    """``data`` (UTF-8 text in the notation) as an outline; raises :class:`NotationError`."""
+    """``data`` (UTF-8 text in the notation) as an outline; raises :class:`NotationError`. The
+    fast reader (:mod:`acordcs.notation.fast_text`) reads it first; what it declines, lark reads
+    (:func:`lark_outline`), and words the error when there is one."""
     if len(data) > MAX_BYTES:
         raise NotationLimitError(
             f"the text is {len(data) // 2**20} MiB, over the {MAX_BYTES // 2**20} MiB limit of the "
@@ -186,6 +195,13 @@ def parse_text(data: bytes, path: str = "<input>") -> Outline:
     if "\x00" in text:
         line = text.count("\n", 0, text.index("\x00")) + 1
         raise NotationError("the text holds a NUL character: remove it", file=path, line=line)
+    outline = read_outline(text, MAX_DEPTH)  # most texts: without lark, a fraction of its time
+    return outline if outline is not None else lark_outline(text, path)
+
+
+def lark_outline(text: str, path: str = "<input>") -> Outline:
+    """``text`` parsed by lark's parser of ``acord.lark`` into an outline; raises
+    :class:`NotationError` with the place, what was found and what was expected."""
     try:
         tree = parser().parse(text)
     except (UnexpectedToken, UnexpectedCharacters) as err:
