@@ -54,6 +54,14 @@ def test_a_rule_syntax_error_points_at_the_word_in_the_text(tmp_path: Path) -> N
     assert f"{path}:{line}:{column}: error: L401" in result.out
 
 
+def test_a_term_syntax_error_points_at_the_word_in_the_text(tmp_path: Path) -> None:
+    text = GREENHOUSE.replace("warm := trian 20 26 32", "warm := trian 20 26 32; wet := trap 1")
+    line = next(n for n, t in enumerate(text.splitlines(), 1) if "trap 1" in t)
+    column = text.splitlines()[line - 1].index("trap 1") + 1
+    path, result = _validate(tmp_path, text)
+    assert f"{path}:{line}:{column}: error: T307 terms of 'temperature'" in result.out
+
+
 def test_a_relation_to_no_element_says_the_name_meant(tmp_path: Path) -> None:
     text = GREENHOUSE.replace("adapts Vent", "adapts Vnt")
     path, result = _validate(tmp_path, text)

@@ -44,13 +44,27 @@ def policy_rules(policy: Role) -> list[PolicyRule]:
         if declared is None or not declared.matches(tag):
             continue
         line = policy.tag_line(tag)
-        places = policy.application.tag_places.get(tag, ())
+        placed = tag in policy.application.tag_places  # the file says where each rule is
+        starts = _line_starts(value) if placed else []
         for n, rule_line in enumerate(split_rules(value), start=1):
-            if rule_line.line <= len(places):  # the rule's own line in the file
-                at, column = places[rule_line.line - 1]
-                out.append(PolicyRule(policy, tag, n, rule_line.text, at, column))
+            where = None
+            if placed:
+                start, raw = starts[rule_line.line - 1]
+                offset = start + len(raw) - len(raw.lstrip())
+                where = policy.application.place_in_file(tag, offset)
+            if where is not None:
+                out.append(PolicyRule(policy, tag, n, rule_line.text, *where))
             else:
                 out.append(PolicyRule(policy, tag, n, rule_line.text, line))
+    return out
+
+
+def _line_starts(value: str) -> list[tuple[int, str]]:
+    """Each line of ``value`` as split_rules splits it, with the offset where it starts."""
+    out, offset = [], 0
+    for raw in value.splitlines(keepends=True):
+        out.append((offset, raw))
+        offset += len(raw)
     return out
 
 

@@ -28,6 +28,7 @@ from acordcs.xmi.uml import (
 )
 
 DIALECT = "acord-text"
+EXPORTER = "the text notation"  # what inspect shows as the file's exporter
 
 
 def uml_of(outline: o.Outline, path: str) -> UmlModel:
@@ -38,7 +39,9 @@ def uml_of(outline: o.Outline, path: str) -> UmlModel:
 class _Builder:
     def __init__(self, outline: o.Outline, path: str) -> None:
         self.outline = outline
-        self.model = UmlModel(file=path, dialect=DIALECT, name=outline.name, tool="acordcs")
+        self.model = UmlModel(
+            file=path, dialect=DIALECT, name=outline.name, exporter=EXPORTER, tool="acordcs"
+        )
         self.ids: dict[str, int] = {}  # id -> line where first given
         self.paths: dict[tuple[str, ...], str] = {}  # qualified names of elements -> id
         self.pending: list[tuple[o.Relation, str, tuple[str, ...], Element | None]] = []
@@ -117,9 +120,13 @@ class _Builder:
         self.paths[path] = ident
         app = self.apply(item.stereotype, ident, item.place, item.tags)
         for tag, block in item.rules:
+            offset, places = 0, []
+            for text, place in block.lines:  # one rule a line, each where the text has it
+                places.append((offset, place.line, place.column))
+                offset += len(text) + 1
             app.tags[tag] = "\n".join(text for text, _ in block.lines)
             app.tag_lines[tag] = block.lines[0][1].line if block.lines else block.place.line
-            app.tag_places[tag] = tuple((p.line, p.column) for _, p in block.lines)
+            app.tag_places[tag] = tuple(places)
         if isinstance(element, Classifier):
             for attr in item.attributes:
                 self.attribute(attr, element)
@@ -155,8 +162,10 @@ class _Builder:
             if var.id is not None:
                 app.id = var.id
             if var.terms is not None:
-                app.tags[o.TERMS_TAG] = terms_value([t for t, _ in var.terms.lines])
+                value, places = terms_value(var.terms.lines)
+                app.tags[o.TERMS_TAG] = value
                 app.tag_lines[o.TERMS_TAG] = var.terms.place.line
+                app.tag_places[o.TERMS_TAG] = places
 
     def operation(self, op: o.Operation, owner: Classifier) -> None:
         ident = self.identify(op.id, o.member_id(owner.id, op.name), op.place)
@@ -222,10 +231,25 @@ class _Builder:
             self.model.elements[ident] = dep
 
 
-def terms_value(lines: list[str]) -> str:
-    """A terms block's lines as the tag's value: the terms joined by ``; ``."""
-    parts = [part.strip() for line in lines for part in line.split(";")]
-    return "; ".join(p for p in parts if p)
+def terms_value(
+    lines: list[tuple[str, o.Place]],
+) -> tuple[str, tuple[tuple[int, int, int], ...]]:
+    """A terms block's lines as the tag's value, the terms joined by ``; ``, and where each term
+    is in the text (:attr:`acordcs.xmi.uml.StereotypeApplication.tag_places`)."""
+    parts: list[str] = []
+    places: list[tuple[int, int, int]] = []
+    offset = 0
+    for text, place in lines:
+        at = 0
+        for piece in text.split(";"):
+            term = piece.strip()
+            if term:
+                column = place.column + at + (len(piece) - len(piece.lstrip()))
+                places.append((offset, place.line, column))
+                parts.append(term)
+                offset += len(term) + 2
+            at += len(piece) + 1
+    return "; ".join(parts), tuple(places)
 
 
 def _comment(doc: list[str]) -> list[str]:

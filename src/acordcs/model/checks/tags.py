@@ -116,11 +116,15 @@ def linguistic_variables(ctx: Context) -> Iterator[Diagnostic]:
         terms = parsed_terms(text)
         if isinstance(terms, RuleSyntaxError):
             err = terms
+            # the column is in the tag's value; in the file too when the file says where its
+            # terms are (the text notation)
+            where = role.application.place_in_file("terms", err.column - 1) if err.column else None
             yield ctx.diag(
                 "T307",
                 f"terms of {role.name!r}, column {err.column}: {err.message}",
                 role,
-                line=line,
+                line=where[0] if where else line,
+                column=where[1] if where else None,
             )
             continue
         # The tags' text, not the numbers: -0 and 0 are equal but printed differently.
