@@ -45,12 +45,32 @@ class _Declined(Exception):
     """Not what the fast reader reads: lark reads it."""
 
 
+class TooDeep(Exception):
+    """Packages and elements nested deeper than the limit, at ``place``."""
+
+    def __init__(self, place: Place) -> None:
+        super().__init__(place)
+        self.place = place
+
+
 def read_outline(text: str, max_depth: int) -> Outline | None:
     """The outline of ``text``, or None when it is not simply well formed (lark reads it)."""
+    return read_or_decline(text, max_depth)[0]
+
+
+def read_or_decline(text: str, max_depth: int) -> tuple[Outline | None, str | None]:
+    """The outline of ``text`` and None; or, where the reader declined, None and the text lark
+    needs to find the error: the text up to the end of the line where it stopped, in which
+    everything the reader had finished is blanked (newlines kept, so that lines and columns stay)
+    but the heads of the packages, elements and blocks it was inside and the member it was
+    reading. Items, members and block lines are sequences, so what is left is what lark would
+    have read up to there, and lark's time is bounded by it, not by the file. Raises
+    :class:`TooDeep`."""
+    reader = _Reader(text, max_depth)
     try:
-        return _Reader(text, max_depth).outline()
+        return reader.outline(), None
     except (_Declined, RecursionError):
-        return None
+        return None, reader.relevant()
 
 
 class _Reader:
@@ -58,8 +78,43 @@ class _Reader:
         self.text = text
         self.pos = 0
         self.max_depth = max_depth
+        self.heads: list[tuple[int, int]] = []  # (start, end) of each open package, element, block
+        self.member = 0  # where the member being read in the innermost one starts
+        # where the member before it starts, when it ended open (no closing '}'), so that it may
+        # still go on (an element's body, an operation's return type): lark's view of what may
+        # come next includes it
+        self.previous: int | None = None
         self.line_starts = [0]
         self.line_starts.extend(m.end() for m in re.finditer("\n", text))
+
+    def relevant(self) -> str:
+        """The text lark needs after a decline at ``self.pos`` (see :func:`read_or_decline`)."""
+        end = self.text.find("\n", self.pos)
+        end = len(self.text) if end < 0 else end
+        last = self.previous if self.previous is not None else self.member
+        kept = [*self.heads, (last, end)]
+        out, done = [], 0
+        for start, stop in kept:
+            start = max(start, done)
+            out.append(_blank(self.text[done:start]))
+            out.append(self.text[start:stop])
+            done = max(done, stop)
+        return "".join(out)
+
+    def enter(self, start: int) -> None:
+        """A package's, element's or block's head, from ``start`` to its '{' (just read)."""
+        self.heads.append((start, self.pos))
+        self.member, self.previous = self.pos, None
+
+    def leave(self) -> None:
+        self.heads.pop()
+
+    def next_member(self) -> None:
+        """After a member: the next one starts here."""
+        closed = self.pos > 0 and self.text[self.pos - 1] == "}"
+        self.previous = None if closed else self.member
+        self.skip()
+        self.member = self.pos
 
     # ------------------------------------------------------------------------------ the tokens
     def place(self, pos: int) -> Place:
@@ -150,6 +205,8 @@ class _Reader:
     # ------------------------------------------------------------------------------ the grammar
     def outline(self) -> Outline:
         out = Outline()
+        self.skip()
+        self.member = self.pos
         docs, first = self.docs()
         if self.peek_word() == "model":
             start = self.keyword("model")
@@ -157,6 +214,7 @@ class _Reader:
             out.place = self.place(first if first is not None else start)
             out.name = self.name()[0]
             out.id = self.ident()
+            self.next_member()
             docs, first = self.docs()
         while True:
             self.skip()
@@ -165,24 +223,28 @@ class _Reader:
                     raise _Declined
                 return out
             out.items.append(self.item(docs, first, 1))
+            self.next_member()
             docs, first = self.docs()
 
     def item(self, docs: list[str], first: int | None, depth: int) -> Package | Element:
-        if depth > self.max_depth:
-            raise _Declined
         word = self.peek_word()
+        if depth > self.max_depth and (word == "package" or word in KINDS):
+            raise TooDeep(self.place(self.pos))
         if word == "package":
             start = self.keyword("package")
             name = self.name()[0]
             pkg = Package(name, doc=docs, id=self.ident())
             pkg.place = self.place(first if first is not None else start)
             self.expect("{")
+            self.enter(start)
             while True:
                 docs, first = self.docs()
                 if not docs and self.at("}"):
                     self.pos += 1
+                    self.leave()
                     return pkg
                 pkg.items.append(self.item(docs, first, depth + 1))
+                self.next_member()
         if word in KINDS:
             return self.element(docs, depth)
         raise _Declined
@@ -199,15 +261,17 @@ class _Reader:
         if not self.at("{"):
             return element
         self.pos += 1
+        self.enter(start)
         while True:
             docs, _ = self.docs()
             if not docs and self.at("}"):
                 self.pos += 1
+                self.leave()
                 return element
             word = self.peek_word()
             if word in KINDS:
                 if depth + 1 > self.max_depth:
-                    raise _Declined
+                    raise TooDeep(self.place(self.pos))
                 element.nested.append(self.element(docs, depth + 1))
             elif word == "attribute":
                 element.attributes.append(self.attribute(docs))
@@ -221,6 +285,7 @@ class _Reader:
                 element.rules.append(self.rules())
             else:
                 raise _Declined
+            self.next_member()
 
     def tags(self) -> list[Tag]:
         self.expect("(")
@@ -238,14 +303,18 @@ class _Reader:
             self.expect(")")
             return out
 
-    def block(self, at: int | None = None) -> Block:
-        """A rules or terms block; its place is ``at`` (a rules block's keyword), else its '{'."""
+    def block(self, head: int, at: int | None = None) -> Block:
+        """A rules or terms block (its head, the member it is in, from ``head``); its place is
+        ``at`` (a rules block's keyword), else its '{'."""
         start = self.expect("{")
         block = Block(place=self.place(start if at is None else at))
+        self.enter(head)
         while True:
             self.skip()
+            self.member = self.pos
             if self.text.startswith("}", self.pos):
                 self.pos += 1
+                self.leave()
                 return block
             found = _LINE.match(self.text, self.pos)
             if not found:
@@ -262,10 +331,10 @@ class _Reader:
             if not found:
                 raise _Declined
             suffix, self.pos = found.group(), found.end()
-        return RULE_TAG + suffix, self.block(at)
+        return RULE_TAG + suffix, self.block(at, at)
 
     def attribute(self, docs: list[str]) -> Attribute:
-        self.keyword("attribute")
+        head = self.keyword("attribute")
         name, place = self.name()
         attr = Attribute(name, doc=docs, id=self.ident(), place=place)
         if self.at(":"):
@@ -280,7 +349,7 @@ class _Reader:
             if self.at("("):
                 var.tags = self.tags()
             if self.at("{"):
-                var.terms = self.block()
+                var.terms = self.block(head)
             attr.variable = var
         return attr
 
@@ -323,8 +392,9 @@ class _Reader:
             start = self.pos
             path = [self.name()[0]]
             while True:
-                if self.at("::"):
-                    self.pos += 2
+                if self.at(":"):  # '::', which may be written ': :'
+                    self.pos += 1
+                    self.expect(":")
                 elif self.at("."):
                     self.pos += 1
                 else:
@@ -334,3 +404,8 @@ class _Reader:
             if not self.at(","):
                 return relation
             self.pos += 1
+
+
+def _blank(text: str) -> str:
+    """``text`` as spaces, its newlines kept."""
+    return "\n".join(" " * len(line) for line in text.split("\n"))

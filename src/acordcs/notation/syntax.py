@@ -19,7 +19,7 @@ from lark import Lark, Token, Tree, UnexpectedCharacters, UnexpectedInput, Unexp
 from acordcs.cachedir import lark_cache
 from acordcs.diagnostics import suggestion
 from acordcs.errors import UnreadableInputError
-from acordcs.notation.fast_text import read_outline
+from acordcs.notation.fast_text import TooDeep, read_or_decline
 from acordcs.notation.outline import (
     KINDS,
     RELATIONS,
@@ -49,10 +49,13 @@ class NotationError(UnreadableInputError):
 
     code = "M101"
 
-    def __init__(self, message: str, *, code: str | None = None, **where) -> None:
+    def __init__(
+        self, message: str, *, code: str | None = None, truncated: bool = False, **where
+    ) -> None:
         super().__init__(message, **where)
         if code is not None:
             self.code = code
+        self.truncated = truncated  # lark found the end of the text where it wanted more
 
 
 class NotationLimitError(NotationError):
@@ -159,6 +162,7 @@ def _syntax_error(err: UnexpectedInput, text: str, path: str) -> NotationError:
             message += " (a string ends on its line: write a newline as \\n)"
     return NotationError(
         f"{message}; fix the text at this place (docs/notation.md gives the notation)",
+        truncated=isinstance(err, UnexpectedToken) and err.token.type == "$END",
         file=path,
         line=line if isinstance(line, int) and line > 0 else None,
         column=column if isinstance(column, int) and column > 0 else None,
@@ -195,8 +199,25 @@ def parse_text(data: bytes, path: str = "<input>") -> Outline:
     if "\x00" in text:
         line = text.count("\n", 0, text.index("\x00")) + 1
         raise NotationError("the text holds a NUL character: remove it", file=path, line=line)
-    outline = read_outline(text, MAX_DEPTH)  # most texts: without lark, a fraction of its time
-    return outline if outline is not None else lark_outline(text, path)
+    try:  # most texts: without lark, in a fraction of its time
+        outline, relevant = read_or_decline(text, MAX_DEPTH)
+    except TooDeep as deep:
+        raise NotationLimitError(
+            f"packages and elements are nested more than {MAX_DEPTH} deep: flatten the model",
+            file=path,
+            line=deep.place.line,
+            column=deep.place.column,
+        ) from None
+    if outline is not None:
+        return outline
+    if relevant is not None and len(relevant) < len(text):
+        # lark reads what matters to the error the reader stopped at, not the whole file
+        try:
+            lark_outline(relevant, path)
+        except NotationError as err:
+            if not err.truncated:
+                raise
+    return lark_outline(text, path)  # the reader declined what lark reads: lark's outline
 
 
 def lark_outline(text: str, path: str = "<input>") -> Outline:
