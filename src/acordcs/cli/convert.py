@@ -53,13 +53,13 @@ def convert(model: str, output: str | None, form: str | None) -> None:
       acordcs-gen convert greenhouse.acord -o greenhouse.uml
       acordcs-gen convert greenhouse.acord --to bouml -o greenhouse.xmi
     """
-    from acordcs.notation import is_notation
     from acordcs.notation.conversion import SUFFIXES, to_form
+    from acordcs.notation.text_model import DIALECT
 
+    reading = read_one(model, check=False)
     if form is None:
         by_suffix = SUFFIXES.get(Path(output).suffix.lower()) if output else None
-        form = by_suffix or ("papyrus" if is_notation(model) else "text")
-    reading = read_one(model, check=False)
+        form = by_suffix or ("papyrus" if reading.uml.dialect == DIALECT else "text")
     if reading.unreadable or reading.architecture is None:
         click.echo(as_text([reading]), nl=False)
         raise click.exceptions.Exit(2)
