@@ -97,3 +97,12 @@ def test_convert_writes_nothing_when_the_text_has_an_error(tmp_path: Path) -> No
     assert target.read_text() == "kept"
     unreadable = run_main(["convert", str(tmp_path / "missing.acord"), "-o", str(target)])
     assert unreadable.code == 2 and "X101" in unreadable.out
+
+
+def test_convert_refuses_what_the_text_cannot_say(tmp_path: Path) -> None:
+    """A 'rule' starting with '}' would end its block in the text: refused, nothing written."""
+    weird = tmp_path / "weird.uml"
+    weird.write_text(PAPYRUS.read_text(encoding="utf-8").replace('Rule="cool:', 'Rule="} cool:'))
+    result = run_main(["convert", str(weird), "-o", str(tmp_path / "weird.acord")])
+    assert result.code == 1 and "starts with '}'" in result.err and "nothing written" in result.err
+    assert not (tmp_path / "weird.acord").exists()

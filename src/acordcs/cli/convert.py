@@ -15,6 +15,7 @@ import click
 from acordcs.cli.inputs import read_one
 from acordcs.cli.report import as_text
 from acordcs.diagnostics import Severity, printable
+from acordcs.errors import AcordError
 
 
 @click.command(short_help="Convert a model: text notation, Papyrus (.uml) or BOUML (.xmi).")
@@ -74,7 +75,15 @@ def convert(model: str, output: str | None, form: str | None) -> None:
             err=True,
         )
         raise click.exceptions.Exit(1)
-    data = to_form(reading.architecture, form)
+    try:
+        data = to_form(reading.architecture, form)
+    except AcordError as refused:
+        click.echo(
+            f"acordcs-gen convert: error: {printable(reading.file)}: {printable(refused.message)}"
+            f" [{printable(refused.element or '')}]: nothing written",
+            err=True,
+        )
+        raise click.exceptions.Exit(1) from None
     if output is None:
         click.echo(data.decode("utf-8"), nl=False)
         return

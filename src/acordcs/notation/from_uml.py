@@ -8,6 +8,7 @@ written only where it is not the one the text would derive.
 
 from __future__ import annotations
 
+from acordcs.errors import AcordError
 from acordcs.model.architecture import VARIABLE, Architecture, Role
 from acordcs.notation import outline as o
 from acordcs.rules.parser import split_rules
@@ -90,6 +91,8 @@ class _Outliner:
             tag = declared.tag(name)
             if tag is not None and tag.syntax == "rules":
                 lines = [(line.text, o.Place()) for line in split_rules(value)]
+                for text, _ in lines:
+                    _writable(text, f"rule {text!r} of tag {name!r}", el)
                 item.rules.append((name, o.Block(lines)))
             elif value.strip():
                 item.tags.append(o.Tag(name, value.strip()))
@@ -124,7 +127,11 @@ class _Outliner:
             attr.variable = variable = o.Variable()
             for name, value in var.tags.items():
                 if name == o.TERMS_TAG:
-                    terms = [t.strip() for t in value.split(";") if t.strip()]
+                    # a term over lines reads as one (the rule language flattens them)
+                    pieces = (" ".join(t.split()) for t in value.split(";"))
+                    terms = [t for t in pieces if t]
+                    for term in terms:
+                        _writable(term, f"term {term!r}", prop)
                     variable.terms = o.Block([(t, o.Place()) for t in terms])
                 elif value.strip():
                     variable.tags.append(o.Tag(name, value.strip()))
@@ -137,6 +144,21 @@ class _Outliner:
             op.return_type,
             _doc(op),
             self.ident(op),
+        )
+
+
+class ConversionError(AcordError):
+    """What the model says that the text cannot say: nothing is written."""
+
+
+def _writable(line: str, what: str, element: Element) -> None:
+    """A line of a rules or terms block is its text as written: one that starts as the block's
+    end or a comment would read as something else."""
+    if line.startswith(("}", "/", "#")):
+        raise ConversionError(
+            f"{what} starts with {line[0]!r}, which a line of a block in the text notation "
+            "cannot start with (it is not a rule or a term either): correct it in the model",
+            element=f"{element.qualified_name()} ({element.id})",
         )
 
 
