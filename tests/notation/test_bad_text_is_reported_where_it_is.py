@@ -76,10 +76,13 @@ def test_two_elements_with_one_id_are_reported(tmp_path: Path) -> None:
     assert "M104 id '_Vent'" in result.out
 
 
-def test_an_unknown_tag_is_reported_by_the_same_check_as_in_xmi(tmp_path: Path) -> None:
+def test_an_unknown_tag_is_reported_by_the_same_check_as_in_xmi_at_the_tag(tmp_path: Path) -> None:
     text = GREENHOUSE.replace("(engine = fuzzy", "(engin = fuzzy")
-    _, result = _validate(tmp_path, text)
-    assert "T3" in result.out and "'engin'" in result.out and "did you mean 'engine'" in result.out
+    line = next(n for n, t in enumerate(text.splitlines(), 1) if "engin =" in t)
+    column = text.splitlines()[line - 1].index("engin") + 1
+    path, result = _validate(tmp_path, text)
+    assert f"{path}:{line}:{column}: error: T320 <<CtxPolicySet>> has no tag 'engin'" in result.out
+    assert "did you mean 'engine'" in result.out
 
 
 @pytest.mark.parametrize(

@@ -147,6 +147,7 @@ class _Builder:
         for tag in tags:
             app.tags[tag.name] = tag.value
             app.tag_lines[tag.name] = tag.place.line
+            app.tag_columns[tag.name] = tag.place.column
         self.model.applications[(base, f"{PROFILE_NAME}:{stereotype}")] = app
         return app
 

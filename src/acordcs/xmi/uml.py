@@ -117,6 +117,9 @@ class StereotypeApplication:
     line: int = 0
     tags: dict[str, str] = field(default_factory=dict)
     tag_lines: dict[str, int] = field(default_factory=dict)
+    tag_columns: dict[str, int] = field(
+        default_factory=dict
+    )  # when the file says (the text notation)
     # Where a tag's value is in the file when the file writes it in pieces of its own (the text
     # notation's rules and terms blocks): (offset in the value, line, column) of each piece's
     # start, in order; empty for XMI, where a value is one attribute.

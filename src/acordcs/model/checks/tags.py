@@ -32,7 +32,7 @@ def tag_values(ctx: Context) -> Iterator[Diagnostic]:
     for role in ctx.arch.roles.values():
         for name, value in role.tags.items():
             declared = role.stereotype.tag(name)
-            line = role.tag_line(name)
+            line, column = role.tag_line(name), role.tag_column(name)
             if declared is None:
                 names = [t.name for t in role.stereotype.tags]
                 close = [n for n in names if within_edits(name, n, MISSPELT)]
@@ -43,6 +43,7 @@ def tag_values(ctx: Context) -> Iterator[Diagnostic]:
                         f"{close[0]!r} is left unset: rename the tag",
                         role,
                         line=line,
+                        column=column,
                         subject=name,
                     )
                     continue
@@ -52,6 +53,7 @@ def tag_values(ctx: Context) -> Iterator[Diagnostic]:
                     f"{', '.join(names) or 'none'}); it is ignored",
                     role,
                     line=line,
+                    column=column,
                     subject=name,
                 )
                 continue
@@ -64,6 +66,7 @@ def tag_values(ctx: Context) -> Iterator[Diagnostic]:
                     f"tag {name!r} must be {article(declared.type)} {declared.type}, not {value!r}",
                     role,
                     line=line,
+                    column=column,
                     subject=name,
                 )
             elif declared.values and value.strip() not in declared.values:
@@ -73,6 +76,7 @@ def tag_values(ctx: Context) -> Iterator[Diagnostic]:
                     f"permitted: {', '.join(declared.values)}",
                     role,
                     line=line,
+                    column=column,
                     subject=name,
                 )
         if role.kind in (MONITOR, POLICY_SET):
