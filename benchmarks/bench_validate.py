@@ -13,6 +13,9 @@ Prints, measured in one run on the same file:
 - reading (``read_uml``, in-process) a 3.5 MB Umbrello export and a 2 MB MagicDraw export, tiled
   from the real ones in ``../shared/reference/xmi-other-tools`` (see ``tiled_exports.py``), beside the
   BOUML reader on a synthetic BOUML export of the same size (target: no slower; alternated, 15 runs);
+- the same model converted to the text notation (``acordcs-gen convert``): ``acordcs-gen validate``
+  on the text against on its XMI, whole process (target: no slower; alternated, 15 runs), and the
+  text read into its outline by the fast reader and by lark's parser of ``acord.lark`` (medians of 7);
 - the model's 1,200 rules parsed by our parser (its fast reader, lark's LALR parser for what it
   declines) and by lark's own parser on the same grammar with the same builders (each a median of
   7 in a fresh interpreter; medians of 5 such runs, alternated), and what a fresh interpreter takes
@@ -147,6 +150,7 @@ def main() -> int:
             *(lambda c=command, e=env: run_cli(big, c, e) for command, env in variants.values()),
         )
         whole = timed[0]
+        notation = _text_notation(big)
         startup = median_seconds(lambda: run_cli(empty))
         reading = read_model(str(latin))
         read_latin = median_seconds(lambda: read_model(str(latin)))
@@ -174,9 +178,38 @@ def main() -> int:
         f"   ISO-8859-1 export, {latin_mb:.1f} MB, {len(reading.uml.applications)} stereotype "
         f"applications, {len(reading.diagnostics)} diagnostics: read + check {read_latin * 1e3:.1f} ms"
     )
+    print(notation)
     _rule_parsers(reading, befores)
     _other_tools()
     return 0
+
+
+def _text_notation(big: Path) -> str:
+    """The synthetic model as text: validate on it against validate on its XMI, and its reading
+    by the fast reader against lark's parser (what the fast reader declines, lark reads)."""
+    from acordcs.notation.fast_text import read_outline
+    from acordcs.notation.syntax import MAX_DEPTH, lark_outline
+
+    text = big.with_suffix(".acord")
+    done = subprocess.run(
+        [str(Path(sys.executable).with_name("acordcs-gen")), "convert", str(big), "-o", str(text)],
+        capture_output=True,
+        text=True,
+    )
+    if done.returncode != 0:
+        raise SystemExit(f"convert failed on {big}:\n{done.stdout}{done.stderr}")
+    run_cli(text)  # warm: lark's analysed grammar cached
+    on_text, on_xmi = alternated(lambda: run_cli(text), lambda: run_cli(big))
+    source = text.read_text(encoding="utf-8")
+    fast = median_seconds(lambda: read_outline(source, MAX_DEPTH))
+    slow = median_seconds(lambda: lark_outline(source))
+    return (
+        f"   the same model as text, {text.stat().st_size / 1e6:.2f} MB (convert's output: the "
+        f"ACORD-CS part): validate {on_text * 1e3:.1f} ms, on its XMI {on_xmi * 1e3:.1f} ms: "
+        f"{on_text / on_xmi:.2f}x (target <= 1)\n"
+        f"     read into its outline: fast reader {fast * 1e3:.1f} ms, lark's parser "
+        f"{slow * 1e3:.1f} ms: {slow / fast:.1f}x faster"
+    )
 
 
 OTHER_TOOLS = {  # the real export tiled, the size to tile it to

@@ -1,6 +1,8 @@
 """Rebuild the BOUML-style sample models: ``weblab/weblab.xmi`` and ``smartroom/smartroom.xmi``,
 and the two copies of the WebLab model with mistakes that the documentation's examples validate
-(``mistakes/broken-weblab.xmi``, ``mistakes/typos.xmi``).
+(``mistakes/broken-weblab.xmi``, ``mistakes/typos.xmi``), and beside each sample its model in the
+text notation (``weblab/weblab.acord``, ``smartroom/smartroom.acord``: what ``acordcs-gen convert``
+writes from it).
 
 The samples are what BOUML's xmi2 exporter writes for the models described in each sample's README.
 They are written by the same writer as the synthetic benchmark model
@@ -458,10 +460,17 @@ def render() -> dict[Path, str]:
 
 
 def main() -> int:
+    from acordcs.model.reading import read_model
+    from acordcs.notation.conversion import to_form
+
     for path, text in render().items():
         path.parent.mkdir(exist_ok=True)
         path.write_text(text, encoding="utf-8")
         print(f"{path}: {len(text)} bytes")
+        if path.parent.name != "mistakes":  # each sample's text beside it (docs/notation.md)
+            beside = path.with_suffix(".acord")
+            beside.write_bytes(to_form(read_model(str(path)).architecture, "text"))
+            print(f"{beside}: its text")
     return 0
 
 

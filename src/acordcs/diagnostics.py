@@ -107,6 +107,11 @@ CODES: dict[str, tuple[Severity, str]] = {
     "X108": (E, "XML not well-formed and not recoverable"),
     "X109": (E, "not an XMI/UML file"),
     "X110": (W, "the file declares a single-byte encoding but its bytes are UTF-8"),
+    # M: reading the text notation (docs/notation.md)
+    "M101": (E, "the text is not in the notation (syntax error)"),
+    "M102": (E, "the text exceeds a safety limit (size, words, nesting)"),
+    "M103": (E, "a relation names no element of the text, or several"),
+    "M104": (E, "two elements of the text have the same id"),
     # R: reading XMI as UML
     "R201": (
         W,
@@ -213,6 +218,10 @@ CODES: dict[str, tuple[Severity, str]] = {
 }
 
 
+UNREADABLE_TEXT = frozenset(("M101", "M102"))
+"""The codes of a text in the notation that could not be read at all (exit code 2), as X codes are."""
+
+
 def documentation_url() -> str | None:
     """The project's documentation, as pyproject.toml declares it (``[project.urls]
     Documentation``, read from the installed package's metadata), or None."""
@@ -317,7 +326,8 @@ def diagnostic(
         column or 0,
         element,
         xmi_id,
-        unreadable=code.startswith("X") and code != "X107" and severity is Severity.ERROR,
+        unreadable=code in UNREADABLE_TEXT
+        or (code.startswith("X") and code != "X107" and severity is Severity.ERROR),
         subject=subject,
         because=because,
         explains=explains,

@@ -2,8 +2,9 @@
 to the repository's ``samples/``, every ``$`` command of its ``console`` blocks, in order, through
 ``bash`` with the virtual environment's commands first on the PATH, each printing exactly the lines
 the page shows under it (standard output and error together, as a terminal shows them), with the
-exit status of each ``$ echo $?``; every ``python`` block whose first line is ``# <path>`` is the
-file the reader writes there, before the commands that follow it."""
+exit status of each ``$ echo $?``; every ``python`` block whose first line is ``# <path>``, and every ``text`` block whose
+first line is ``// <path>`` (a model in the text notation), is the file the reader writes there,
+before the commands that follow it."""
 
 from __future__ import annotations
 
@@ -30,6 +31,9 @@ def steps() -> list[tuple[str, str, object]]:
         if info == "python" and body.startswith("# "):
             path, _, code = body.partition("\n")
             found.append(("file", path[2:].strip(), code))
+        elif info == "text" and body.startswith("// "):  # a model in the text notation
+            path, _, model = body.partition("\n")
+            found.append(("file", path[3:].strip(), model))
         elif info == "console":
             command: str | None = None
             expected: list[str] = []
@@ -50,9 +54,17 @@ def test_the_page_has_the_steps_the_issue_asks_for():
     for needed in ("profile export", "validate", "build", "python -m", "sed -i"):
         assert needed in commands, needed
     assert [p for kind, p, _ in steps() if kind == "file"] == [
+        "greenhouse/greenhouse.acord",
         "greenhouse/app/greenhouse_app/components/Sensor.py",
         "greenhouse/app/greenhouse_app/components/Vent.py",
     ]
+
+
+def test_the_model_the_page_writes_is_the_sample():
+    """The page's model is samples/tutorial/greenhouse.acord, the text of greenhouse.uml (the
+    samples' own test holds those two equal)."""
+    written = next(text for kind, path, text in steps() if path == "greenhouse/greenhouse.acord")
+    assert written == (ROOT / "samples" / "tutorial" / "greenhouse.acord").read_text("utf-8")
 
 
 @pytest.mark.slow

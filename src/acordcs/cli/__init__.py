@@ -17,6 +17,7 @@ import click
 from acordcs import __version__
 from acordcs.cli import build, export, inspect, profile_export, update, validate
 from acordcs.cli import testing as scenario_testing
+from acordcs.cli.convert import convert as convert_command
 
 
 @click.group(context_settings={"help_option_names": ["-h", "--help"]})
@@ -34,6 +35,7 @@ cli.add_command(profile_export.profile)
 cli.add_command(export.export)
 cli.add_command(update.update)
 cli.add_command(scenario_testing.test)
+cli.add_command(convert_command)
 
 
 def main(argv: list[str] | None = None) -> int:

@@ -1,4 +1,5 @@
-"""The model files a command is given: ``-`` for standard input, and files that are not models
+"""The model files a command is given: ``-`` for standard input (XMI, or the text notation when
+it starts as one does: a comment or a keyword), and files that are not models
 (a Papyrus diagram ``.notation``, its ``.di``) refused before they are read.
 
 A Papyrus ``.notation`` file is XMI and declares the UML namespace, so the reader alone would read
@@ -17,6 +18,7 @@ from pathlib import Path
 
 from acordcs.diagnostics import diagnostic
 from acordcs.model.reading import ModelReading, read_model
+from acordcs.notation import SUFFIX as NOTATION_SUFFIX
 from acordcs.xmi.uml import UmlModel
 
 STDIN = "-"
@@ -75,6 +77,21 @@ def _not_a_model(path: str) -> str | None:
     )
 
 
+# How a model in the text notation starts: a comment, or a keyword of a model's first line.
+_NOTATION_START = re.compile(
+    rb"(//|#|/\*|(model|package|container|component|port|connection|monitor|policyset|policy)\b)"
+)
+
+
+def _is_text_notation(path: str) -> bool:
+    """Standard input has no name to tell its form by: the text notation starts with a comment
+    or a keyword (after blanks and a byte order mark); anything else is read as XMI, which says
+    what is wrong with what is not XML (X108)."""
+    with open(path, "rb") as handle:
+        head = handle.read(4096).lstrip(b"\xef\xbb\xbf \t\r\n")
+    return _NOTATION_START.match(head) is not None
+
+
 def _refused(path: str, why: str) -> ModelReading:
     refusal = diagnostic("X109", why, file=path)
     return ModelReading(path, UmlModel(file=path, dialect="unreadable"), None, [refusal])
@@ -97,6 +114,8 @@ def _read_stdin(check: bool) -> ModelReading:
         copy = os.path.join(folder, "stdin.xmi")
         with open(copy, "wb") as handle:
             shutil.copyfileobj(stream, handle)
+        if _is_text_notation(copy):
+            os.replace(copy, copy := os.path.join(folder, "stdin" + NOTATION_SUFFIX))
         reading = read_model(copy, check=check)
     finally:
         shutil.rmtree(folder, ignore_errors=True)

@@ -98,6 +98,10 @@ class Role:
     def tag_line(self, name: str) -> int:
         return self.application.tag_lines.get(name) or self.application.line or self.element.line
 
+    def tag_column(self, name: str) -> int | None:
+        """Where the file writes the tag on its line, when it says (the text notation)."""
+        return self.application.tag_columns.get(name)
+
 
 @dataclass(eq=False)
 class Architecture:

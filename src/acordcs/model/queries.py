@@ -32,7 +32,8 @@ class PolicyRule:
     tag: str
     index: int  # 1-based position among the tag's rules
     text: str
-    line: int  # file line of the tag
+    line: int  # file line of the tag (of the rule, when the file writes it on its own line)
+    column: int = 0  # file column where the rule starts, when known (the text notation)
 
 
 def policy_rules(policy: Role) -> list[PolicyRule]:
@@ -43,8 +44,27 @@ def policy_rules(policy: Role) -> list[PolicyRule]:
         if declared is None or not declared.matches(tag):
             continue
         line = policy.tag_line(tag)
+        placed = tag in policy.application.tag_places  # the file says where each rule is
+        starts = _line_starts(value) if placed else []
         for n, rule_line in enumerate(split_rules(value), start=1):
-            out.append(PolicyRule(policy, tag, n, rule_line.text, line))
+            where = None
+            if placed:
+                start, raw = starts[rule_line.line - 1]
+                offset = start + len(raw) - len(raw.lstrip())
+                where = policy.application.place_in_file(tag, offset)
+            if where is not None:
+                out.append(PolicyRule(policy, tag, n, rule_line.text, *where))
+            else:
+                out.append(PolicyRule(policy, tag, n, rule_line.text, line))
+    return out
+
+
+def _line_starts(value: str) -> list[tuple[int, str]]:
+    """Each line of ``value`` as split_rules splits it, with the offset where it starts."""
+    out, offset = [], 0
+    for raw in value.splitlines(keepends=True):
+        out.append((offset, raw))
+        offset += len(raw)
     return out
 
 

@@ -117,12 +117,29 @@ class StereotypeApplication:
     line: int = 0
     tags: dict[str, str] = field(default_factory=dict)
     tag_lines: dict[str, int] = field(default_factory=dict)
+    tag_columns: dict[str, int] = field(
+        default_factory=dict
+    )  # when the file says (the text notation)
+    # Where a tag's value is in the file when the file writes it in pieces of its own (the text
+    # notation's rules and terms blocks): (offset in the value, line, column) of each piece's
+    # start, in order; empty for XMI, where a value is one attribute.
+    tag_places: dict[str, tuple[tuple[int, int, int], ...]] = field(default_factory=dict)
     id: str | None = None
-    places: set[str] = field(default_factory=set)  # root, extension, xmi12, eclipse
+    places: set[str] = field(default_factory=set)  # root, extension, xmi12, eclipse, text
 
     @property
     def key(self) -> str:
         return f"{self.profile}:{self.name}" if self.profile else self.name
+
+    def place_in_file(self, tag: str, offset: int) -> tuple[int, int] | None:
+        """The file's (line, column) of the character at ``offset`` (0-based) of tag ``tag``'s
+        value, when the file says where the value's pieces are; None otherwise."""
+        found = None
+        for start, line, column in self.tag_places.get(tag, ()):
+            if start > offset:
+                break
+            found = (line, column + offset - start)
+        return found
 
 
 CLASSIFIER_KINDS = frozenset(
@@ -159,7 +176,7 @@ class UmlModel:
     """Everything read from one file."""
 
     file: str
-    dialect: str  # bouml-xmi2, omg-xmi2, eclipse-uml2, bouml-xmi12, xmi1
+    dialect: str  # bouml-xmi2, omg-xmi2, eclipse-uml2, bouml-xmi12, xmi1, acord-text
     name: str = ""
     exporter: str | None = None  # as the file states it: name and version
     tool: str | None = None  # the known tool it names (see readers.exporters.KNOWN_TOOLS)

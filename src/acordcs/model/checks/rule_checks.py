@@ -41,6 +41,14 @@ def _where(prule: PolicyRule) -> str:
     return f"rule {prule.index} of tag {prule.tag!r} of policy {prule.policy.name!r}"
 
 
+def file_column(prule: PolicyRule, column: int | None) -> int | None:
+    """The file's column of the rule's column ``column``, when the file says where the rule
+    starts (the text notation); None otherwise (an XMI tag: the column is the message's)."""
+    if not prule.column or not column:
+        return None
+    return prule.column + column - 1
+
+
 def _subject(prule: PolicyRule) -> str:
     """The rule's identity for fingerprints: its label, else tag and position (``Rule#2``)."""
     head = prule.text.split(":", 1)[0].strip() if ":" in prule.text else ""
@@ -70,6 +78,7 @@ def rules(ctx: Context) -> Iterator[Diagnostic]:
                         f"{_where(prule)}, column {err.column}: {err.message}: {prule.text!r}",
                         policy,
                         line=prule.line,
+                        column=file_column(prule, err.column),
                         subject=_subject(prule),
                     )
                     continue
@@ -159,12 +168,14 @@ class _RuleChecker:
         name: Name,
         because: tuple[str, ...] = (),
     ) -> Diagnostic:
-        # The column is in the rule text, not in the XML line: it goes in the message, not the location.
+        # The column is in the rule text, not in the XML line: it goes in the message, and in the
+        # location only when the file writes the rule on its own line (the text notation).
         return self.ctx.diag(
             code,
             f"{_where(prule)}, column {name.column}: {message}",
             prule.policy,
             line=prule.line,
+            column=file_column(prule, name.column),
             subject=f"{_subject(prule)}:{name.text}",
             because=because,
         )

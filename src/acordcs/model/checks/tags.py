@@ -32,7 +32,7 @@ def tag_values(ctx: Context) -> Iterator[Diagnostic]:
     for role in ctx.arch.roles.values():
         for name, value in role.tags.items():
             declared = role.stereotype.tag(name)
-            line = role.tag_line(name)
+            line, column = role.tag_line(name), role.tag_column(name)
             if declared is None:
                 names = [t.name for t in role.stereotype.tags]
                 close = [n for n in names if within_edits(name, n, MISSPELT)]
@@ -43,6 +43,7 @@ def tag_values(ctx: Context) -> Iterator[Diagnostic]:
                         f"{close[0]!r} is left unset: rename the tag",
                         role,
                         line=line,
+                        column=column,
                         subject=name,
                     )
                     continue
@@ -52,6 +53,7 @@ def tag_values(ctx: Context) -> Iterator[Diagnostic]:
                     f"{', '.join(names) or 'none'}); it is ignored",
                     role,
                     line=line,
+                    column=column,
                     subject=name,
                 )
                 continue
@@ -64,6 +66,7 @@ def tag_values(ctx: Context) -> Iterator[Diagnostic]:
                     f"tag {name!r} must be {article(declared.type)} {declared.type}, not {value!r}",
                     role,
                     line=line,
+                    column=column,
                     subject=name,
                 )
             elif declared.values and value.strip() not in declared.values:
@@ -73,6 +76,7 @@ def tag_values(ctx: Context) -> Iterator[Diagnostic]:
                     f"permitted: {', '.join(declared.values)}",
                     role,
                     line=line,
+                    column=column,
                     subject=name,
                 )
         if role.kind in (MONITOR, POLICY_SET):
@@ -116,11 +120,15 @@ def linguistic_variables(ctx: Context) -> Iterator[Diagnostic]:
         terms = parsed_terms(text)
         if isinstance(terms, RuleSyntaxError):
             err = terms
+            # the column is in the tag's value; in the file too when the file says where its
+            # terms are (the text notation)
+            where = role.application.place_in_file("terms", err.column - 1) if err.column else None
             yield ctx.diag(
                 "T307",
                 f"terms of {role.name!r}, column {err.column}: {err.message}",
                 role,
-                line=line,
+                line=where[0] if where else line,
+                column=where[1] if where else None,
             )
             continue
         # The tags' text, not the numbers: -0 and 0 are equal but printed differently.

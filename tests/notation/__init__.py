@@ -1,0 +1,1 @@
+"""Tests of the text notation (acordcs.notation) and acordcs-gen convert."""
