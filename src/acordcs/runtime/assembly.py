@@ -314,16 +314,19 @@ class Assembler:
         )
 
     def factory(self, comp: ComponentDescription) -> ComponentFactory:
-        """The factory of component ``comp``: a Java host for one tagged ``language=java``, else
-        its class given, else one made from the model."""
+        """The factory of component ``comp``: a :class:`ComponentFactory` given for it, as given
+        (a run that stands in for the component whatever its language, as ``acordcs-gen test``
+        does); else a Java host for one tagged ``language=java`` (the python target's class of such
+        a component is a stub the tag overrides); else its class given, else one made from the
+        model."""
+        given = self.factories.get(comp.name)
+        if isinstance(given, ComponentFactory):
+            return given
         if comp.language == "java":
             from acordcs.runtime.jvm import java_factory  # here: only a Java component loads JPype
 
             return java_factory(comp, self.app.name, self.java_sources)
-        given = self.factories.get(comp.name) or generic_component(comp)
-        if isinstance(given, ComponentFactory):
-            return given
-        return ComponentFactory(comp.name, given)
+        return ComponentFactory(comp.name, given or generic_component(comp))
 
     def component(
         self, comp: ComponentDescription, target: Container, type_name: str

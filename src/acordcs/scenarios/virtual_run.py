@@ -31,6 +31,7 @@ from acordcs.runtime import events as ev
 from acordcs.runtime.acquisition import MONITOR_KINDS
 from acordcs.runtime.assembly import assemble
 from acordcs.runtime.clock import VirtualClock
+from acordcs.runtime.component import ComponentFactory
 from acordcs.runtime.errors import ComponentNotFoundError
 from acordcs.runtime.monitor import Monitor
 from acordcs.runtime.operations import generic_component
@@ -108,7 +109,10 @@ class VirtualApplication:
         _quiet_runtime_log()
         self.run = Run()
         self.clock = VirtualClock()
-        factories = {c.name: self._recording(c, results) for c in app.components if c.operations}
+        # Factories, not classes: they stand in for every component, a Java one too.
+        factories = {
+            c.name: ComponentFactory(c.name, self._recording(c, results)) for c in app.components
+        }
         keep = set(policy_sets)
         # Only the sets kept are assembled: an engine not run is not built.
         only = dataclasses.replace(
