@@ -18,9 +18,9 @@ from acordcs.xmi.uml import UmlModel
 SUFFIX = ".acord"
 
 
-def is_notation(path: str) -> bool:
+def is_notation(path: str | os.PathLike[str]) -> bool:
     """Whether ``path`` names a model in the notation (by its suffix)."""
-    return path.lower().endswith(SUFFIX)
+    return os.fspath(path).lower().endswith(SUFFIX)
 
 
 def read_bytes(path: str) -> bytes:
