@@ -146,3 +146,8 @@ def test_with_a_payload_key_a_forged_end_marker_counts_nothing(broker: Broker) -
         raw.loop_stop()
         publisher.close()
         subscriber.close()
+
+
+def test_a_persistent_session_needs_a_client_id(broker: Broker) -> None:
+    with pytest.raises(ContextError, match="clean_session=False needs a client_id"):
+        MqttContextProvider("127.0.0.1", broker.port, clean_session=False)

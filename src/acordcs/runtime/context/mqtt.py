@@ -75,7 +75,9 @@ class MqttContextProvider(ProviderCore):
     ``flush_timeout``: how long :meth:`close` waits for the broker to acknowledge the QoS 1/2
     documents already accepted by :meth:`publish` (queued in the client or in flight); what is
     still unacknowledged then is counted, logged and returned by :meth:`close`, never dropped
-    silently.
+    silently. ``clean_session=False`` (with a ``client_id`` of its own, the same at each start):
+    the broker keeps this client's subscriptions and queues its QoS 1/2 documents while it is
+    away (across the broker's restarts too when the broker persists, ``persistence true``).
     """
 
     def __init__(
@@ -102,6 +104,7 @@ class MqttContextProvider(ProviderCore):
         inline: bool = False,
         threads_per_subscriber: int = 2,
         flush_timeout: float = 10.0,
+        clean_session: bool = True,
     ) -> None:
         super().__init__(
             limits, delivery_threads, inline=inline, threads_per_subscriber=threads_per_subscriber
@@ -120,6 +123,12 @@ class MqttContextProvider(ProviderCore):
                 hint="use e.g. secrets.token_hex(32), the same in every process of the application",
             )
         self._key = payload_key
+        if not clean_session and not client_id:
+            raise ContextError(
+                "clean_session=False needs a client_id: the broker keeps the session by it",
+                element="MqttContextProvider",
+                hint="give client_id, the same each time this client starts, unique per client",
+            )
         if qos not in (0, 1, 2):
             raise ContextError(f"qos must be 0, 1 or 2, got {qos!r}", element="MqttContextProvider")
         if not prefix or any(c in prefix for c in "+#\x00") or prefix.endswith("/"):
@@ -156,7 +165,7 @@ class MqttContextProvider(ProviderCore):
             CallbackAPIVersion.VERSION2,
             client_id=client_id or f"acordcs-{os.getpid()}-{self._epoch.decode()}",
             protocol=mqtt.MQTTv311,
-            clean_session=True,
+            clean_session=clean_session,
         )
         client.on_socket_open = self._on_socket_open
         client.on_connect = self._on_connect
@@ -203,24 +212,29 @@ class MqttContextProvider(ProviderCore):
         if isinstance(sock, socket.socket):
             sock.setsockopt(socket.IPPROTO_TCP, socket.TCP_NODELAY, 1)
 
-    def _on_connect(self, client, _userdata, _flags, reason_code, properties) -> None:
+    def _on_connect(self, client, _userdata, flags, reason_code, properties) -> None:
         if reason_code.is_failure:
             self._connect_error = str(reason_code)
             self._connected.set()
             return
+        kept = flags.session_present  # a persistent session the broker kept (clean_session=False)
         if self._connected.is_set():
             self.reconnects += 1
             log.info(
-                "reconnected to %s:%d, re-subscribing %d topic(s)",
+                "reconnected to %s:%d, %s %d topic(s)",
                 self.host,
                 self.port,
+                "the broker kept the session and its" if kept else "re-subscribing",
                 len(self._topics),
             )
-        # a clean session (and a restarted broker) has forgotten our subscriptions: always renew them
-        with self._mqtt_lock:
-            topics = sorted(self._topics)
-        for topic in topics:
-            client.subscribe(topic, qos=self.qos)
+        # a clean session (and a restarted broker without persistence) has forgotten our
+        # subscriptions: renew them. A kept session has them, and the documents queued for us
+        # meanwhile: subscribing again would send the retained latest document before them.
+        if not kept:
+            with self._mqtt_lock:
+                topics = sorted(self._topics)
+            for topic in topics:
+                client.subscribe(topic, qos=self.qos)
         self._connected.set()
 
     def _on_disconnect(self, client, _userdata, _flags, reason_code, properties) -> None:
