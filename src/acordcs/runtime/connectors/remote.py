@@ -75,6 +75,8 @@ class ServedContainer(Protocol):
 
     def monitor(self, name: str) -> Monitor: ...
 
+    def operations_of(self, name: str) -> frozenset[str]: ...
+
 
 @dataclass(frozen=True)
 class RemotePort:
@@ -269,19 +271,18 @@ def bytes_back(value: Any) -> Any:
     return value
 
 
-def remote_operations(port: Port) -> frozenset[str]:
+def remote_operations(port: Port, operations: frozenset[str]) -> frozenset[str]:
     """The operations another process may call through ``port``: those it declares
-    (``PortSpec.operations``), else its component's operations less the methods its ports are
-    fed through (handlers such as ``on_<port>``, stream sources) and any other ``on_*`` hook, which
-    run from the port's queue, never from a caller."""
+    (``PortSpec.operations``), else ``operations`` (its component's, as its container keeps them:
+    ``operations_of``) less the methods its ports are fed through (handlers such as
+    ``on_<port>``, stream sources) and any other ``on_*`` hook, which run from the port's queue,
+    never from a caller."""
     if port.spec.operations is not None:
         return frozenset(port.spec.operations)
-    owner = port.component
     fed_through = set()
-    for p in getattr(owner, "port_map", {}).values():
+    for p in getattr(port.component, "port_map", {}).values():
         fed_through.update(n for n in (p.handler, p.spec.source) if n)
-    ops = type(owner).operation_names() if hasattr(type(owner), "operation_names") else ()
-    return frozenset(o for o in ops if o not in fed_through and not o.startswith("on_"))
+    return frozenset(o for o in operations if o not in fed_through and not o.startswith("on_"))
 
 
 def _has(port: Port, operation: str) -> bool:
@@ -314,7 +315,9 @@ class ContainerEndpoint:
         kwargs = {k: bytes_back(v) for k, v in kwargs.items()}
         try:
             target = c.port_of(component, port)
-            exposed = remote_operations(target)
+            # the operations the container recorded when it made (or replaced) the component:
+            # not the class's dir() again at every call
+            exposed = remote_operations(target, c.operations_of(component))
             if (
                 target.kind == "synchronous"
                 and operation not in exposed
