@@ -6,7 +6,8 @@ For each count N: N container processes, each serving one component over our Pyr
 serve, and each one's resident memory. Then one client process calls a small operation on every
 container, round robin from 4 threads (each thread its own containers), for ``--seconds``: calls
 per second and p50/p99 through our connector, then the same through bare Pyro5 proxies to the
-same objects (the named peer, same run), and the CPU the containers spent per call. Then the
+same objects (the named peer, same run; alternated, twice each), and the CPU the containers
+spent per call. Then the
 time until all N have stopped (their standard input closed). The host's load is printed: the
 figures of a loaded 2-core host vary from run to run by tens of percent.
 """
@@ -145,11 +146,12 @@ def run(count: int, seconds: float) -> None:
         peers = bare_callers()
         call_for(0.5, ours_calls)  # connect and warm up both
         call_for(0.5, peers)
-        cpu0 = sum(cpu_seconds(p.pid) for p in procs)
-        ours_n, ours_lat = call_for(seconds, ours_calls)
-        cpu1 = sum(cpu_seconds(p.pid) for p in procs)
-        bare_n, bare_lat = call_for(seconds, peers)
-        cpu2 = sum(cpu_seconds(p.pid) for p in procs)
+        # alternated, twice each: the load of a shared host changes within a run
+        results: dict[str, list[tuple[int, list[float], float]]] = {"ours": [], "bare": []}
+        for kind in ("ours", "bare", "ours", "bare"):
+            cpu = sum(cpu_seconds(p.pid) for p in procs)
+            n, lat = call_for(seconds, ours_calls if kind == "ours" else peers)
+            results[kind].append((n, lat, sum(cpu_seconds(p.pid) for p in procs) - cpu))
         client.close()
         stopping = time.perf_counter()
         for p in procs:
@@ -167,17 +169,16 @@ def run(count: int, seconds: float) -> None:
         f"{stop_s:.2f} s; memory per container {statistics.median(memory):.1f} MB (median, "
         f"max {max(memory):.1f})"
     )
-    print(
-        f"     ours: {ours_n / seconds:,.0f} calls/s, p50 {percentile(ours_lat, 0.5):.2f} ms, "
-        f"p99 {percentile(ours_lat, 0.99):.2f} ms, containers' CPU "
-        f"{(cpu1 - cpu0) / max(ours_n, 1) * 1e6:.0f} us/call"
-    )
-    print(
-        f"     bare Pyro5: {bare_n / seconds:,.0f} calls/s, p50 {percentile(bare_lat, 0.5):.2f} ms, "
-        f"p99 {percentile(bare_lat, 0.99):.2f} ms, containers' CPU "
-        f"{(cpu2 - cpu1) / max(bare_n, 1) * 1e6:.0f} us/call"
-    )
-    print(f"     ours / bare Pyro5, calls per second: {ours_n / max(bare_n, 1):.2f}")
+    for kind, label in (("ours", "ours"), ("bare", "bare Pyro5")):
+        for n, lat, cpu in results[kind]:
+            print(
+                f"     {label}: {n / seconds:,.0f} calls/s, p50 {percentile(lat, 0.5):.2f} ms, "
+                f"p99 {percentile(lat, 0.99):.2f} ms, containers' CPU "
+                f"{cpu / max(n, 1) * 1e6:.0f} us/call"
+            )
+    best = {k: max(n for n, _, _ in v) for k, v in results.items()}
+    print(f"     ours / bare Pyro5, calls per second (best of 2 each): "
+          f"{best['ours'] / max(best['bare'], 1):.2f}")  # fmt: skip
 
 
 def main() -> None:
