@@ -10,7 +10,7 @@ broker restart: the publisher's close() reports none unacknowledged, and the sub
 persistent session) receives every document at most once, and each one that does not arrive is
 counted as lost (sequence numbers): see the test for the case where mosquitto reorders.
 
-Needs root (skips outside CI otherwise, fails in CI). About 25 s."""
+Needs root (skips outside CI otherwise, fails in CI). About 28 s (the Navigator drives 16 s)."""
 
 from __future__ import annotations
 
