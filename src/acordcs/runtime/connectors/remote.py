@@ -24,7 +24,9 @@ asynchronous and stream ports. Who may connect (a token, a handshake deadline, s
 
 from __future__ import annotations
 
+import errno
 import logging
+import socket
 import threading
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any, Protocol
@@ -405,9 +407,26 @@ class ContainerServer:
         configure_server(handshake_timeout, max_connections)
         if tls is not None:
             tls.configure(server=True)
-        self.daemon = GatedDaemon(
-            host=host, port=port, token=token, name=f"container {container.name!r}"
-        )
+        try:
+            self.daemon = GatedDaemon(
+                host=host, port=port, token=token, name=f"container {container.name!r}"
+            )
+        except OSError as err:  # a host that does not resolve (gaierror), a port in use...
+            raise ConfigurationError(
+                f"container {container.name!r} cannot serve at {host}:{port}: "
+                f"{err.strerror or err}",
+                where=f"container {container.name!r}",
+                hint=(
+                    f"{host!r} is not a name or address of this machine: give the container's "
+                    "address here (ACORDCS_<container>_HOST, or --host)"
+                    if isinstance(err, socket.gaierror)
+                    or err.errno in (errno.EADDRNOTAVAIL, errno.EAFNOSUPPORT)
+                    else f"another process uses port {port} on {host}: stop it, or give the "
+                    "container another port (ACORDCS_<container>_PORT, or --serve)"
+                    if err.errno == errno.EADDRINUSE
+                    else "check the host and port this container serves at"
+                ),
+            ) from None
         if tls is not None:
             # Pyro5 accepts in one thread; with the TLS handshake done at accept (ssl's default) a
             # client that connects and stays silent would hold every other connection up (the
