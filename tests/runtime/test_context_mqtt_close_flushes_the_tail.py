@@ -151,3 +151,30 @@ def test_with_a_payload_key_a_forged_end_marker_counts_nothing(broker: Broker) -
 def test_a_persistent_session_needs_a_client_id(broker: Broker) -> None:
     with pytest.raises(ContextError, match="clean_session=False needs a client_id"):
         MqttContextProvider("127.0.0.1", broker.port, clean_session=False)
+
+
+def test_documents_that_come_late_are_delivered_and_no_longer_lost(broker: Broker) -> None:
+    # a broker resuming a session may send a new document before those it queued meanwhile
+    subscriber = MqttContextProvider("127.0.0.1", broker.port, mirror=False, inline=True)
+    seqs = Seqs()
+    subscriber.subscribe(seqs, publisher="p")
+    raw = mqtt.Client(CallbackAPIVersion.VERSION2, protocol=mqtt.MQTTv311)
+    raw.connect("127.0.0.1", broker.port)
+    raw.loop_start()
+    try:
+        topic = publisher_topic("p")
+        for seq in (1, 2, 5):
+            raw.publish(topic, b"ACX1 feedfeed %d\n<a/>" % seq, qos=1).wait_for_publish(5)
+        assert wait_for(lambda: len(seqs) == 3)
+        assert subscriber.stats()["lost"] == 2
+        for seq in (3, 4, 4):  # late, late, then a repeat
+            raw.publish(topic, b"ACX1 feedfeed %d\n<a/>" % seq, qos=1).wait_for_publish(5)
+        assert wait_for(lambda: subscriber.stats()["duplicates"] == 1)
+        stats = subscriber.stats()
+        assert (stats["lost"], stats["late"], stats["resynchronised"]) == (0, 2, 0), stats
+        assert seqs.seen == {1, 2, 3, 4, 5}
+        assert subscriber.latest("p")[0] == 5  # a late document is not the latest
+    finally:
+        raw.disconnect()
+        raw.loop_stop()
+        subscriber.close()

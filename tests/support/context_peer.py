@@ -55,7 +55,7 @@ def subscribe(broker: str) -> None:
     stats = provider.stats()
     provider.close()
     print(json.dumps({"seqs": got, **{k: stats[k] for k in
-                      ("lost", "duplicates", "reconnects", "ended", "malformed")}}), flush=True)  # fmt: skip
+                      ("lost", "duplicates", "reconnects", "ended", "malformed", "late")}}), flush=True)  # fmt: skip
 
 
 if __name__ == "__main__":

@@ -31,7 +31,7 @@ from paho.mqtt.enums import CallbackAPIVersion, MQTTErrorCode
 from acordcs.runtime.context.core import ProviderCore, check_publisher
 from acordcs.runtime.context.delivery import Subscription
 from acordcs.runtime.context.errors import ContextError, PublishError
-from acordcs.runtime.context.sequences import SequenceBook, every_power_of_two
+from acordcs.runtime.context.sequences import NEW, REFUSED, SequenceBook, every_power_of_two
 from acordcs.runtime.context.xmlparse import Limits, parse_document
 
 log = logging.getLogger("acordcs.runtime.context.mqtt")
@@ -338,7 +338,8 @@ class MqttContextProvider(ProviderCore):
         if end:
             self.sequences.ended_at(publisher, epoch, seq)
             return
-        if not self.sequences.admit(publisher, epoch, seq):
+        admitted = self.sequences.admit(publisher, epoch, seq)
+        if admitted == REFUSED:
             return
         try:
             tree = parse_document(publisher, body, self.limits)
@@ -348,7 +349,7 @@ class MqttContextProvider(ProviderCore):
             log.warning("ignoring a refused document from the broker: %s", err)
             return
         with self._publishing(publisher):
-            self._dispatch(publisher, seq, tree)
+            self._dispatch(publisher, seq, tree, latest=admitted == NEW)
         self._dispatcher.flush()  # inline delivery: the callbacks run now, outside the lock
 
     # -- topics ---------------------------------------------------------------------------------------

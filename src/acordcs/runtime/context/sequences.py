@@ -1,6 +1,12 @@
 """The sequence numbers of MQTT context publishers, as one client sees them: losses (gaps, and a
-lost tail told by a publisher's end marker), repeats, forged jumps, restarted sequences and
-publishers beyond the cap (see :mod:`acordcs.runtime.context.mqtt`)."""
+lost tail told by a publisher's end marker), documents that come late (after a later one: a
+broker resuming a session may send a new document before those it queued), repeats, forged
+jumps, restarted sequences and publishers beyond the cap (see :mod:`acordcs.runtime.context.mqtt`).
+
+:meth:`SequenceBook.admit` answers :data:`REFUSED`, :data:`NEW` (the publisher's latest) or
+:data:`LATE` (a number counted lost that came after all: delivered, not the latest; ``lost`` goes
+down by one). The numbers of a gap are remembered, up to :data:`MAX_MISSING` per publisher, so
+that a late one is told from a repeat."""
 
 from __future__ import annotations
 
@@ -9,6 +15,10 @@ import threading
 
 log = logging.getLogger("acordcs.runtime.context.mqtt")
 
+REFUSED, NEW, LATE = 0, 1, 2
+MAX_MISSING = 1024
+"""Numbers of a publisher's gaps remembered, the most recent ones (a number no longer remembered
+that comes later is taken for a repeat); bounded, as hostile publishers may make gaps at will."""
 RESYNC_AFTER = 3
 """Documents in a row, with rising numbers at or below the last one taken, after which a
 publisher's sequence is taken as restarted (the higher number was forged or a lost process's)."""
@@ -31,15 +41,18 @@ class SequenceBook:
         self.resynchronised = 0  # publishers whose sequence was taken as restarted
         self.refused_publishers = 0  # documents of publishers beyond max_publishers
         self.ended = 0  # end markers received: publishers that closed
+        self.late = 0  # documents counted lost that came after a later one
         self._lock = threading.Lock()
         self._behind: dict[str, tuple[int, int]] = {}  # publisher -> (last seq below, count)
         self._seen: dict[str, tuple[bytes, int]] = {}  # publisher -> (epoch, last seq)
+        self._missing: dict[str, set[int]] = {}  # publisher -> numbers of its gaps
 
     def forget(self, publisher: str) -> None:
         """``publisher`` was retired: its next document starts afresh."""
         with self._lock:
             self._seen.pop(publisher, None)
             self._behind.pop(publisher, None)
+            self._missing.pop(publisher, None)
 
     def figures(self) -> dict[str, int]:
         return {
@@ -49,11 +62,12 @@ class SequenceBook:
             "resynchronised": self.resynchronised,
             "refused_publishers": self.refused_publishers,
             "ended": self.ended,
+            "late": self.late,
         }
 
-    def admit(self, publisher: str, epoch: bytes, seq: int) -> bool:
-        """Whether the document ``seq`` of ``publisher`` is new, counting losses, repeats, forged
-        jumps and publishers beyond the cap."""
+    def admit(self, publisher: str, epoch: bytes, seq: int) -> int:
+        """Whether the document ``seq`` of ``publisher`` is :data:`NEW`, :data:`LATE` or
+        :data:`REFUSED` (a repeat, a forged jump, a publisher beyond the cap), counting each."""
         with self._lock:
             previous = self._seen.get(publisher)
             if previous is None and len(self._seen) >= self.max_publishers:
@@ -69,11 +83,20 @@ class SequenceBook:
                         self.max_publishers,
                         self.refused_publishers,
                     )
-                return False
+                return REFUSED
             if previous is not None and previous[0] == epoch:
                 last = previous[1]
+                missing = self._missing.get(publisher)
+                if seq <= last and missing and seq in missing:
+                    missing.discard(seq)
+                    self.lost -= 1
+                    self.late += 1
+                    if self._behind_last(publisher, epoch, seq, last):
+                        return NEW  # resynchronised at this number
+                    self.duplicates -= 1  # counted by _behind_last: it was not one
+                    return LATE
                 if seq <= last:
-                    return self._behind_last(publisher, epoch, seq, last)
+                    return NEW if self._behind_last(publisher, epoch, seq, last) else REFUSED
                 if seq - last > self.max_seq_jump:
                     self.implausible += 1
                     log.warning(
@@ -84,15 +107,25 @@ class SequenceBook:
                         last,
                         self.max_seq_jump,
                     )
-                    return False
+                    return REFUSED
                 if seq > last + 1:
-                    self.lost += seq - last - 1
-                    log.warning(
-                        "%s: %d document(s) lost before seq %d", publisher, seq - last - 1, seq
-                    )
+                    self._gap(publisher, last, seq)
             self._behind.pop(publisher, None)
             self._seen[publisher] = (epoch, seq)
-            return True
+            return NEW
+
+    def _gap(self, publisher: str, last: int, seq: int) -> None:
+        """The numbers between ``last`` and ``seq`` did not come (yet): counted lost, the most
+        recent remembered in case they come late. Under the lock."""
+        gap = seq - last - 1
+        self.lost += gap
+        log.warning("%s: %d document(s) lost before seq %d", publisher, gap, seq)
+        missing = self._missing.setdefault(publisher, set())
+        missing.update(range(max(last + 1, seq - MAX_MISSING), seq))
+        if len(missing) > MAX_MISSING:
+            kept = sorted(missing)[-MAX_MISSING:]
+            missing.clear()
+            missing.update(kept)
 
     def ended_at(self, publisher: str, epoch: bytes, seq: int) -> None:
         """``publisher`` closed after its document ``seq``: the documents after the last one taken
@@ -128,6 +161,13 @@ class SequenceBook:
             return False
         del self._behind[publisher]
         self.resynchronised += 1
+        # the numbers counted lost above ``seq`` were the gap before the higher number, which
+        # was not this sequence's: they are still to come
+        missing = self._missing.get(publisher)
+        if missing:
+            above = {n for n in missing if n > seq}
+            missing.difference_update(above)
+            self.lost -= len(above)
         log.warning(
             "%s: %d documents in a row numbered below seq %d: taking seq %d as its sequence "
             "(the higher number was forged, or sent by another process under this name)",
