@@ -39,8 +39,11 @@ def telemetry(stamp_marker: bytes = b"%d") -> bytes:
     return b"<robot><stamp>" + stamp_marker + b"</stamp>" + values.encode() + b"</robot>"
 
 
-def stamp_of(document: bytes) -> int:
-    start = document.index(b"<stamp>") + 7
+def stamp_of(document: bytes) -> int | None:
+    """The stamp of a document; None for a payload without one (the provider's end marker)."""
+    start = document.find(b"<stamp>") + 7
+    if start < 7:
+        return None
     return int(document[start : document.index(b"<", start)])
 
 
@@ -140,7 +143,9 @@ def subscribe(kind: str, port: int, receiver: Receiver):
         return provider.close, provider.stats
     client = paho_client()
     subscribed = threading.Event()
-    client.on_message = lambda c, u, m: receiver.took(stamp_of(m.payload))
+    client.on_message = lambda c, u, m: (
+        None if (stamp := stamp_of(m.payload)) is None else receiver.took(stamp)
+    )
     client.on_subscribe = lambda *a: subscribed.set()
     client.connect("127.0.0.1", port)
     client.loop_start()

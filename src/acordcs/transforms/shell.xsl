@@ -11,6 +11,7 @@
     bin/<C>-stop           stops it (only a process that runs it)
     bin/<C>-status         says whether it runs, and how it ended when it does not
     bin/start-all, bin/stop-all
+    bin/start-host HOST, bin/stop-host HOST   the containers of one host (shell-hosts.xsl)
 
   Every model string that reaches shell code goes through sh:quote; comments go through
   sh:comment (line breaks and other control characters escaped, so a model string cannot start a
@@ -41,6 +42,8 @@
 
   <!-- The sh functions the scripts share, written into env.sh: the named template "functions". -->
   <xsl:include href="shell-functions.xsl"/>
+  <!-- bin/start-host and bin/stop-host: the named template "host-script". -->
+  <xsl:include href="shell-hosts.xsl"/>
 
   <!-- The default of ACORDCS_PORT_BASE: container number i (1, 2, ... in the descriptor's order)
        serves at ACORDCS_PORT_BASE + i unless the model gives it a port (tag port). -->
@@ -151,6 +154,12 @@
           <xsl:with-param name="verb" select="$verb"/>
         </xsl:call-template>
       </xsl:result-document>
+      <xsl:result-document href="bin/{$verb}-host" method="text" encoding="UTF-8">
+        <xsl:call-template name="host-script">
+          <xsl:with-param name="app" select="$app"/>
+          <xsl:with-param name="verb" select="$verb"/>
+        </xsl:call-template>
+      </xsl:result-document>
     </xsl:for-each>
 
     <files>
@@ -162,6 +171,8 @@
       </xsl:for-each>
       <file path="bin/start-all" element="{$app/@name}" ids="{$all-ids}" executable="yes"/>
       <file path="bin/stop-all" element="{$app/@name}" ids="{$all-ids}" executable="yes"/>
+      <file path="bin/start-host" element="{$app/@name}" ids="{$all-ids}" executable="yes"/>
+      <file path="bin/stop-host" element="{$app/@name}" ids="{$all-ids}" executable="yes"/>
     </files>
   </xsl:template>
 

@@ -24,7 +24,9 @@ asynchronous and stream ports. Who may connect (a token, a handshake deadline, s
 
 from __future__ import annotations
 
+import errno
 import logging
+import socket
 import threading
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any, Protocol
@@ -74,6 +76,8 @@ class ServedContainer(Protocol):
     ) -> Any: ...
 
     def monitor(self, name: str) -> Monitor: ...
+
+    def operations_of(self, name: str) -> frozenset[str]: ...
 
 
 @dataclass(frozen=True)
@@ -269,19 +273,18 @@ def bytes_back(value: Any) -> Any:
     return value
 
 
-def remote_operations(port: Port) -> frozenset[str]:
+def remote_operations(port: Port, operations: frozenset[str]) -> frozenset[str]:
     """The operations another process may call through ``port``: those it declares
-    (``PortSpec.operations``), else its component's operations less the methods its ports are
-    fed through (handlers such as ``on_<port>``, stream sources) and any other ``on_*`` hook, which
-    run from the port's queue, never from a caller."""
+    (``PortSpec.operations``), else ``operations`` (its component's, as its container keeps them:
+    ``operations_of``) less the methods its ports are fed through (handlers such as
+    ``on_<port>``, stream sources) and any other ``on_*`` hook, which run from the port's queue,
+    never from a caller."""
     if port.spec.operations is not None:
         return frozenset(port.spec.operations)
-    owner = port.component
     fed_through = set()
-    for p in getattr(owner, "port_map", {}).values():
+    for p in getattr(port.component, "port_map", {}).values():
         fed_through.update(n for n in (p.handler, p.spec.source) if n)
-    ops = type(owner).operation_names() if hasattr(type(owner), "operation_names") else ()
-    return frozenset(o for o in ops if o not in fed_through and not o.startswith("on_"))
+    return frozenset(o for o in operations if o not in fed_through and not o.startswith("on_"))
 
 
 def _has(port: Port, operation: str) -> bool:
@@ -314,7 +317,9 @@ class ContainerEndpoint:
         kwargs = {k: bytes_back(v) for k, v in kwargs.items()}
         try:
             target = c.port_of(component, port)
-            exposed = remote_operations(target)
+            # the operations the container recorded when it made (or replaced) the component:
+            # not the class's dir() again at every call
+            exposed = remote_operations(target, c.operations_of(component))
             if (
                 target.kind == "synchronous"
                 and operation not in exposed
@@ -402,9 +407,26 @@ class ContainerServer:
         configure_server(handshake_timeout, max_connections)
         if tls is not None:
             tls.configure(server=True)
-        self.daemon = GatedDaemon(
-            host=host, port=port, token=token, name=f"container {container.name!r}"
-        )
+        try:
+            self.daemon = GatedDaemon(
+                host=host, port=port, token=token, name=f"container {container.name!r}"
+            )
+        except OSError as err:  # a host that does not resolve (gaierror), a port in use...
+            raise ConfigurationError(
+                f"container {container.name!r} cannot serve at {host}:{port}: "
+                f"{err.strerror or err}",
+                where=f"container {container.name!r}",
+                hint=(
+                    f"{host!r} is not a name or address of this machine: give the container's "
+                    "address here (ACORDCS_<container>_HOST, or --host)"
+                    if isinstance(err, socket.gaierror)
+                    or err.errno in (errno.EADDRNOTAVAIL, errno.EAFNOSUPPORT)
+                    else f"another process uses port {port} on {host}: stop it, or give the "
+                    "container another port (ACORDCS_<container>_PORT, or --serve)"
+                    if err.errno == errno.EADDRINUSE
+                    else "check the host and port this container serves at"
+                ),
+            ) from None
         if tls is not None:
             # Pyro5 accepts in one thread; with the TLS handshake done at accept (ssl's default) a
             # client that connects and stays silent would hold every other connection up (the

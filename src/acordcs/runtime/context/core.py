@@ -277,12 +277,17 @@ class ProviderCore:
                 if not entry[1]:
                     del self._publisher_locks[publisher]
 
-    def _dispatch(self, publisher: str, seq: int, tree: etree._ElementTree) -> int:
+    def _dispatch(
+        self, publisher: str, seq: int, tree: etree._ElementTree, *, latest: bool = True
+    ) -> int:
         """Match and hand notifications to the subscribers' mailboxes. Returns how many were queued.
+        ``latest=False``: a document that came late (older than the publisher's latest, which it
+        does not replace).
 
         The caller is inside :meth:`_publishing` (documents of one publisher in order)."""
         with self._lock:
-            self._latest[publisher] = (seq, tree)
+            if latest:
+                self._latest[publisher] = (seq, tree)
             matches = self._index.match_indexed(tree, publisher)
             fallbacks = self._index.fallbacks(publisher)
         if fallbacks:  # without the provider lock: other publishers and subscribers go on

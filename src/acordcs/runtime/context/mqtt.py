@@ -22,6 +22,7 @@ import logging
 import os
 import socket
 import threading
+import time
 from urllib.parse import quote, unquote
 
 import paho.mqtt.client as mqtt
@@ -30,27 +31,25 @@ from paho.mqtt.enums import CallbackAPIVersion, MQTTErrorCode
 from acordcs.runtime.context.core import ProviderCore, check_publisher
 from acordcs.runtime.context.delivery import Subscription
 from acordcs.runtime.context.errors import ContextError, PublishError
+from acordcs.runtime.context.sequences import NEW, REFUSED, SequenceBook, every_power_of_two
 from acordcs.runtime.context.xmlparse import Limits, parse_document
 
 log = logging.getLogger("acordcs.runtime.context.mqtt")
 
 _MAGIC = b"ACX1"  # header: ACX1 <epoch> <seq>
 _SIGNED = b"ACX2"  # header: ACX2 <epoch> <seq> <hmac-sha256 hex>
+# The end of a publisher's sequence, sent (not retained) by close(): <seq> is its last document's
+# number, so that subscribers count a tail lost after their last document as lost.
+_END = b"ACE1"  # header: ACE1 <epoch> <seq>
+_END_SIGNED = b"ACE2"  # header: ACE2 <epoch> <seq> <hmac-sha256 hex>
+_END_BODY = b"\x00end"  # what an end marker's signature covers: no document has this body
 _MAX_SEQ_DIGITS = 19  # a sequence number fits 63 bits; longer is not ours
-RESYNC_AFTER = 3
-"""Documents in a row, with rising numbers at or below the last one taken, after which a
-publisher's sequence is taken as restarted (the higher number was forged or a lost process's)."""
 
 
 def _mac(key: bytes, topic: str, epoch: bytes, seq: int, body: bytes) -> bytes:
     mac = hmac.new(key, b"%s\n%s %d\n" % (topic.encode(), epoch, seq), hashlib.sha256)
     mac.update(body)
     return mac.hexdigest().encode()
-
-
-def _every_power_of_two(n: int) -> bool:
-    """Log the 1st, 2nd, 4th, 8th... occurrence only: a flood cannot flood the log."""
-    return n & (n - 1) == 0
 
 
 def publisher_topic(publisher: str, prefix: str = "acordcs/ctx") -> str:
@@ -72,6 +71,13 @@ class MqttContextProvider(ProviderCore):
     thread (about half the latency at 5,000 documents/s on 2 cores, see
     ``benchmarks/bench_mqtt_load.py``); a slow callback then holds up every subscription of this
     client and its acknowledgements to the broker.
+
+    ``flush_timeout``: how long :meth:`close` waits for the broker to acknowledge the QoS 1/2
+    documents already accepted by :meth:`publish` (queued in the client or in flight); what is
+    still unacknowledged then is counted, logged and returned by :meth:`close`, never dropped
+    silently. ``clean_session=False`` (with a ``client_id`` of its own, the same at each start):
+    the broker keeps this client's subscriptions and queues its QoS 1/2 documents while it is
+    away (across the broker's restarts too when the broker persists, ``persistence true``).
     """
 
     def __init__(
@@ -97,6 +103,8 @@ class MqttContextProvider(ProviderCore):
         max_seq_jump: int = 1_000_000,
         inline: bool = False,
         threads_per_subscriber: int = 2,
+        flush_timeout: float = 10.0,
+        clean_session: bool = True,
     ) -> None:
         super().__init__(
             limits, delivery_threads, inline=inline, threads_per_subscriber=threads_per_subscriber
@@ -115,7 +123,12 @@ class MqttContextProvider(ProviderCore):
                 hint="use e.g. secrets.token_hex(32), the same in every process of the application",
             )
         self._key = payload_key
-        self.max_publishers, self.max_seq_jump = max_publishers, max_seq_jump
+        if not clean_session and not client_id:
+            raise ContextError(
+                "clean_session=False needs a client_id: the broker keeps the session by it",
+                element="MqttContextProvider",
+                hint="give client_id, the same each time this client starts, unique per client",
+            )
         if qos not in (0, 1, 2):
             raise ContextError(f"qos must be 0, 1 or 2, got {qos!r}", element="MqttContextProvider")
         if not prefix or any(c in prefix for c in "+#\x00") or prefix.endswith("/"):
@@ -126,18 +139,12 @@ class MqttContextProvider(ProviderCore):
             )
         self.host, self.port, self.qos, self.prefix, self.mirror = host, port, qos, prefix, mirror
         self._where = f"mqtt://{host}:{port}"
-        self.lost = 0  # messages missing from the sequence of a publisher
-        self.duplicates = 0
         self.malformed = 0  # payloads from the broker that were not ours or not acceptable XML
         self.reconnects = 0
         self.forged = 0  # payloads without a valid signature (with a payload_key)
-        self.implausible = 0  # sequence jumps larger than max_seq_jump, ignored
-        self.resynchronised = 0  # publishers whose sequence was taken as restarted
-        self.refused_publishers = 0  # documents of publishers beyond max_publishers
-        self._behind: dict[str, tuple[int, int]] = {}  # publisher -> (last seq below, count)
+        self.sequences = SequenceBook(max_publishers, max_seq_jump, self._where)
         self._epoch = os.urandom(8).hex().encode()
         self._seq: dict[str, int] = {}
-        self._seen: dict[str, tuple[bytes, int]] = {}  # publisher -> (epoch, last seq)
         self._topics: set[str] = set()  # what the broker should send us
         # SUBACK may be handled before subscribe() has returned its mid: remember early ones
         self._acks: dict[int, threading.Event] = {}
@@ -146,18 +153,26 @@ class MqttContextProvider(ProviderCore):
         self._connected = threading.Event()
         self._connect_error: str | None = None
         self._mqtt_lock = threading.Lock()
+        # publishes the broker has not acknowledged yet: mid -> True for a document, False for an
+        # end marker; a PUBACK handled before publish() has registered its mid is remembered
+        self.flush_timeout = flush_timeout
+        self._pending: dict[int, bool] = {}
+        self._early_publish_acks: set[int] = set()
+        self._flushed = threading.Condition(threading.Lock())
+        self.unacknowledged = 0  # documents close() could not get acknowledged (see close)
 
         client = mqtt.Client(
             CallbackAPIVersion.VERSION2,
             client_id=client_id or f"acordcs-{os.getpid()}-{self._epoch.decode()}",
             protocol=mqtt.MQTTv311,
-            clean_session=True,
+            clean_session=clean_session,
         )
         client.on_socket_open = self._on_socket_open
         client.on_connect = self._on_connect
         client.on_disconnect = self._on_disconnect
         client.on_subscribe = self._on_subscribe
         client.on_message = self._on_message
+        client.on_publish = self._on_publish
         client.reconnect_delay_set(min_delay=1, max_delay=2)
         client.max_queued_messages_set(max_queued_messages)
         # paho's default of 20 unacknowledged QoS 1/2 messages caps a publisher at 20 per round trip
@@ -197,24 +212,29 @@ class MqttContextProvider(ProviderCore):
         if isinstance(sock, socket.socket):
             sock.setsockopt(socket.IPPROTO_TCP, socket.TCP_NODELAY, 1)
 
-    def _on_connect(self, client, _userdata, _flags, reason_code, properties) -> None:
+    def _on_connect(self, client, _userdata, flags, reason_code, properties) -> None:
         if reason_code.is_failure:
             self._connect_error = str(reason_code)
             self._connected.set()
             return
+        kept = flags.session_present  # a persistent session the broker kept (clean_session=False)
         if self._connected.is_set():
             self.reconnects += 1
             log.info(
-                "reconnected to %s:%d, re-subscribing %d topic(s)",
+                "reconnected to %s:%d, %s %d topic(s)",
                 self.host,
                 self.port,
+                "the broker kept the session and its" if kept else "re-subscribing",
                 len(self._topics),
             )
-        # a clean session (and a restarted broker) has forgotten our subscriptions: always renew them
-        with self._mqtt_lock:
-            topics = sorted(self._topics)
-        for topic in topics:
-            client.subscribe(topic, qos=self.qos)
+        # a clean session (and a restarted broker without persistence) has forgotten our
+        # subscriptions: renew them. A kept session has them, and the documents queued for us
+        # meanwhile: subscribing again would send the retained latest document before them.
+        if not kept:
+            with self._mqtt_lock:
+                topics = sorted(self._topics)
+            for topic in topics:
+                client.subscribe(topic, qos=self.qos)
         self._connected.set()
 
     def _on_disconnect(self, client, _userdata, _flags, reason_code, properties) -> None:
@@ -235,6 +255,23 @@ class MqttContextProvider(ProviderCore):
                 self._early_acks.add(mid)
         if event is not None:
             event.set()
+
+    def _on_publish(self, client, _userdata, mid, _reason_code, properties) -> None:
+        with self._flushed:
+            if self._pending.pop(mid, None) is None:
+                if len(self._early_publish_acks) > 65536:  # mids are 16 bits: never ours now
+                    self._early_publish_acks.clear()
+                self._early_publish_acks.add(mid)
+            elif not self._pending:
+                self._flushed.notify_all()
+
+    def _sent(self, mid: int, document: bool) -> None:
+        """Track the publish ``mid`` until the broker acknowledges it (QoS 0: until written)."""
+        with self._flushed:
+            if mid in self._early_publish_acks:
+                self._early_publish_acks.discard(mid)
+            else:
+                self._pending[mid] = document
 
     def _on_message(self, client, _userdata, message: mqtt.MQTTMessage) -> None:
         # an exception escaping a paho callback would end the network thread, silently
@@ -261,20 +298,21 @@ class MqttContextProvider(ProviderCore):
         if not payload:  # an empty retained message: the publisher was retired (see ``retire``)
             with self._lock:
                 self._latest.pop(publisher, None)
-                self._seen.pop(publisher, None)
-                self._behind.pop(publisher, None)
+            self.sequences.forget(publisher)
             return
         header, _, body = payload.partition(b"\n")
         parts = header.split(b" ")
-        signed = len(parts) == 4 and parts[0] == _SIGNED
+        end = parts[0] in (_END, _END_SIGNED)
+        signed = len(parts) == 4 and parts[0] in (_SIGNED, _END_SIGNED)
         if (
-            not (signed or (len(parts) == 3 and parts[0] == _MAGIC))
+            not (signed or (len(parts) == 3 and parts[0] in (_MAGIC, _END)))
+            or (end and body)
             or not parts[2].isdigit()
             or len(parts[2]) > _MAX_SEQ_DIGITS
             or not 0 < len(parts[1]) <= 64
         ):
             self.malformed += 1
-            if _every_power_of_two(self.malformed):
+            if every_power_of_two(self.malformed):
                 log.warning(
                     "ignoring a message on %s that is not an acordcs context document (%d so far)",
                     topic,
@@ -283,10 +321,13 @@ class MqttContextProvider(ProviderCore):
             return
         epoch, seq = parts[1], int(parts[2])
         if self._key is not None and not (
-            signed and hmac.compare_digest(parts[3], _mac(self._key, topic, epoch, seq, body))
+            signed
+            and hmac.compare_digest(
+                parts[3], _mac(self._key, topic, epoch, seq, _END_BODY if end else body)
+            )
         ):
             self.forged += 1
-            if _every_power_of_two(self.forged):
+            if every_power_of_two(self.forged):
                 log.warning(
                     "ignoring a document on %s without a valid signature (%d so far): another "
                     "client of the broker wrote it, or its sender has another payload_key",
@@ -294,7 +335,11 @@ class MqttContextProvider(ProviderCore):
                     self.forged,
                 )
             return
-        if not self._admit(publisher, epoch, seq):
+        if end:
+            self.sequences.ended_at(publisher, epoch, seq)
+            return
+        admitted = self.sequences.admit(publisher, epoch, seq)
+        if admitted == REFUSED:
             return
         try:
             tree = parse_document(publisher, body, self.limits)
@@ -304,74 +349,8 @@ class MqttContextProvider(ProviderCore):
             log.warning("ignoring a refused document from the broker: %s", err)
             return
         with self._publishing(publisher):
-            self._dispatch(publisher, seq, tree)
+            self._dispatch(publisher, seq, tree, latest=admitted == NEW)
         self._dispatcher.flush()  # inline delivery: the callbacks run now, outside the lock
-
-    def _admit(self, publisher: str, epoch: bytes, seq: int) -> bool:
-        """Whether the document ``seq`` of ``publisher`` is new, counting losses, repeats, forged
-        jumps and publishers beyond the cap."""
-        with self._lock:
-            previous = self._seen.get(publisher)
-            if previous is None and len(self._seen) >= self.max_publishers:
-                self.refused_publishers += 1
-                if _every_power_of_two(self.refused_publishers):
-                    log.warning(
-                        "%s: ignoring the documents of publisher %r: this client already keeps "
-                        "max_publishers=%d publishers' documents (%d refused so far); raise "
-                        "max_publishers, retire() publishers that are gone, or restrict who may "
-                        "publish at the broker (acl_file)",
-                        self._where,
-                        publisher,
-                        self.max_publishers,
-                        self.refused_publishers,
-                    )
-                return False
-            if previous is not None and previous[0] == epoch:
-                last = previous[1]
-                if seq <= last:
-                    return self._behind_last(publisher, epoch, seq, last)
-                if seq - last > self.max_seq_jump:
-                    self.implausible += 1
-                    log.warning(
-                        "%s: ignoring seq %d after %d, a jump over max_seq_jump=%d (a forged "
-                        "message? sign documents with payload_key)",
-                        publisher,
-                        seq,
-                        last,
-                        self.max_seq_jump,
-                    )
-                    return False
-                if seq > last + 1:
-                    self.lost += seq - last - 1
-                    log.warning(
-                        "%s: %d document(s) lost before seq %d", publisher, seq - last - 1, seq
-                    )
-            self._behind.pop(publisher, None)
-            self._seen[publisher] = (epoch, seq)
-            return True
-
-    def _behind_last(self, publisher: str, epoch: bytes, seq: int, last: int) -> bool:
-        """A number at or below the last one taken: a repeat (the retained copy after a
-        re-subscribe), unless :data:`RESYNC_AFTER` rising ones come in a row: then the last number
-        was not the publisher's (forged), and its sequence goes on from ``seq``. Under the lock."""
-        below, count = self._behind.get(publisher, (-1, 0))
-        count = count + 1 if seq > below else 1
-        if count < RESYNC_AFTER:
-            self._behind[publisher] = (seq, count)
-            self.duplicates += 1
-            return False
-        del self._behind[publisher]
-        self.resynchronised += 1
-        log.warning(
-            "%s: %d documents in a row numbered below seq %d: taking seq %d as its sequence "
-            "(the higher number was forged, or sent by another process under this name)",
-            publisher,
-            count,
-            last,
-            seq,
-        )
-        self._seen[publisher] = (epoch, seq)
-        return True
 
     # -- topics ---------------------------------------------------------------------------------------
     def _wanted(self) -> set[str]:
@@ -434,6 +413,7 @@ class MqttContextProvider(ProviderCore):
                 info.rc == MQTTErrorCode.MQTT_ERR_NO_CONN and self.qos > 0
             ):
                 self._seq[publisher] = seq
+                self._sent(info.mid, True)
                 return seq
         reason = mqtt.error_string(info.rc)
         raise ContextError(
@@ -456,6 +436,8 @@ class MqttContextProvider(ProviderCore):
         with self._mqtt_lock:
             # the sequence goes on: a client that missed this must not take later documents for repeats
             info = self._client.publish(topic, b"", qos=self.qos, retain=True)
+            if info.rc in (MQTTErrorCode.MQTT_ERR_SUCCESS, MQTTErrorCode.MQTT_ERR_NO_CONN):
+                self._sent(info.mid, False)
         if info.rc not in (MQTTErrorCode.MQTT_ERR_SUCCESS, MQTTErrorCode.MQTT_ERR_NO_CONN):
             raise ContextError(
                 f"could not retire {publisher!r}: {mqtt.error_string(info.rc)}",
@@ -471,21 +453,68 @@ class MqttContextProvider(ProviderCore):
     def stats(self) -> dict[str, object]:
         figures = super().stats()
         figures.update(
-            lost=self.lost,
-            duplicates=self.duplicates,
+            **self.sequences.figures(),
             malformed=self.malformed,
             reconnects=self.reconnects,
             forged=self.forged,
-            implausible=self.implausible,
-            resynchronised=self.resynchronised,
-            refused_publishers=self.refused_publishers,
+            unacknowledged=self.unacknowledged if self._closed else self.pending(),
         )
         return figures
 
-    def close(self) -> None:
-        """Unsubscribe everything, disconnect and stop the network thread. Idempotent."""
+    def pending(self) -> int:
+        """Documents accepted by :meth:`publish` that the broker has not acknowledged yet."""
+        with self._flushed:
+            return sum(self._pending.values())
+
+    def flush(self, timeout: float | None = None) -> int:
+        """Wait up to ``timeout`` s (default ``flush_timeout``) until the broker has acknowledged
+        every document published so far; returns how many it has not."""
+        deadline = time.monotonic() + (self.flush_timeout if timeout is None else timeout)
+        with self._flushed:
+            while self._pending and (left := deadline - time.monotonic()) > 0:
+                self._flushed.wait(left)
+            return sum(self._pending.values())
+
+    def _send_end_markers(self) -> None:
+        with self._mqtt_lock:
+            for publisher, seq in self._seq.items():
+                topic = publisher_topic(publisher, self.prefix)
+                if self._key is None:
+                    payload = b"%s %s %d" % (_END, self._epoch, seq)
+                else:
+                    mac = _mac(self._key, topic, self._epoch, seq, _END_BODY)
+                    payload = b"%s %s %d %s" % (_END_SIGNED, self._epoch, seq, mac)
+                info = self._client.publish(topic, payload, qos=self.qos, retain=False)
+                if info.rc in (MQTTErrorCode.MQTT_ERR_SUCCESS, MQTTErrorCode.MQTT_ERR_NO_CONN):
+                    self._sent(info.mid, False)
+
+    def close(self, timeout: float | None = None) -> int:
+        """Flush, unsubscribe everything, disconnect and stop the network thread. Idempotent.
+
+        Before disconnecting, tells the subscribers each publisher's last sequence number (so a
+        lost tail is counted as lost there) and waits up to ``timeout`` s (default
+        ``flush_timeout``) for the broker's acknowledgements of every document published here.
+        Returns the number of documents still unacknowledged then (0: the broker has them all),
+        also logged as a warning and kept in ``stats()["unacknowledged"]``."""
         if self._closed:
-            return
+            return self.unacknowledged
+        if self._seq:
+            self._send_end_markers()
+        wait = self.flush_timeout if timeout is None else timeout
+        started = time.monotonic()
+        self.unacknowledged = self.flush(wait)
+        reachable = self._client.is_connected()
         super().close()
         self._client.disconnect()
         self._client.loop_stop()
+        if self.unacknowledged:
+            log.warning(
+                "%s: closed with %d document(s) not acknowledged by the broker within %g s "
+                "(%s): they may never reach the subscribers, who count them as lost only if "
+                "later documents or this publisher's end marker reach them",
+                self._where,
+                self.unacknowledged,
+                time.monotonic() - started,
+                "connected" if reachable else "the broker is unreachable",
+            )
+        return self.unacknowledged

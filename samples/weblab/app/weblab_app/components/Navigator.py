@@ -33,13 +33,14 @@ from weblab_app.base.Navigator import NavigatorBase
 from weblab_sim import detector, world
 from weblab_sim.course import Course
 
-from acordcs.runtime.errors import RemoteUnreachableError
+from acordcs.runtime.errors import RemoteTimeoutError, RemoteUnreachableError
 
 USER = "navigator"
 TIME_CAP_ENV = "WEBLAB_TIME_CAP"  # seconds a live run drives at most
 SPEED_ENV = "WEBLAB_FORWARD_SPEED"  # live mode's forwardSpeed (the experiment sets it itself)
 REPORT_EVERY = 10  # cycles between live mode's progress lines
 WAIT_FOR_LAB = 30.0  # s live mode waits for the WebLab's process to answer (started after ours)
+RETRY_AFTER = 1.0  # s live mode waits after a call the network failed before the next cycle
 
 
 class Navigator(NavigatorBase):
@@ -55,6 +56,7 @@ class Navigator(NavigatorBase):
         # The last frame got and the turn found in it (None: no stripe), for a console to show.
         self.last_frame: bytes | None = None
         self.last_turn: float | None = None
+        self.outages = 0  # live mode: cycles a call to the WebLab failed in (the link was down)
 
     def run(self) -> None:
         self._authenticate()
@@ -62,7 +64,8 @@ class Navigator(NavigatorBase):
             self.forwardSpeed = float(os.environ[SPEED_ENV])
         start = self.clock.now()
         cap = os.environ.get(TIME_CAP_ENV)
-        while self.step():
+        deadline = start + float(cap) if cap else None
+        while self._step_surviving_the_network(deadline):
             if self.odometry is None:  # the lab is in this process: it says when to stop
                 continue
             if len(self.cycles) % REPORT_EVERY == 0:
@@ -72,6 +75,27 @@ class Navigator(NavigatorBase):
                 return
         if self.odometry is not None:
             self._report("finish line crossed", start)
+
+    def _step_surviving_the_network(self, deadline: float | None) -> bool:
+        """:meth:`step`; in live mode a call the network failed (the link down, the WebLab's
+        process unreachable: a fault the connector records) is reported, and the cycle is tried
+        again after :data:`RETRY_AFTER` s, until the time cap: the run goes on once the link
+        returns, without a restart."""
+        while True:
+            try:
+                return self.step()
+            except (RemoteTimeoutError, RemoteUnreachableError) as err:
+                if world.installed() is not None or (
+                    deadline is not None and self.clock.now() >= deadline
+                ):
+                    raise
+                self.outages += 1
+                print(
+                    f"Navigator t={self.clock.now():6.1f} s: a call to the WebLab failed "
+                    f"({type(err).__name__}): retrying in {RETRY_AFTER:g} s",
+                    flush=True,
+                )
+                self.clock.sleep(RETRY_AFTER)
 
     def _authenticate(self) -> None:
         """Log in at the lab; in live mode the WebLab's process may still be starting (start-all
@@ -147,6 +171,8 @@ class Navigator(NavigatorBase):
             "B on average",
             flush=True,
         )
+        if self.outages:
+            print(f"Navigator: {self.outages} cycles failed over the network, retried", flush=True)
 
     # The model's findStripe returns a double; here no stripe is None, which the model's types
     # cannot say (they have no optional value): hence the ignore of the narrower base.
