@@ -22,6 +22,7 @@ MODELS = sorted(
 
 def test_every_sample_with_policies_has_scenarios():
     assert {p.relative_to(SAMPLES).as_posix() for p in MODELS} == {
+        "mixed/greenhouse.uml",
         "papyrus/thermostat.uml",
         "papyrus/ventilation.uml",
         "smartroom/smartroom.xmi",
