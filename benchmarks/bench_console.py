@@ -35,9 +35,10 @@ ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT / "samples" / "weblab"))
 
 import websockets  # noqa: E402
-from weblab_console.hub import ConsoleHub  # noqa: E402
 from weblab_console.serving import serving  # noqa: E402
 from weblab_console.session import ConsoleSession  # noqa: E402
+
+from acordcs.console.fanout import ConsoleHub  # noqa: E402
 
 FRAME_TAGS = {1: "frame:onboard", 2: "frame:panoramic"}
 

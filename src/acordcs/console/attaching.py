@@ -1,10 +1,11 @@
-"""The two-process WebLab application as the attached console reaches it: where each container
-serves, found as its generated scripts find it (:func:`acordcs.cli.running.settings` sources
-``bin/env.sh``: the run directory, the application's token, each container's host and port), which
-container hosts which component (the package's descriptor), and the calls the console makes,
-each presenting the application's token: an operation through a component's provided port (the
-container's endpoint, as the Navigator calls them), the observer interface (``watch``, ``poll``:
-:mod:`acordcs.runtime.live.observer`) and the management interface (``hold``, ``release``).
+"""A running application as an attached console reaches it: where each container serves, found as
+its generated scripts find it (:func:`acordcs.cli.running.settings` sources ``bin/env.sh``: the run
+directory, the application's token, each container's host and port), its descriptor (which
+container hosts which component, and all the rest the console shows), and the calls the console
+makes, each presenting the application's token: an operation through a component's provided port
+(the container's endpoint, as another container calls it), the observer interface (``watch``,
+``poll``: :mod:`acordcs.runtime.live.observer`) and the management interface (``status``,
+``hold``, ``release``...: :mod:`acordcs.runtime.live.management`).
 
 :class:`Watcher` is one container's watch: a thread that polls its observer and hands what it
 gets to the console's loop, watching again (with a new snapshot) after the container was
@@ -29,6 +30,12 @@ from acordcs.runtime.live.observer import OBSERVE_OBJECT
 
 POLL_WAIT = 1.0  # seconds a poll waits for something new
 RETRY = 2.0  # seconds between attempts to reach a container that did not answer
+
+
+HOW_TO_START = (
+    "start the application first (its bin/start-all, with the same ACORDCS_RUN_DIR and ports "
+    "as the console's environment)"
+)
 
 
 class AttachError(RuntimeError):
@@ -58,9 +65,11 @@ class Place:
 
 class Application:
     """The application built in ``app_dir`` as its scripts run it (see the module docstring);
-    ``timeout``: seconds a call may take (a ``stop`` answered by a recovery takes several)."""
+    ``timeout``: seconds a call may take; ``how_to_start``: what a container that does not answer
+    is told to do."""
 
-    def __init__(self, app_dir: Path, timeout: float) -> None:
+    def __init__(self, app_dir: Path, timeout: float, how_to_start: str = HOW_TO_START) -> None:
+        self.how_to_start = how_to_start
         try:
             found = settings(app_dir)
         except NotFound as err:
@@ -70,6 +79,9 @@ class Application:
             descriptor = from_xml(path.read_bytes(), file=str(path))
         except (OSError, DescriptorError) as err:
             raise AttachError(f"{path}: {err}: build the application first") from None
+        self.descriptor = descriptor
+        self.app_dir = Path(app_dir)
+        self.settings = found
         self.name = descriptor.name
         self.run_dir = found.run_dir
         self.places: dict[str, Place] = {}
@@ -133,7 +145,7 @@ class Watcher(threading.Thread):
         calls: list[str],
         deliver: Callable[[str, str, Any], None],
     ) -> None:
-        super().__init__(name=f"weblab-console-watch-{container}", daemon=True)
+        super().__init__(name=f"acordcs-console-watch-{container}", daemon=True)
         self.app = app
         self.container = container
         self.calls = calls
@@ -149,9 +161,8 @@ class Watcher(threading.Thread):
             self._watch()
         except RuntimeFailure as err:
             raise AttachError(
-                f"container {self.container} does not answer: {err.message}: start the "
-                "application first (make live-console starts it with the console; its "
-                "bin/start-all, with the same ACORDCS_RUN_DIR and ports, without)"
+                f"container {self.container} does not answer: {err.message}: "
+                f"{self.app.how_to_start}"
             ) from None
         self.start()
 
