@@ -19,11 +19,9 @@ import signal
 import sys
 from pathlib import Path
 
-import uvicorn
-
 from acordcs.console.attaching import AttachError
 from acordcs.console.fanout import ConsoleHub
-from acordcs.console.in_thread import free_port, server_config
+from acordcs.console.in_thread import AnnouncingServer, free_port, server_config
 from acordcs.console.site_guard import allowed_names, host_name, is_loopback
 from weblab_console.attached import AttachedSession
 from weblab_console.server import console_refusals, create_app, quiet_uvicorn
@@ -129,27 +127,13 @@ def main(argv: list[str] | None = None) -> int:
             create_app(hub, session, allowed_hosts=allowed, refusals=refusals), args.host, port
         )
         with quiet_uvicorn(refusals):
-            _Announcing(config, link).run()
+            AnnouncingServer(config, lambda: print(link, flush=True)).run()
     except KeyboardInterrupt:  # uvicorn shut down cleanly, then passes Ctrl-C on
         pass
     finally:
         session.close()
     print("WebLab console stopped", flush=True)
     return 0
-
-
-class _Announcing(uvicorn.Server):
-    """uvicorn's server, printing the console's link once it listens (so that the link is also
-    the sign the console is ready, and its Ctrl-C handling in place)."""
-
-    def __init__(self, config: uvicorn.Config, link: str) -> None:
-        super().__init__(config)
-        self.link = link
-
-    async def startup(self, sockets: list | None = None) -> None:
-        await super().startup(sockets)
-        if self.started:
-            print(self.link, flush=True)
 
 
 def _interrupt(signum: int, frame: object) -> None:

@@ -16,6 +16,7 @@ import click
 
 from acordcs import __version__
 from acordcs.cli import build, export, inspect, profile_export, update, validate
+from acordcs.cli.serve_console import console as console_command
 
 
 @click.group(context_settings={"help_option_names": ["-h", "--help"]})
@@ -32,6 +33,7 @@ cli.add_command(build.build)
 cli.add_command(profile_export.profile)
 cli.add_command(export.export)
 cli.add_command(update.update)
+cli.add_command(console_command)
 
 
 def main(argv: list[str] | None = None) -> int:

@@ -7,7 +7,7 @@ from __future__ import annotations
 import socket
 import threading
 import time
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 from contextlib import contextmanager
 
 import uvicorn
@@ -31,6 +31,20 @@ def server_config(app: Starlette, host: str, port: int) -> uvicorn.Config:
     """How every console runs on uvicorn: quiet but for warnings, frames of at most
     :data:`WS_MAX_SIZE` bytes."""
     return uvicorn.Config(app, host=host, port=port, log_level="warning", ws_max_size=WS_MAX_SIZE)
+
+
+class AnnouncingServer(uvicorn.Server):
+    """uvicorn's server, calling ``announce`` once it listens (a console prints its link then:
+    the link is also the sign that the console is ready, and its Ctrl-C handling in place)."""
+
+    def __init__(self, config: uvicorn.Config, announce: Callable[[], None]) -> None:
+        super().__init__(config)
+        self.announce = announce
+
+    async def startup(self, sockets: list | None = None) -> None:
+        await super().startup(sockets)
+        if self.started:
+            self.announce()
 
 
 @contextmanager

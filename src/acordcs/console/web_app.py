@@ -120,6 +120,16 @@ REFUSED = {
 """What the console refuses, by kind: the counts of ``GET /status`` (``refused``)."""
 
 
+WATCHING_NEEDS_TOKEN = {
+    "type": "refused",
+    "why": "this console shows the application only to viewers holding its token (a console "
+    "started with no viewer without the token: --watchers 0, the default for an application "
+    "started with a token)",
+    "todo": "open the console with the link the console printed (it holds the token)",
+}
+"""What a viewer without the token is told when the console takes none (``max_watchers`` 0)."""
+
+
 UVICORN_NOISE = frozenset(
     (
         "Invalid HTTP request received.",
@@ -239,6 +249,11 @@ def create_app(
         await websocket.accept(subprotocol=site.protocol if site.protocol in offered else None)
         waker.loop = asyncio.get_running_loop()
         pending = asyncio.Event()
+        if not viewer.authorized and hub.max_watchers == 0:
+            refused.refused("token", viewer.peer, "a viewer without the token")
+            await websocket.send_text(json.dumps(WATCHING_NEEDS_TOKEN))
+            await websocket.close(code=1008)
+            return
         joined = hub.join(lambda: waker.wake(pending), holder=viewer.authorized)
         if joined is None:
             refused.refused("full", viewer.peer)

@@ -1,0 +1,195 @@
+"""The console of any running application: what ``acordcs-gen console APPDIR`` drives (a
+:class:`~acordcs.console.web_app.Session`).
+
+It reaches the application its scripts started (:class:`~acordcs.console.attaching.Application`:
+``APPDIR/bin/env.sh``, the run directory, the token, each container's host and port), publishes
+the page's model of it once (:func:`~acordcs.console.page_model.page_model`: the architecture,
+the series, the policy sets, the forms), watches every container through its observer interface
+(one :class:`~acordcs.console.attaching.Watcher` thread each) and publishes what they deliver as
+it comes, on the hub's event channel (never waiting for a viewer: the hub drops a slow viewer's
+oldest):
+
+- ``monitor``: a monitor's new values (the page plots them on the container's clock);
+- ``fired``: a policy set's firing: inputs read, each rule's degree (fuzzy) or the rules that
+  fired (CLIPS, whose watch asks for them), outputs written;
+- ``property``: a property changed (by whom: ``origin``);
+- ``model.updated``: the plan line of a change an update applied;
+- ``fault``: what a container recorded; ``down`` and ``up``: a container that stopped answering,
+  and answers again.
+
+and each container's snapshot on the latest channel ``snapshot:<container>``.
+
+Its hands need the console's token (the link's fragment): ``call`` (an operation of a provided
+port, through the container's endpoint as another container calls it), ``plan`` and ``apply``
+(``acordcs-gen update`` itself, run with the model file given at start: the plan first, with
+``--dry-run``, then the update on confirmation, in a child process with the console's
+environment, so that the console has no second implementation of it).
+"""
+
+from __future__ import annotations
+
+import hashlib
+import secrets
+import subprocess
+import sys
+import threading
+from pathlib import Path
+from typing import Any
+
+from acordcs.console.attaching import Application, AttachError, Watcher
+from acordcs.console.fanout import EVENT, ConsoleHub
+from acordcs.console.page_model import page_model
+from acordcs.runtime.errors import RuntimeFailure
+from acordcs.runtime.live.observer import plain
+
+MODE = "attached"
+UPDATE_SECONDS = 300.0
+"""Seconds ``acordcs-gen update`` may take (a build, then each container's apply)."""
+RUN_UPDATE = "import sys; from acordcs.cli import main; sys.exit(main(sys.argv[1:]))"
+"""``acordcs-gen`` in a child process of this interpreter (the installed script may be elsewhere)."""
+OUTPUT_KEPT = 20000
+"""Characters of an update's output sent to the page (its end, when longer)."""
+
+
+class LiveSession:
+    """The console over the application built in ``app_dir`` and started by its scripts;
+    ``token``: the console's (its link carries it); ``model``: the model file ``plan`` and
+    ``apply`` build (None: no update from the page); ``timeout``: seconds a container may take to
+    answer."""
+
+    def __init__(
+        self,
+        hub: ConsoleHub,
+        token: str,
+        app_dir: Path,
+        *,
+        model: Path | None = None,
+        timeout: float = 5.0,
+    ) -> None:
+        self.hub = hub
+        self.token = token
+        self.app = Application(Path(app_dir), timeout)
+        self.model = model
+        self.lock = threading.Lock()  # one update at a time
+        self.page = page_model(self.app.descriptor)
+        self.page["model"] = str(model) if model is not None else None
+        hub.publish("application", self.page)
+        self.watchers = {
+            name: Watcher(self.app, name, [], self._deliver) for name in self.app.places
+        }
+
+    # ---------------------------------------------------------------------------- the session
+    def attach(self) -> str:
+        """Watch every container (AttachError when one does not answer); what it attached to."""
+        started: list[Watcher] = []
+        try:
+            for watcher in self.watchers.values():
+                watcher.start_watching()
+                started.append(watcher)
+        except AttachError:
+            for watcher in started:
+                watcher.stop()
+            raise
+        return f"{self.app.name}: {self.app.describe()}"
+
+    def describe(self) -> dict[str, Any]:
+        return {"mode": MODE, "application": self.app.name, "containers": list(self.app.places)}
+
+    def authorize(self, token: str) -> bool:
+        return secrets.compare_digest(token.encode(), self.token.encode())
+
+    def close(self) -> None:
+        for watcher in self.watchers.values():
+            watcher.stop()
+        self.app.close()
+
+    # ------------------------------------------------------------------------------ watching
+    def _deliver(self, kind: str, container: str, data: Any) -> None:
+        """What a watcher got, published (see the module docstring); from its thread."""
+        publish = self.hub.publish
+        if kind == "snapshot":
+            publish(f"snapshot:{container}", data)
+            publish(EVENT, {"kind": "up", "container": container, "time": data.get("time")})
+            return
+        if kind == "down":
+            publish(EVENT, {"kind": "down", "container": container, "why": str(data)[:500]})
+            return
+        for event in data.get("events", ()):
+            shown = _shown(container, event)
+            if shown is not None:
+                publish(EVENT, shown)
+        for fault in data.get("faults", ()):
+            publish(EVENT, {"kind": "fault", "container": container, **fault})
+        if data.get("dropped"):
+            publish(EVENT, {"kind": "dropped", "container": container, "count": data["dropped"]})
+
+    # ------------------------------------------------------------------------------- hands
+    def call(self, component: str, port: str, operation: str, args: list[Any]) -> Any:
+        """``component.operation(*args)`` through its provided ``port``: its result, made plain
+        for the page (a fault is raised: the server sends its text back)."""
+        known = any(
+            o["component"] == component and o["port"] == port and o["name"] == operation
+            for o in self.page["operations"]
+        )
+        if not known:
+            raise ValueError(
+                f"{component}.{port}.{operation} is not an operation of a provided synchronous "
+                "port of the model"
+            )
+        try:
+            return plain(self.app.call(component, port, operation, *args))
+        except RuntimeFailure as err:
+            raise RuntimeError(err.message) from None
+
+    def plan(self) -> dict[str, Any]:
+        """What ``acordcs-gen update MODEL -o APPDIR --dry-run`` prints: the plan, nothing changed."""
+        done = self._update("--dry-run")
+        planned = hashlib.sha256(done["output"].encode()).hexdigest()
+        return {**done, "plan": planned if done["code"] == 0 else None}
+
+    def apply(self, plan: str) -> dict[str, Any]:
+        """The update the plan ``plan`` (its digest, as :meth:`plan` gave it) showed, if planning
+        again shows the same plan (the model or the application changed meanwhile: refused)."""
+        with self.lock:
+            again = self._update("--dry-run")
+            if hashlib.sha256(again["output"].encode()).hexdigest() != plan:
+                raise RuntimeError(
+                    "the plan is not the one shown (the model file or the running application "
+                    "changed meanwhile): plan again, and confirm the new plan"
+                )
+            return self._update()
+
+    def _update(self, *options: str) -> dict[str, Any]:
+        if self.model is None:
+            raise RuntimeError(
+                "the console was started without --model FILE: it has no model to update from"
+            )
+        argv = [sys.executable, "-c", RUN_UPDATE, "update", str(self.model),
+                "-o", str(self.app.app_dir), *options]  # fmt: skip
+        try:
+            done = subprocess.run(
+                argv, capture_output=True, text=True, timeout=UPDATE_SECONDS, check=False
+            )
+        except (OSError, subprocess.TimeoutExpired) as err:
+            raise RuntimeError(f"acordcs-gen update did not run to its end: {err}") from None
+        output = (done.stdout + done.stderr)[-OUTPUT_KEPT:]
+        return {"code": done.returncode, "output": output,
+                "command": "acordcs-gen " + " ".join(argv[3:])}  # fmt: skip
+
+
+def _shown(container: str, event: dict[str, Any]) -> dict[str, Any] | None:
+    """An observer event as the page shows it, or None (one it does not show)."""
+    kind = event.get("kind")
+    common = {"container": container, "time": event.get("time"), "element": event.get("element")}
+    if kind == "monitor.updated":
+        return {"kind": "monitor", **common, "values": event.get("values", {})}
+    if kind == "policy.fired":
+        firing = event.get("firing")
+        return None if firing is None else {"kind": "fired", **common, **firing}
+    if kind == "property.changed":
+        return {"kind": "property", **common, "attribute": event.get("attribute"),
+                "value": event.get("value"), "old": event.get("old"),
+                "origin": event.get("origin")}  # fmt: skip
+    if kind == "model.updated":
+        return {"kind": "model.updated", **common, "line": str(event.get("value"))[:500]}
+    return None
