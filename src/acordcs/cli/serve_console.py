@@ -10,8 +10,6 @@ import click
 
 from acordcs.diagnostics import printable
 
-SITE_NAME = "acordcs console"
-
 
 @click.command()
 @click.argument("app_dir", metavar="APPDIR", type=click.Path(file_okay=False))
@@ -83,13 +81,12 @@ def console(
     import logging
     import signal
 
-    from acordcs.console.app_commands import parse
     from acordcs.console.attaching import AttachError
     from acordcs.console.fanout import ConsoleHub
     from acordcs.console.in_thread import AnnouncingServer, free_port, server_config
     from acordcs.console.live_session import LiveSession
     from acordcs.console.site_guard import allowed_names, host_name, is_loopback
-    from acordcs.console.web_app import ConsoleSite, console_refusals, create_app, quiet_uvicorn
+    from acordcs.console.web_app import console_refusals, create_app, quiet_uvicorn
     from acordcs.runtime.connectors.pyrogate import is_loopback as loopback_host
 
     app = Path(app_dir)
@@ -125,12 +122,7 @@ def console(
             "127.0.0.1 and an SSH tunnel (ssh -L PORT:127.0.0.1:PORT this-machine)",
             err=True,
         )
-    site = ConsoleSite(
-        name=SITE_NAME,
-        static=_static(),
-        protocol="acordcs",
-        parse=lambda text: parse(text, session.page["operations"]),
-    )
+    site = session.site()
     port = port or free_port(host)
     name = host_name(allow_host[0]) if everywhere else host.strip("[]")
     name = f"[{name}]" if ":" in name else name
@@ -156,12 +148,6 @@ def console(
     finally:
         session.close()
     click.echo("acordcs console stopped")
-
-
-def _static():
-    from importlib import resources
-
-    return resources.files("acordcs.console") / "static"
 
 
 def _interrupt(signum: int, frame: object) -> None:

@@ -7,6 +7,8 @@ arithmetic). Every command may carry ``"ref"``, an integer from 0 to 2**31 - 1 t
   [40]}``: an operation of a provided synchronous port of the model, each argument of its
   parameter's type (``int``: an integer of at most 64 bits; ``double``: a finite number;
   ``bool``; ``string``: at most 1000 characters), as many as it has ``in`` parameters (token);
+- ``{"cmd": "set", "element": "Vent", "attribute": "opening", "value": 40}``: a property of a
+  component of the model, its value of the property's type (token);
 - ``{"cmd": "plan"}``: the plan of an update from the console's model file (token);
 - ``{"cmd": "apply", "plan": "<sha256 of the plan shown>"}``: apply that plan (token).
 """
@@ -59,9 +61,13 @@ def _argument(value: Any, type_name: str, name: str) -> Any:
     return value
 
 
-def parse(text: str | bytes, operations: Iterable[Mapping[str, Any]]) -> Command:
-    """The command in ``text`` (``operations``: the page model's, what ``call`` may name), or
-    :class:`CommandError`."""
+def parse(
+    text: str | bytes,
+    operations: Iterable[Mapping[str, Any]],
+    properties: Iterable[Mapping[str, Any]] = (),
+) -> Command:
+    """The command in ``text`` (``operations``, ``properties``: the page model's, what ``call``
+    and ``set`` may name), or :class:`CommandError`."""
     message = read_object(text)
     ref = message.get("ref")
     echo: dict[str, Any] = {}
@@ -82,6 +88,18 @@ def parse(text: str | bytes, operations: Iterable[Mapping[str, Any]]) -> Command
                 f"'plan' must be the plan's sha256 (64 hex digits), not {shown(plan)}"
             )
         return Command(name, {"plan": plan}, echo)
+    if name == "set":
+        element, attribute = message.get("element"), message.get("attribute")
+        found = next(
+            (p for p in properties if p["element"] == element and p["attribute"] == attribute),
+            None,
+        )
+        if found is None:
+            raise CommandError(
+                f"{shown(element)}.{shown(attribute)} is not a property of a component of the model"
+            )
+        value = _argument(message.get("value"), found["type"], str(attribute))
+        return Command(name, {"element": element, "attribute": attribute, "value": value}, echo)
     if name == "call":
         names = [message.get(k) for k in ("component", "port", "operation")]
         if not all(isinstance(n, str) and _NAME.match(n) for n in names):
@@ -107,5 +125,5 @@ def parse(text: str | bytes, operations: Iterable[Mapping[str, Any]]) -> Command
         return Command(name, {"component": component, "port": port, "operation": operation,
                               "args": typed}, echo)  # fmt: skip
     raise CommandError(
-        f"unknown command {shown(name)}: the commands are auth, call, plan, apply, ping"
+        f"unknown command {shown(name)}: the commands are auth, call, set, plan, apply, ping"
     )

@@ -204,8 +204,11 @@ def architecture_svg(app: Application) -> str:
     for m in app.monitors:
         mbox = boxes.get(m.name)
         for ref in m.sources if mbox else ():
-            if ref.name in boxes:
-                drawn.append(("reads", m.name, *router.route(boxes[ref.name], mbox), None))
+            owner, _, port = ref.name.partition(".")  # a component, or a port: Component.Port
+            source = boxes.get(owner)
+            if source is not None:
+                at = _port_end(source, port) if port else None
+                drawn.append(("reads", m.name, *router.route(source, mbox, at), None))
         for ref in m.feeds if mbox else ():
             if ref.name in boxes:
                 drawn.append(("feeds", m.name, *router.route(mbox, boxes[ref.name]), None))

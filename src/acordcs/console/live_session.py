@@ -20,7 +20,8 @@ oldest):
 and each container's snapshot on the latest channel ``snapshot:<container>``.
 
 Its hands need the console's token (the link's fragment): ``call`` (an operation of a provided
-port, through the container's endpoint as another container calls it), ``plan`` and ``apply``
+port, through the container's endpoint as another container calls it), ``set`` (a component's
+property, through the management interface: a change at run time), ``plan`` and ``apply``
 (``acordcs-gen update`` itself, run with the model file given at start: the plan first, with
 ``--dry-run``, then the update on confirmation, in a child process with the console's
 environment, so that the console has no second implementation of it).
@@ -33,16 +34,20 @@ import secrets
 import subprocess
 import sys
 import threading
+from importlib import resources
 from pathlib import Path
 from typing import Any
 
+from acordcs.console import app_commands
 from acordcs.console.attaching import Application, AttachError, Watcher
 from acordcs.console.fanout import EVENT, ConsoleHub
 from acordcs.console.page_model import page_model
+from acordcs.console.web_app import ConsoleSite
 from acordcs.runtime.errors import RuntimeFailure
 from acordcs.runtime.live.observer import plain
 
 MODE = "attached"
+SITE_NAME = "acordcs console"
 UPDATE_SECONDS = 300.0
 """Seconds ``acordcs-gen update`` may take (a build, then each container's apply)."""
 RUN_UPDATE = "import sys; from acordcs.cli import main; sys.exit(main(sys.argv[1:]))"
@@ -92,6 +97,17 @@ class LiveSession:
             raise
         return f"{self.app.name}: {self.app.describe()}"
 
+    def site(self) -> ConsoleSite:
+        """The console's site: the library's page, subprotocol ``acordcs``, the commands of
+        :mod:`.app_commands` over this application's operations and properties."""
+        operations, properties = self.page["operations"], self.page["properties"]
+        return ConsoleSite(
+            name=SITE_NAME,
+            static=resources.files("acordcs.console") / "static",
+            protocol="acordcs",
+            parse=lambda text: app_commands.parse(text, operations, properties),
+        )
+
     def describe(self) -> dict[str, Any]:
         return {"mode": MODE, "application": self.app.name, "containers": list(self.app.places)}
 
@@ -138,6 +154,17 @@ class LiveSession:
             )
         try:
             return plain(self.app.call(component, port, operation, *args))
+        except RuntimeFailure as err:
+            raise RuntimeError(err.message) from None
+
+    def set(self, element: str, attribute: str, value: Any) -> Any:
+        """Set property ``element.attribute`` through the management interface of the container
+        hosting ``element`` (which types it by the model and refuses as it refuses updates)."""
+        container = self.app.host_of.get(element.partition(".")[0])
+        if container is None:
+            raise ValueError(f"{element} is not a component of the model")
+        try:
+            return self.app.manage(container, "set_property", element, attribute, value)
         except RuntimeFailure as err:
             raise RuntimeError(err.message) from None
 

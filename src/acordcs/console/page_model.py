@@ -2,8 +2,9 @@
 ``application`` channel): the architecture's SVG (:mod:`.diagram`), every element's kind,
 qualified name, model id, container, properties and operations (shown when it is clicked), the
 series to plot (each monitor's numeric properties, with the range a policy set's variable gives
-it), each policy set's inputs, outputs and rules, and the operations of provided synchronous
-ports (the forms of the page, typed by their parameters). The page derives nothing from the
+it), each policy set's inputs, outputs and rules, the operations of provided synchronous ports
+(a port declaring none offers its component's, as the remote connector does) and the components'
+properties (the forms of the page, typed by the model). The page derives nothing from the
 model itself: what it shows is computed here, once.
 """
 
@@ -119,13 +120,15 @@ def page_model(app: Application) -> dict[str, Any]:
                       for p in s.policies for r in p.rules],
             "ranges": {k: list(v) for k, v in ranges.items() if k in (*s.inputs, *s.outputs)},
         })  # fmt: skip
+    # A provided synchronous port that declares no operations offers its component's (what the
+    # remote connector exposes to other processes).
     operations = [
         {"component": comp.name, "port": port.name, "container": where.get(comp.name),
          **_operation(o)}
         for comp in app.components
         for port in comp.ports
         if port.role == "provided" and port.kind == "synchronous"
-        for o in port.operations
+        for o in (port.operations or comp.operations)
     ]  # fmt: skip
     properties = [
         {"element": comp.name, "attribute": p.name, "type": p.type, "kind": p.kind,

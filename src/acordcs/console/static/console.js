@@ -136,6 +136,15 @@ function showApplication(app) {
     $("call").disabled = true;
   }
   showParameters();
+  const props = $("property");
+  props.replaceChildren();
+  app.properties.forEach((p, i) => {
+    const option = document.createElement("option");
+    option.value = String(i);
+    option.textContent = `${p.element}.${p.attribute}: ${p.type} (default ${p.default})`;
+    props.append(option);
+  });
+  $("set").disabled = props.disabled = !app.properties.length;
   $("update-model").textContent = app.model ? `model file: ${app.model}` : "started without --model FILE: no update from the page";
   $("plan").disabled = !app.model;
 }
@@ -355,6 +364,24 @@ function callOperation(event) {
   });
 }
 
+function typedValue(type, text) {
+  const t = type.toLowerCase();
+  if (["int", "integer", "long", "short", "double", "float", "real"].includes(t)) return Number(text);
+  if (["bool", "boolean"].includes(t)) return text === "true";
+  return text;
+}
+
+function setProperty(event) {
+  event.preventDefault();
+  const p = state.app.properties[Number($("property").value)];
+  $("set-result").textContent = "setting…";
+  send({ cmd: "set", element: p.element, attribute: p.attribute, value: typedValue(p.type, $("property-value").value) }, (reply) => {
+    const out = $("set-result");
+    out.className = reply.type === "done" ? "ok" : "refused";
+    out.textContent = reply.type === "done" ? `${p.element}.${p.attribute}: ${fmt(reply.result.old)} → ${fmt(reply.result.value)}` : `refused: ${reply.why}`;
+  });
+}
+
 function plan() {
   $("plan-text").hidden = false;
   $("plan-text").textContent = "planning (acordcs-gen update --dry-run)…";
@@ -380,6 +407,7 @@ function apply() {
 
 $("operation").addEventListener("change", showParameters);
 $("call-form").addEventListener("submit", callOperation);
+$("set-form").addEventListener("submit", setProperty);
 $("plan").addEventListener("click", plan);
 $("apply").addEventListener("click", apply);
 setInterval(drawPlots, 250);

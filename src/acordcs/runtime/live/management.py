@@ -12,7 +12,8 @@ descriptor.
 :class:`ManagementEndpoint` serves it over Pyro5 beside the container's endpoint, at the object
 ``acordcs.manage.<container>`` of the same daemon: the same token admits callers (the handshake
 of :mod:`.connectors.pyrogate`), calls in serpent only, and only its methods are exposed:
-``status``, ``descriptor``, ``properties``, ``apply``, ``hold`` and ``release``. A container
+``status``, ``descriptor``, ``properties``, ``apply``, ``set_property``, ``hold`` and
+``release``. A container
 served without a token refuses updates and holds unless it was started with updates allowed
 explicitly on a loopback host (``--updates-without-token``). :func:`manage` also serves the
 container's observer interface beside it (:mod:`.observer`: its context and policy firings, for a
@@ -46,6 +47,7 @@ from acordcs.runtime.live.apply_update import UpdateFailed, apply_part
 from acordcs.runtime.live.code_check import hosted_here
 from acordcs.runtime.live.holds import CallHold
 from acordcs.runtime.live.observer import OBSERVE_OBJECT, Observer, ObserverEndpoint
+from acordcs.runtime.live.property_setting import model_property, typed
 from acordcs.runtime.live.update_steps import Classes
 
 if TYPE_CHECKING:
@@ -189,6 +191,27 @@ class Management:
         the container) as they are now; an element it does not have is left out."""
         found = self.container.elements()
         return {e: _plain(found[e]) for e in elements if isinstance(e, str) and e in found}
+
+    def set_property(self, element: str, attribute: str, value: object) -> dict[str, Any]:
+        """Set property ``element.attribute`` of the model the container runs to ``value``,
+        typed by its kind (:mod:`.property_setting`); refused as updates are. A change at run
+        time: an update leaves it be. Returns the ``value`` set and the ``old`` one."""
+        if self.refusal is not None:
+            raise ConfigurationError(
+                self.refusal.replace(
+                    "it takes no update", "it takes no update and sets no property"
+                )
+            )
+        prop = model_property(self.application, self.name, element, attribute)
+        new = typed(prop, value)
+        old = self.container.get_property(element, attribute)
+        self.container.set_property(element, attribute, new)
+        return {
+            "element": element,
+            "attribute": attribute,
+            "value": new,
+            "old": _plain({"": old})[""],
+        }
 
     def hold(self, component: str, seconds: float) -> dict[str, Any]:
         """Hold the calls other processes make to ``component`` for ``seconds`` (see the module
@@ -459,6 +482,12 @@ class ManagementEndpoint:
                 descriptor, expected, remote, bool(reset), tuple(code)[:10000]
             )
         )
+
+    @serpent_only
+    def set_property(self, element: str, attribute: str, value: Any) -> dict[str, Any]:
+        if not isinstance(element, str) or not isinstance(attribute, str):
+            raise RemoteFault("TypeError", "set_property(element, attribute, value)", None)
+        return self._guarded(lambda: self._management.set_property(element, attribute, value))
 
     @serpent_only
     def hold(self, component: str, seconds: float) -> dict[str, Any]:
