@@ -273,7 +273,7 @@ def architecture_svg(app: Application) -> str:
         )
         label.text = f"{frame['name']}  ({frame['host']})"
     lines = ET.SubElement(svg, "g", {"class": "lines"})
-    labels: list[tuple[float, float, str]] = []
+    labels: list[tuple[float, float, str, Connection]] = []
     for kind, owner, d, lx, ly, conn in drawn:
         if conn is None:
             path = ET.SubElement(
@@ -287,7 +287,7 @@ def architecture_svg(app: Application) -> str:
         ET.SubElement(group, "path", {"d": d, "class": "line connection",
                                       "marker-end": "url(#arrow-connection)"})  # fmt: skip
         kind_of = _port_kind(app, conn.required.component, conn.required.port)
-        labels.append((lx, ly, f"{conn.name}: {conn.connector}, {kind_of or 'port'}"))
+        labels.append((lx, ly, f"{conn.name}: {conn.connector}, {kind_of or 'port'}", conn))
     for box in boxes.values():
         group = _element_group(svg, box.kind, box.name, box.qualified_name, box.model_id)
         ET.SubElement(
@@ -326,9 +326,10 @@ def architecture_svg(app: Application) -> str:
                 },
             )
             ET.SubElement(square, "title").text = f"{box.name}.{port} ({role})"
-    for lx, ly, text in labels:  # over the boxes and lines
-        label = ET.SubElement(svg, "text", {"x": f"{lx:.1f}", "y": f"{ly:.1f}",
-                                            "class": "line-label"})  # fmt: skip
+    for lx, ly, text, conn in labels:  # over the boxes and lines; a click on it shows the line's
+        group = _element_group(svg, "connection", conn.name, conn.qualified_name, conn.id)
+        label = ET.SubElement(group, "text", {"x": f"{lx:.1f}", "y": f"{ly:.1f}",
+                                              "class": "line-label"})  # fmt: skip
         label.text = text
     _legend(svg, height - 20)
     return ET.tostring(svg, encoding="unicode")
