@@ -11,7 +11,6 @@ import pytest
 
 from tests.console.attached_console import TOKEN, attached
 from tests.console.test_console_shows_and_drives_the_greenhouse_in_a_browser import names, until
-from tests.support.browser import headless_chromium
 from tests.support.toolchain import SAMPLES
 
 pytestmark = pytest.mark.service
@@ -20,11 +19,12 @@ VENTILATION = SAMPLES / "papyrus" / "ventilation.uml"
 
 
 def test_the_diagram_shows_both_containers_and_a_call_from_the_form_returns_through_the_port(
-    tmp_path,
+    tmp_path, chromium
 ):
     from selenium.webdriver.support.ui import Select
 
-    with attached(VENTILATION, "ventilation_app", tmp_path) as found, headless_chromium() as d:
+    d = chromium
+    with attached(VENTILATION, "ventilation_app", tmp_path) as found:
         d.get(f"{found.url}/#token={TOKEN}")
         until(d, lambda d: names(d, "container"), "the diagram")
         assert names(d, "container") == {"Office", "Plant"}

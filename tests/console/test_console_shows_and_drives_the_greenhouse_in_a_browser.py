@@ -6,7 +6,7 @@ membership of the input shown in the rule's term (computed here from the model's
 oracle independent of the engine); a property set from the form reaches the container (read back
 through its management interface); an update planned from the page shows the plan, and once
 applied the next firing follows the changed rule. A cross-site page, a wrong Host and a viewer
-without the token are refused."""
+without the token are refused. The generated ``bin/console`` serves the page and stops on TERM."""
 
 from __future__ import annotations
 
@@ -19,7 +19,6 @@ from urllib.parse import urlsplit
 import pytest
 
 from tests.console.attached_console import TOKEN, attached
-from tests.support.browser import chromium_driver
 from tests.support.toolchain import SAMPLES
 
 pytestmark = pytest.mark.service
@@ -35,13 +34,9 @@ def greenhouse(tmp_path_factory):
 
 
 @pytest.fixture(scope="module")
-def browser(greenhouse):
-    driver = chromium_driver(1400, 1300)
-    try:
-        driver.get(f"{greenhouse.url}/#token={TOKEN}")
-        yield driver
-    finally:
-        driver.quit()
+def browser(greenhouse, chromium):
+    chromium.get(f"{greenhouse.url}/#token={TOKEN}")
+    return chromium
 
 
 def until(browser, condition, what: str, timeout: float = WAIT):
@@ -72,6 +67,10 @@ def test_the_diagram_shows_every_element_of_the_descriptor_each_with_its_name_an
     until(browser, lambda d: shown("model id").text == vent.id, "Vent's model id")
     assert shown("qualified name").text == vent.qualified_name
     assert shown("kind").text == "component"
+    refused = [
+        e["message"] for e in browser.get_log("browser") if "Content Security" in e["message"]
+    ]
+    assert not refused  # the page runs whole under its own CSP
 
 
 def test_the_monitors_plot_gains_points(browser):
@@ -223,3 +222,37 @@ def test_a_viewer_without_the_token_sees_nothing_of_an_application_started_with_
     finally:
         browser.close()
         browser.switch_to.window(browser.window_handles[0])
+
+
+def test_the_generated_bin_console_serves_the_page_and_stops_on_term(greenhouse):
+    import signal
+    import subprocess
+    import urllib.request
+
+    from tests.generator.test_shell_scripts_parse_quote_and_run import free_ports
+
+    port = free_ports(1)[0]
+    child = subprocess.Popen(
+        ["sh", str(greenhouse.out / "bin" / "console"), "--port", str(port)],
+        env=greenhouse.env, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+    )  # fmt: skip
+    try:
+        attached_line = child.stdout.readline()
+        link = child.stdout.readline()
+        assert attached_line.startswith("acordcs console: attached to Greenhouse: House at "), (
+            attached_line + child.stderr.read()
+        )
+        assert re.fullmatch(
+            rf"acordcs console: http://127\.0\.0\.1:{port}/#token=[A-Za-z0-9_-]{{22}}\n", link
+        ), link
+        with urllib.request.urlopen(f"http://127.0.0.1:{port}/", timeout=10) as page:
+            assert "acordcs console" in page.read().decode()
+            assert "frame-ancestors 'none'" in page.headers["content-security-policy"]
+        child.send_signal(signal.SIGTERM)
+        out, err = child.communicate(timeout=20)
+        assert child.returncode == 0, err
+        assert "acordcs console stopped" in out
+    finally:
+        if child.poll() is None:
+            child.kill()
+            child.wait()
