@@ -87,7 +87,7 @@ def console_on(app: Greenhouse, watchers: int = 0) -> Iterator[tuple[str, Consol
     saved = {k: os.environ.get(k) for k in app.env if k.startswith("ACORDCS_")}
     os.environ.update({k: v for k, v in app.env.items() if k.startswith("ACORDCS_")})
     hub = ConsoleHub(max_viewers=16, max_watchers=watchers)
-    session = LiveSession(hub, TOKEN, app.out)
+    session = LiveSession.attached(hub, TOKEN, app.out)
     try:
         session.attach()
         site = session.site()
@@ -156,7 +156,7 @@ def firing_latency(app: Greenhouse, seconds: float) -> list[float]:
         os.environ.update({k: v for k, v in app.env.items() if k.startswith("ACORDCS_")})
         session_app = None
         try:
-            session_app = Application(app.out, 5.0)
+            session_app = Application.built_in(app.out, 5.0)
             best = None
             for _ in range(20):
                 t0 = time.monotonic()

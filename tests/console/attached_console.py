@@ -68,7 +68,7 @@ def attached(model: Path, package: str, tmp: Path, **settings: str) -> Iterator[
             if key.startswith("ACORDCS_"):
                 patch.setenv(key, value)
         hub = ConsoleHub(max_viewers=4, max_watchers=0)  # started with a token: holders only
-        session = LiveSession(hub, TOKEN, out, model=copy, timeout=5.0)
+        session = LiveSession.attached(hub, TOKEN, out, model=copy, timeout=5.0)
         try:
             session.attach()
             site = session.site()

@@ -47,6 +47,14 @@ def until(browser, condition, what: str, timeout: float = WAIT):
     )
 
 
+def read(browser, selector: str) -> str | None:
+    """The text of ``selector``'s element, read at once in the page (the page replaces a
+    firing's table at each firing: a reference held across two calls may be gone)."""
+    return browser.execute_script(
+        "const e = document.querySelector(arguments[0]); return e ? e.textContent : null;", selector
+    )
+
+
 def names(browser, kind: str) -> set[str]:
     found = browser.find_elements("css selector", f'g.element[data-kind="{kind}"]')
     return {e.get_attribute("data-name") for e in found}
@@ -98,11 +106,14 @@ def membership(shape: str, parameters: tuple[float, ...], x: float) -> float:
 
 def test_a_firing_appears_with_each_rules_degree_the_membership_of_its_input(greenhouse, browser):
     table = '.policy-set[data-set="Ventilation"] table'
-    until(browser, lambda d: d.find_elements("css selector", table), "a firing of Ventilation")
-    rows = {
-        r.find_element("tag name", "th").text: r.find_element("tag name", "td").text
-        for r in browser.find_elements("css selector", f"{table} tr")
-    }
+    until(browser, lambda d: read(d, table) is not None, "a firing of Ventilation")
+    rows = dict(
+        browser.execute_script(
+            "return [...document.querySelectorAll(arguments[0])].map("
+            "r => [r.querySelector('th').textContent, r.querySelector('td').textContent]);",
+            f"{table} tr",
+        )
+    )
     temperature = float(rows["in Climate.temperature"])
     variable = next(
         v for v in greenhouse.descriptor.policy_sets[0].variables if v.attribute == "temperature"
@@ -153,7 +164,7 @@ def test_an_update_from_the_page_is_planned_then_applied_and_the_next_firing_fol
     output = '.policy-set[data-set="Ventilation"] tr.output td'
     until(
         browser,
-        lambda d: d.find_element("css selector", output).text == "50",
+        lambda d: read(d, output) == "50",
         "a firing following the changed rule (Vent.opening 50)",
     )
 
@@ -252,6 +263,50 @@ def test_the_generated_bin_console_serves_the_page_and_stops_on_term(greenhouse)
         out, err = child.communicate(timeout=20)
         assert child.returncode == 0, err
         assert "acordcs console stopped" in out
+    finally:
+        if child.poll() is None:
+            child.kill()
+            child.wait()
+
+
+def test_a_single_process_run_serves_the_same_console_beside_its_container(greenhouse):
+    import json
+    import os
+    import signal
+    import subprocess
+    import sys
+
+    websockets_sync = pytest.importorskip("websockets.sync.client")
+    env = {k: v for k, v in greenhouse.env.items() if not k.startswith("ACORDCS_")}
+    env["PYTHONPATH"] = os.pathsep.join([str(greenhouse.out), env.get("PYTHONPATH", "")])
+    child = subprocess.Popen(
+        [sys.executable, "-m", "greenhouse_app.House", "--clock", "real", "--console", "0",
+         "--duration", "60"],
+        env=env, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+    )  # fmt: skip
+    try:
+        link = ""
+        while "console:" not in link:
+            link = child.stdout.readline()
+            assert link, child.stderr.read()
+        found = re.search(r"http://(127\.0\.0\.1:\d+)/#token=([A-Za-z0-9_-]+)", link)
+        assert found, link
+        where, token = found.groups()
+        kinds: set[str] = set()
+        with websockets_sync.connect(
+            f"ws://{where}/ws", subprotocols=["acordcs", f"acordcs.token.{token}"]
+        ) as ws:
+            while not {"application", "fired"} <= kinds:
+                message = json.loads(ws.recv(timeout=WAIT))
+                for m in message if isinstance(message, list) else [message]:
+                    kinds.add(m["type"])
+                    if m["type"] == "event":
+                        kinds.add(m["data"]["kind"])
+                    if m["type"] == "application":
+                        assert [c for c in m["data"]["containers"]] == ["House"]
+        child.send_signal(signal.SIGTERM)
+        out, _ = child.communicate(timeout=20)
+        assert "House: stopped at" in out and child.returncode == 0
     finally:
         if child.poll() is None:
             child.kill()

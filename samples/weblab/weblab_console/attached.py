@@ -90,7 +90,7 @@ class AttachedSession:
     def __init__(self, hub: ConsoleHub, token: str, app_dir: Path, *, timeout: float = TIMEOUT):
         self.hub = hub
         self.token = token
-        self.app = Application(Path(app_dir), timeout, HOW_TO_START)
+        self.app = Application.built_in(Path(app_dir), timeout, HOW_TO_START)
         self.lab = self.app.host_of.get("Locomotion")
         if self.lab is None or "Vision" not in self.app.host_of:
             raise AttachError(f"{app_dir}: not the WebLab application (no Locomotion or Vision)")

@@ -104,13 +104,13 @@ def console(
     token = secrets.token_urlsafe(16)
     hub = ConsoleHub(max_viewers=viewers, max_watchers=8)
     try:
-        session = LiveSession(
+        session = LiveSession.attached(
             hub, token, app, model=Path(model) if model else None, timeout=timeout
         )
     except AttachError as err:
         _fail(f"cannot attach to {shown}: {printable(str(err))}", 2)
     if watchers is None:
-        open_app = not session.app.settings.token and all(
+        open_app = not session.app.token and all(
             loopback_host(p.host) for p in session.app.places.values()
         )
         watchers = 8 if open_app else 0

@@ -16,10 +16,10 @@ from __future__ import annotations
 
 import contextlib
 import threading
-from collections.abc import Callable
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from acordcs.cli.running import NotFound, settings
 from acordcs.descriptor import DescriptorError, from_xml
@@ -27,6 +27,9 @@ from acordcs.runtime.connectors.remote import RemoteConnector, bytes_back, conta
 from acordcs.runtime.errors import RuntimeFailure
 from acordcs.runtime.live.management import MANAGE_OBJECT
 from acordcs.runtime.live.observer import OBSERVE_OBJECT
+
+if TYPE_CHECKING:
+    from acordcs.descriptor import Application as AppDescriptor
 
 POLL_WAIT = 1.0  # seconds a poll waits for something new
 RETRY = 2.0  # seconds between attempts to reach a container that did not answer
@@ -64,12 +67,39 @@ class Place:
 
 
 class Application:
-    """The application built in ``app_dir`` as its scripts run it (see the module docstring);
+    """An application's running containers as a console reaches them: ``descriptor``, what it
+    runs; ``places``, where each container serves; ``token``, the application's (empty: none);
     ``timeout``: seconds a call may take; ``how_to_start``: what a container that does not answer
-    is told to do."""
+    is told to do; ``app_dir``: the directory it was built in (None: not known, as for a
+    single process that serves its own console). :meth:`built_in` finds them as the scripts
+    do."""
 
-    def __init__(self, app_dir: Path, timeout: float, how_to_start: str = HOW_TO_START) -> None:
+    def __init__(
+        self,
+        descriptor: AppDescriptor,
+        places: Mapping[str, Place],
+        token: str,
+        timeout: float,
+        how_to_start: str = HOW_TO_START,
+        app_dir: Path | None = None,
+    ) -> None:
+        self.descriptor = descriptor
+        self.places = dict(places)
+        self.token = token
         self.how_to_start = how_to_start
+        self.app_dir = app_dir
+        self.name = descriptor.name
+        self.host_of = {
+            component: c.name for c in descriptor.containers for component in c.hosted("component")
+        }
+        self.connector = RemoteConnector(timeout=timeout, token=token or None)
+
+    @classmethod
+    def built_in(
+        cls, app_dir: Path, timeout: float, how_to_start: str = HOW_TO_START
+    ) -> Application:
+        """The application built in ``app_dir`` as its scripts run it (see the module
+        docstring), or AttachError saying why not."""
         try:
             found = settings(app_dir)
         except NotFound as err:
@@ -79,20 +109,12 @@ class Application:
             descriptor = from_xml(path.read_bytes(), file=str(path))
         except (OSError, DescriptorError) as err:
             raise AttachError(f"{path}: {err}: build the application first") from None
-        self.descriptor = descriptor
-        self.app_dir = Path(app_dir)
-        self.settings = found
-        self.name = descriptor.name
-        self.run_dir = found.run_dir
-        self.places: dict[str, Place] = {}
+        places = {}
         for name, (host, port) in found.containers.items():
             if not port.isdigit():
                 raise AttachError(f"container {name}: its port is {port!r}, not a number")
-            self.places[name] = Place(name, host, int(port))
-        self.host_of = {
-            component: c.name for c in descriptor.containers for component in c.hosted("component")
-        }
-        self.connector = RemoteConnector(timeout=timeout, token=found.token or None)
+            places[name] = Place(name, host, int(port))
+        return cls(descriptor, places, found.token, timeout, how_to_start, Path(app_dir))
 
     def place_of(self, component: str) -> Place:
         return self.places[self.host_of[component]]

@@ -57,23 +57,17 @@ OUTPUT_KEPT = 20000
 
 
 class LiveSession:
-    """The console over the application built in ``app_dir`` and started by its scripts;
-    ``token``: the console's (its link carries it); ``model``: the model file ``plan`` and
-    ``apply`` build (None: no update from the page); ``timeout``: seconds a container may take to
-    answer."""
+    """The console over the running application ``app``; ``token``: the console's (its link
+    carries it); ``model``: the model file ``plan`` and ``apply`` build (None: no update from the
+    page; needs ``app.app_dir``). :meth:`attached` attaches to the application built in a
+    directory and started by its scripts."""
 
     def __init__(
-        self,
-        hub: ConsoleHub,
-        token: str,
-        app_dir: Path,
-        *,
-        model: Path | None = None,
-        timeout: float = 5.0,
+        self, hub: ConsoleHub, token: str, app: Application, *, model: Path | None = None
     ) -> None:
         self.hub = hub
         self.token = token
-        self.app = Application(Path(app_dir), timeout)
+        self.app = app
         self.model = model
         self.lock = threading.Lock()  # one update at a time
         self.page = page_model(self.app.descriptor)
@@ -82,6 +76,20 @@ class LiveSession:
         self.watchers = {
             name: Watcher(self.app, name, [], self._deliver) for name in self.app.places
         }
+
+    @classmethod
+    def attached(
+        cls,
+        hub: ConsoleHub,
+        token: str,
+        app_dir: Path,
+        *,
+        model: Path | None = None,
+        timeout: float = 5.0,
+    ) -> LiveSession:
+        """The console over the application built in ``app_dir`` and started by its scripts
+        (AttachError when it cannot be found); ``timeout``: seconds a container may take."""
+        return cls(hub, token, Application.built_in(Path(app_dir), timeout), model=model)
 
     # ---------------------------------------------------------------------------- the session
     def attach(self) -> str:
@@ -187,9 +195,10 @@ class LiveSession:
             return self._update()
 
     def _update(self, *options: str) -> dict[str, Any]:
-        if self.model is None:
+        if self.model is None or self.app.app_dir is None:
             raise RuntimeError(
-                "the console was started without --model FILE: it has no model to update from"
+                "the console was started without --model FILE (or without the application's "
+                "directory): it has no model to update from"
             )
         argv = [sys.executable, "-c", RUN_UPDATE, "update", str(self.model),
                 "-o", str(self.app.app_dir), *options]  # fmt: skip
