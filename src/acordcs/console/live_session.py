@@ -70,6 +70,7 @@ class LiveSession:
         self.app = app
         self.model = model
         self.lock = threading.Lock()  # one update at a time
+        self.answering: set[str] = set()  # the containers watched and answering (watchers' threads)
         self.page = page_model(self.app.descriptor)
         self.page["model"] = str(model) if model is not None else None
         hub.publish("application", self.page)
@@ -133,9 +134,12 @@ class LiveSession:
         publish = self.hub.publish
         if kind == "snapshot":
             publish(f"snapshot:{container}", data)
-            publish(EVENT, {"kind": "up", "container": container, "time": data.get("time")})
+            if container not in self.answering:  # the first watch, or again after it was down
+                self.answering.add(container)
+                publish(EVENT, {"kind": "up", "container": container, "time": data.get("time")})
             return
         if kind == "down":
+            self.answering.discard(container)
             publish(EVENT, {"kind": "down", "container": container, "why": str(data)[:500]})
             return
         for event in data.get("events", ()):
@@ -149,17 +153,9 @@ class LiveSession:
 
     # ------------------------------------------------------------------------------- hands
     def call(self, component: str, port: str, operation: str, args: list[Any]) -> Any:
-        """``component.operation(*args)`` through its provided ``port``: its result, made plain
-        for the page (a fault is raised: the server sends its text back)."""
-        known = any(
-            o["component"] == component and o["port"] == port and o["name"] == operation
-            for o in self.page["operations"]
-        )
-        if not known:
-            raise ValueError(
-                f"{component}.{port}.{operation} is not an operation of a provided synchronous "
-                "port of the model"
-            )
+        """``component.operation(*args)`` through its provided ``port`` (an operation of the
+        page model's, as :mod:`.app_commands` checked): its result, made plain for the page (a
+        fault is raised: the server sends its text back)."""
         try:
             return plain(self.app.call(component, port, operation, *args))
         except RuntimeFailure as err:
