@@ -311,3 +311,16 @@ def test_a_single_process_run_serves_the_same_console_beside_its_container(green
         if child.poll() is None:
             child.kill()
             child.wait()
+
+
+def test_a_container_that_stops_answering_is_an_event(greenhouse, browser):
+    # The module's last test: it stops the greenhouse (the fixture's stop-all finds it stopped).
+    from tests.support.scripts import script
+
+    stopped = script(greenhouse.out / "bin", "House-stop", greenhouse.env, timeout=60)
+    assert stopped.returncode == 0, stopped.stdout + stopped.stderr
+    until(
+        browser,
+        lambda d: "House stopped answering" in (read(d, "#events") or ""),
+        "the container stopping in the events",
+    )
