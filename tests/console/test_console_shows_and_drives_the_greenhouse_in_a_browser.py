@@ -313,6 +313,15 @@ def test_a_single_process_run_serves_the_same_console_beside_its_container(green
             child.wait()
 
 
+def test_a_hold_and_its_release_are_events(greenhouse, browser):
+    app = greenhouse.session.app
+    app.manage("House", "hold", "Sensor", 30.0)  # as a console driving holds a component
+    events = lambda d: read(d, "#events") or ""  # noqa: E731
+    until(browser, lambda d: "House: hold on Sensor" in events(d), "the hold in the events")
+    app.manage("House", "release", "Sensor")
+    until(browser, lambda d: "House: Sensor released" in events(d), "the release in the events")
+
+
 def test_a_container_that_stops_answering_is_an_event(greenhouse, browser):
     # The module's last test: it stops the greenhouse (the fixture's stop-all finds it stopped).
     from tests.support.scripts import script

@@ -15,7 +15,10 @@ oldest):
 - ``property``: a property changed (by whom: ``origin``);
 - ``model.updated``: the plan line of a change an update applied;
 - ``fault``: what a container recorded; ``down`` and ``up``: a container that stopped answering,
-  and answers again.
+  and answers again;
+- ``hold`` and ``released``: a component whose callers from other processes are held (the
+  management interface's ``hold``: a console driving, a debugger), read from each container's
+  ``status`` every :data:`HOLDS_EVERY` seconds.
 
 and each container's snapshot on the latest channel ``snapshot:<container>``.
 
@@ -48,6 +51,8 @@ from acordcs.runtime.live.observer import plain
 
 MODE = "attached"
 SITE_NAME = "acordcs console"
+HOLDS_EVERY = 1.0
+"""Seconds between two looks at a container's holds (its management interface's ``status``)."""
 UPDATE_SECONDS = 300.0
 """Seconds ``acordcs-gen update`` may take (a build, then each container's apply)."""
 RUN_UPDATE = "import sys; from acordcs.cli import main; sys.exit(main(sys.argv[1:]))"
@@ -77,6 +82,10 @@ class LiveSession:
         self.watchers = {
             name: Watcher(self.app, name, [], self._deliver) for name in self.app.places
         }
+        self.closing = threading.Event()
+        self.holds_thread = threading.Thread(
+            target=self._watch_holds, name="acordcs-console-holds", daemon=True
+        )
 
     @classmethod
     def attached(
@@ -104,6 +113,7 @@ class LiveSession:
             for watcher in started:
                 watcher.stop()
             raise
+        self.holds_thread.start()
         return f"{self.app.name}: {self.app.describe()}"
 
     def site(self) -> ConsoleSite:
@@ -124,9 +134,33 @@ class LiveSession:
         return secrets.compare_digest(token.encode(), self.token.encode())
 
     def close(self) -> None:
+        self.closing.set()
         for watcher in self.watchers.values():
             watcher.stop()
+        if self.holds_thread.ident is not None:
+            self.holds_thread.join(HOLDS_EVERY + 10.0)
         self.app.close()
+
+    def _watch_holds(self) -> None:
+        """Publish each hold as it starts and ends (see the module docstring); a container that
+        does not answer, or that says no holds (an acordcs before them), has none."""
+        held: dict[str, set[str]] = {name: set() for name in self.app.places}
+        while not self.closing.wait(HOLDS_EVERY):
+            for container in self.app.places:
+                try:
+                    holds = self.app.manage(container, "status").get("holds", [])
+                except RuntimeFailure:
+                    continue
+                now = {h["component"]: h for h in holds if isinstance(h, dict)}
+                for component in sorted(now.keys() - held[container]):
+                    h = now[component]
+                    self.hub.publish(EVENT, {"kind": "hold", "container": container,
+                                             "component": component, "left": h.get("left"),
+                                             "waiting": h.get("waiting")})  # fmt: skip
+                for component in sorted(held[container] - now.keys()):
+                    self.hub.publish(EVENT, {"kind": "released", "container": container,
+                                             "component": component})  # fmt: skip
+                held[container] = set(now)
 
     # ------------------------------------------------------------------------------ watching
     def _deliver(self, kind: str, container: str, data: Any) -> None:

@@ -325,6 +325,10 @@ function showEvent(e) {
       return log("events", `${e.container} stopped answering: ${e.why}`, "down");
     case "up":
       return log("events", `${e.container} answers (watching)`, "up");
+    case "hold":
+      return log("events", `${e.container}: hold on ${e.component} (${Number(e.left).toFixed(1)} s left, ${e.waiting} call(s) waiting)`, "hold");
+    case "released":
+      return log("events", `${e.container}: ${e.component} released (its callers go on)`, "hold");
     case "dropped":
       return log("events", `${e.container}: ${e.count} events missed (the console fell behind)`, "fault");
   }

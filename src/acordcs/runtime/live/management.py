@@ -159,7 +159,8 @@ class Management:
         the user's files of its components and monitors as it loaded them (``code``: element ->
         ``kind``, ``file`` from the application's directory, ``sha256``), and the connections
         ``refused`` by the Pyro5 daemon serving it (its endpoint, this interface and its
-        observer's), by why: ``wrong_token`` (empty when not served)."""
+        observer's), by why: ``wrong_token`` (empty when not served), and the ``holds`` lasting
+        now (each as :meth:`hold` returns it)."""
         sets: dict[str, Any] = {}
         for name in self.policy_sets():
             try:
@@ -184,7 +185,13 @@ class Management:
             "last_update": self.last_update,
             "code": {n: dict(v) for n, v in self.code.items()},
             "refused": self.refused() if self.refused is not None else {},
+            "holds": self._held(),
         }
+
+    def _held(self) -> list[dict[str, Any]]:
+        with self._holding:
+            holds = list(self._holds.values())
+        return [state for state in (h.state() for h in holds) if state["left"] > 0]
 
     def properties(self, elements: list[str]) -> dict[str, dict[str, Any]]:
         """The properties of ``elements`` (components, ``Component.Port``, connections, monitors,
