@@ -13,7 +13,20 @@
    median of the pairs' drops, and of each figure. Target: a drop under 10 %. The host's load
    average is printed at the start and the end.
 
-Usage: PYTHONPATH=samples/weblab python benchmarks/bench_console.py [--quick]
+3. The console of any application (``acordcs-gen console``) on the tutorial's greenhouse, its
+   monitor polled at 10 Hz (the model's frequency changed from 1 to 10), started by its generated
+   scripts on a real clock, the console attached in this process: the greenhouse process's CPU
+   (its user and system time from ``/proc``, over windows of 10 s) with no console, with the
+   console and 0 viewers, and with 10 viewers (as in 2.), in rounds of the three in turn; the
+   median of each. Target: 10 viewers within 5 % of 0 (viewers cost the console's process, never
+   the application's); what the console's watch itself costs is said in points of a core.
+4. On the same greenhouse, a page holding the token (a ``websockets`` client): from a firing on
+   the container's clock (its ``policy.fired`` time) to the page having it, p50 and p95 over
+   every firing; the container's clock is read against this process's (both CLOCK_MONOTONIC: the
+   offset measured by the management interface's ``status``, the round trip's midpoint). Target:
+   p50 under 100 ms.
+
+Usage: PYTHONPATH=samples/weblab python benchmarks/bench_console.py [--quick] [--generic-only]
 (the generated application must be built: ``acordcs-gen build samples/weblab/weblab.xmi -o
 samples/weblab/app``; ``make console`` builds it too).
 """
@@ -35,9 +48,10 @@ ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT / "samples" / "weblab"))
 
 import websockets  # noqa: E402
-from weblab_console.hub import ConsoleHub  # noqa: E402
 from weblab_console.serving import serving  # noqa: E402
 from weblab_console.session import ConsoleSession  # noqa: E402
+
+from acordcs.console.fanout import ConsoleHub  # noqa: E402
 
 FRAME_TAGS = {1: "frame:onboard", 2: "frame:panoramic"}
 
@@ -206,8 +220,13 @@ def load() -> str:
 def main() -> None:
     parser = argparse.ArgumentParser()
     parser.add_argument("--quick", action="store_true")
+    parser.add_argument("--generic-only", action="store_true", help="parts 3 and 4 only")
     args = parser.parse_args()
     print(f"load average (1 / 5 / 15 min) at the start: {load()}")
+    if args.generic_only:
+        generic(args.quick)
+        print(f"load average (1 / 5 / 15 min) at the end: {load()}")
+        return
     watch_s = 8.0 if args.quick else 20.0
     seeds, repeats = (range(1, 2), 2) if args.quick else (range(1, 7), 8)
     print("1. throttled to real time, one page:")
@@ -240,7 +259,36 @@ def main() -> None:
         f"pairs: {', '.join(f'{d:.1f}' for d in drops)}; target < 10 %)"
     )
     print(f"  hub: {hub.stats()}")
+    generic(args.quick)
     print(f"load average (1 / 5 / 15 min) at the end: {load()}")
+
+
+def generic(quick: bool) -> None:
+    """Parts 3 and 4 (see the module docstring)."""
+    import tempfile
+
+    from app_console_rig import cpu_rounds, firing_latency, greenhouse_at_10_hz
+
+    with tempfile.TemporaryDirectory() as tmp, greenhouse_at_10_hz(Path(tmp)) as app:
+        window, rounds = (5.0, 2) if quick else (10.0, 5)
+        print(f"3. the console of any application: the greenhouse, its monitor at 10 Hz, "
+              f"CPU of its process over {window:g} s windows, {rounds} rounds:")  # fmt: skip
+        cpu = cpu_rounds(app, window, rounds, _viewers)
+        none, idle, ten = (statistics.median(cpu[k]) for k in ("none", "console", "10 viewers"))
+        print(
+            f"  no console {none:5.1f} %, console and 0 viewers {idle:5.1f} %, 10 viewers "
+            f"{ten:5.1f} % of a core (runs: "
+            + "; ".join(f"{k} {', '.join(f'{v:.1f}' for v in vs)}" for k, vs in cpu.items())
+            + f"); 10 viewers against 0: {100 * (ten / idle - 1):+.1f} % (target within 5 %); "
+            f"the console's watch itself: {idle - none:+.1f} points of a core"
+        )
+        seen = firing_latency(app, 8.0 if quick else 20.0)
+        seen.sort()
+        p50, p95 = statistics.median(seen), seen[int(0.95 * (len(seen) - 1))]
+        print(
+            f"4. a firing in the container to the page: p50 {p50:5.1f} ms, p95 {p95:5.1f} ms "
+            f"({len(seen)} firings, target p50 < 100 ms)"
+        )
 
 
 if __name__ == "__main__":

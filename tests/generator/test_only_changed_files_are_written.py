@@ -49,6 +49,7 @@ SHELL = [
     "bin/start-host",
     "bin/stop-all",
     "bin/stop-host",
+    "bin/console",
     *(
         f"bin/{c}-{verb}"
         for c in ("UserSide", "WebLabSide")
@@ -75,7 +76,7 @@ def test_first_build_writes_every_file(tmp_path: Path):
     assert result.code == 0, result.both
     assert sorted(snapshot(tmp_path / "out")) == FILES
     assert (
-        "58 written, 0 deleted, 0 unchanged (targets: config, java, python, rules, shell)"
+        "59 written, 0 deleted, 0 unchanged (targets: config, java, python, rules, shell)"
         in result.out
     )
 
@@ -97,7 +98,7 @@ def test_forced_rebuild_runs_the_targets_and_writes_nothing(tmp_path: Path):
     before = snapshot(tmp_path)
     result = build(WEBLAB, tmp_path, "--force")
     assert result.code == 0
-    assert "nothing changed (58 files up to date)" in result.out
+    assert "nothing changed (59 files up to date)" in result.out
     assert snapshot(tmp_path) == before
 
 
@@ -138,7 +139,7 @@ def test_a_deleted_or_edited_generated_file_is_restored(tmp_path: Path):
     # test_edited_generated_files_are_saved.py has the rest)
     assert restored.pop("rules/SpeedLimiting.fcl.edited") == b"edited"
     assert restored == {p: d for p, (d, _) in original.items()}
-    assert "3 written, 0 deleted, 56 unchanged" in result.out
+    assert "3 written, 0 deleted, 57 unchanged" in result.out
 
 
 def test_same_model_same_bytes_wherever_it_is_built_from(tmp_path: Path, monkeypatch):
@@ -181,7 +182,7 @@ def test_the_same_model_under_another_name_is_built_again(tmp_path: Path):
     result = build(renamed, out)
     assert result.code == 0
     # every header names the model file; the user's files (written once) are not written again
-    assert "41 written, 0 deleted, 17 unchanged" in result.out
+    assert "42 written, 0 deleted, 17 unchanged" in result.out
     assert "in model file lab.xmi." in (out / "rules" / "Recovering.clp").read_text(
         encoding="utf-8"
     )

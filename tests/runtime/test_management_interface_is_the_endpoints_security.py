@@ -7,6 +7,7 @@ changes nothing then; the second identical update does nothing."""
 
 from __future__ import annotations
 
+import re
 from typing import Any
 
 import Pyro5.api
@@ -91,6 +92,7 @@ def test_the_token_admits_callers_and_only_its_methods_are_exposed(served):
             "descriptor",
             "properties",
             "apply",
+            "set_property",
             "hold",
             "release",
         }
@@ -120,6 +122,28 @@ def test_without_a_token_updates_are_refused(served):
     assert run.container("house").get_property("Heater", "level") == 0
     with pytest.raises(RemoteCallError, match="it takes no update and holds no call"):
         ask(uri, "hold", "Heater", 5.0, token=None)
+    with pytest.raises(RemoteCallError, match="it takes no update and sets no property"):
+        ask(uri, "set_property", "Heater", "level", 4, token=None)
+    assert run.container("house").get_property("Heater", "level") == 0
+
+
+def test_a_property_set_is_typed_by_the_model_and_must_be_the_models(served):
+    run, uri, _ = served
+    reply = ask(uri, "set_property", "Heater", "level", 4)
+    assert (reply["value"], reply["old"]) == (4, 0)
+    assert run.container("house").get_property("Heater", "level") == 4
+    assert ask(uri, "status")["holds"] == []
+    for element, attribute, value, said in (
+        ("Heater", "level", "4", "is an int: not '4'"),
+        ("Heater", "level", True, "is an int: not True"),
+        ("Heater", "level", 2**64, "is an int"),
+        ("Heater", "__dict__", 1, "has no property 'Heater'.'__dict__'"),
+        ("Thermo", "temp", "warm", "is a double: not 'warm'"),  # a monitor's: typed too
+        ("Comfort", "fires", 1, "has no property"),  # a policy set's are not the model's
+    ):
+        with pytest.raises(RemoteCallError, match=re.escape(said)):
+            ask(uri, "set_property", element, attribute, value)
+    assert run.container("house").get_property("Heater", "level") == 4
 
 
 @pytest.mark.parametrize("served", [(None, True)], indirect=True)

@@ -19,14 +19,12 @@ import signal
 import sys
 from pathlib import Path
 
-import uvicorn
-
+from acordcs.console.attaching import AttachError
+from acordcs.console.fanout import ConsoleHub
+from acordcs.console.in_thread import AnnouncingServer, free_port, server_config
+from acordcs.console.site_guard import allowed_names, host_name, is_loopback
 from weblab_console.attached import AttachedSession
-from weblab_console.guard import allowed_names, host_name, is_loopback
-from weblab_console.hub import ConsoleHub
-from weblab_console.remote import AttachError
 from weblab_console.server import console_refusals, create_app, quiet_uvicorn
-from weblab_console.serving import free_port
 from weblab_console.session import ConsoleSession
 
 
@@ -125,35 +123,17 @@ def main(argv: list[str] | None = None) -> int:
                 print(f"weblab_console: cannot start the experiment: {err}", file=sys.stderr)
                 return 2
         refusals = console_refusals()
-        config = uvicorn.Config(
-            create_app(hub, session, allowed_hosts=allowed, refusals=refusals),
-            host=args.host,
-            port=port,
-            log_level="warning",
-            ws_max_size=65536,
+        config = server_config(
+            create_app(hub, session, allowed_hosts=allowed, refusals=refusals), args.host, port
         )
         with quiet_uvicorn(refusals):
-            _Announcing(config, link).run()
+            AnnouncingServer(config, lambda: print(link, flush=True)).run()
     except KeyboardInterrupt:  # uvicorn shut down cleanly, then passes Ctrl-C on
         pass
     finally:
         session.close()
     print("WebLab console stopped", flush=True)
     return 0
-
-
-class _Announcing(uvicorn.Server):
-    """uvicorn's server, printing the console's link once it listens (so that the link is also
-    the sign the console is ready, and its Ctrl-C handling in place)."""
-
-    def __init__(self, config: uvicorn.Config, link: str) -> None:
-        super().__init__(config)
-        self.link = link
-
-    async def startup(self, sockets: list | None = None) -> None:
-        await super().startup(sockets)
-        if self.started:
-            print(self.link, flush=True)
 
 
 def _interrupt(signum: int, frame: object) -> None:

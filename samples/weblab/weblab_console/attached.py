@@ -44,11 +44,11 @@ from typing import Any
 from weblab_sim import detector, floor, world
 from weblab_sim.robot import Robot
 
+from acordcs.console.attaching import Application, AttachError, Watcher
+from acordcs.console.fanout import ConsoleHub
 from acordcs.runtime.connectors.remote import bytes_back
 from acordcs.runtime.errors import RuntimeFailure
 from weblab_console import pictures
-from weblab_console.hub import ConsoleHub
-from weblab_console.remote import Application, AttachError, Watcher
 from weblab_console.showing import FRAME_HZ, PUBLISH_HZ, SERIES_PERIOD, Showing
 
 log = logging.getLogger("weblab.console")
@@ -70,6 +70,12 @@ MANUAL_RESEND = 1.0  # seconds between repeats of a manual forward move (a contr
 TICK = 1.0 / FRAME_HZ
 
 
+HOW_TO_START = (
+    "start the application first (make live-console starts it with the console; its "
+    "bin/start-all, with the same ACORDCS_RUN_DIR and ports, without)"
+)
+
+
 class SessionError(RuntimeError):
     """A request the session cannot carry out; ``str()`` says why and what to do."""
 
@@ -84,7 +90,7 @@ class AttachedSession:
     def __init__(self, hub: ConsoleHub, token: str, app_dir: Path, *, timeout: float = TIMEOUT):
         self.hub = hub
         self.token = token
-        self.app = Application(Path(app_dir), timeout)
+        self.app = Application.built_in(Path(app_dir), timeout, HOW_TO_START)
         self.lab = self.app.host_of.get("Locomotion")
         if self.lab is None or "Vision" not in self.app.host_of:
             raise AttachError(f"{app_dir}: not the WebLab application (no Locomotion or Vision)")
@@ -145,6 +151,10 @@ class AttachedSession:
         return f"{self.app.name}'s {len(self.app.places)} containers ({self.app.describe()}; the robot in {lab.name})"
 
     # ---------------------------------------------------------------- server.Session
+    def describe(self) -> dict[str, Any]:
+        """What a viewer is told first and the console's ``/status`` shows."""
+        return {"profiles": list(self.profiles), "mode": self.mode}
+
     def authorize(self, token: str) -> bool:
         """What the Access component says of ``token`` for the console's user, reserved again
         first: a WebLab process started again since the console attached has forgotten it."""

@@ -15,8 +15,8 @@ import sys
 import time
 from pathlib import Path
 
+from acordcs.console.fanout import ConsoleHub
 from weblab_console.attached import AttachedSession
-from weblab_console.hub import ConsoleHub
 from weblab_console.serving import serving
 from weblab_console.session import ConsoleSession
 

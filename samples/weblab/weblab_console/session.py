@@ -38,9 +38,9 @@ from typing import Any
 from weblab_sim import experiment, world
 from weblab_sim.network import PROFILES
 
+from acordcs.console.fanout import ConsoleHub
 from acordcs.runtime import events as ev
 from weblab_console import pictures
-from weblab_console.hub import ConsoleHub
 from weblab_console.showing import FRAME_HZ, PUBLISH_HZ, SERIES_PERIOD, Showing
 
 log = logging.getLogger("weblab.console")
@@ -79,6 +79,10 @@ class ConsoleSession:
         hub.publish("path", pictures.path())
 
     # ------------------------------------------------------------------ server.Session
+    def describe(self) -> dict[str, Any]:
+        """What a viewer is told first and the console's ``/status`` shows."""
+        return {"profiles": list(self.profiles), "mode": self.mode}
+
     def authorize(self, token: str) -> bool:
         """Whether the application's Access component authenticates the console with ``token``:
         through the running experiment's, or a fresh one when none runs."""

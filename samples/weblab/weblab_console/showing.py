@@ -16,7 +16,7 @@ from collections import deque
 from collections.abc import Callable, Iterable, Mapping
 from typing import Any
 
-from weblab_console.hub import EVENT, ConsoleHub
+from acordcs.console.fanout import EVENT, ConsoleHub
 
 PUBLISH_HZ = 10.0  # state, context and policies per wall second, at most
 FRAME_HZ = 15.0  # camera pictures per wall second and camera, at most (policies set <= 15 fps)

@@ -18,6 +18,7 @@ from acordcs import __version__
 from acordcs.cli import build, export, inspect, profile_export, update, validate
 from acordcs.cli import testing as scenario_testing
 from acordcs.cli.convert import convert as convert_command
+from acordcs.cli.serve_console import console as console_command
 
 
 @click.group(context_settings={"help_option_names": ["-h", "--help"]})
@@ -36,6 +37,7 @@ cli.add_command(export.export)
 cli.add_command(update.update)
 cli.add_command(scenario_testing.test)
 cli.add_command(convert_command)
+cli.add_command(console_command)
 
 
 def main(argv: list[str] | None = None) -> int:

@@ -34,7 +34,7 @@ import sys
 import tempfile
 import threading
 import traceback
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 from types import FrameType, ModuleType
@@ -49,6 +49,7 @@ from acordcs.runtime.run_arguments import RunCall, RunError, bind_run, parse_run
 if TYPE_CHECKING:
     from acordcs.descriptor import Application
     from acordcs.runtime.assembly import RunningApplication
+    from acordcs.runtime.connectors.remote import ContainerServer
     from acordcs.runtime.container import Container
 
 EXIT_OK = 0
@@ -185,6 +186,10 @@ class Launcher:
         add("--updates-without-token", action="store_true",
             help="served on a loopback host without ACORDCS_TOKEN: take updates (acordcs-gen "
             "update) all the same; any local process could then change it")  # fmt: skip
+        add("--console", type=int, metavar="PORT",
+            help="serve the browser console of this container on 127.0.0.1:PORT (0: any; "
+            "needs --clock real; serves the container on loopback if --serve is not given); "
+            "its link is printed")  # fmt: skip
         add("--exit-file", type=_exit_file, metavar="PATH",
             help="at exit, write 'EXIT_CODE FAULTS' (one line, mode 0600) to PATH, replacing it "
             "at once; an existing one is removed at start")  # fmt: skip
@@ -197,6 +202,7 @@ class Launcher:
         parser = self.parser()
         try:
             args = parser.parse_args(argv)
+            _console_options(parser, args)
         except SystemExit as exc:
             if exc.code not in (0, None):  # a usage error, which the exit file says if given
                 given = _exit_file_given(argv)
@@ -334,6 +340,7 @@ class Launcher:
                 return EXIT_NOT_STARTED, 0
         runs = _Runs()
         clock = app.clock
+        stop_console = None
         try:  # from here on, an interrupt stops it as a run's end does
             management = None
             if server is not None:
@@ -369,6 +376,8 @@ class Launcher:
                         )
                     if not runs.stop.is_set():
                         self._announce(server.uri, management.digest, runs)
+                if args.console is not None and server is not None and not runs.stop.is_set():
+                    stop_console = self._console(app, server, args.console)
                 if runs.stop.is_set():
                     pass  # a --run failed during the start-up: stopped before saying it serves
                 elif args.duration is not None:
@@ -382,6 +391,8 @@ class Launcher:
         for signum in (signal.SIGTERM, signal.SIGINT):
             signal.signal(signum, signal.SIG_IGN)
         runs.stop.set()  # a --run operation failing from now on is the stop's doing, not reported
+        if stop_console is not None:
+            stop_console()
         for line in list(runs.failed):
             self._say(line)
         faults = container.faults.counts["total"]
@@ -389,6 +400,22 @@ class Launcher:
         if runs.failed:
             return EXIT_RUN_FAILED, faults
         return (EXIT_FAULTS if faults and not args.faults_ok else EXIT_OK), faults
+
+    def _console(
+        self, app: RunningApplication, server: ContainerServer, port: int
+    ) -> Callable[[], None] | None:
+        """Serve this container's browser console (:mod:`acordcs.console.single_process`); what
+        stops it, or None when it could not start (said)."""
+        from acordcs.console.attaching import AttachError
+        from acordcs.console.single_process import serve_beside
+
+        token = os.environ.get("ACORDCS_TOKEN") if server.token_required else None
+        try:
+            return serve_beside(app.descriptor, self.container, (server.host, server.port), token,
+                                port, lambda line: print(line, flush=True))  # fmt: skip
+        except (AttachError, OSError, RuntimeError) as err:
+            self._say(f"the console did not start: {err}")
+            return None
 
     def _announce(self, uri: str, digest: str, runs: _Runs) -> None:
         """The lines saying the container serves, at the end of its start-up (what its start
@@ -439,6 +466,19 @@ class Launcher:
                 raise
         except OSError as err:
             self._say(f"cannot write the exit file {path}: {err}")
+
+
+def _console_options(parser: argparse.ArgumentParser, args: argparse.Namespace) -> None:
+    """``--console``: a port, a real clock, and the container served (on loopback unless
+    ``--serve`` and ``--host`` say otherwise)."""
+    if args.console is None:
+        return
+    if not 0 <= args.console <= 65535:
+        parser.error(f"--console {args.console}: a TCP port is 0 to 65535")
+    if args.clock != "real":
+        parser.error("--console needs --clock real (on the virtual clock the run is over at once)")
+    if args.serve is None:
+        args.serve, args.host = 0, args.host or "127.0.0.1"
 
 
 def _remote(text: str) -> tuple[str, str]:

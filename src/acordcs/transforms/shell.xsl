@@ -12,6 +12,8 @@
     bin/<C>-status         says whether it runs, and how it ended when it does not
     bin/start-all, bin/stop-all
     bin/start-host HOST, bin/stop-host HOST   the containers of one host (shell-hosts.xsl)
+    bin/console            the browser console attached to the running application
+                           (python -m acordcs.console: acordcs-gen console)
 
   Every model string that reaches shell code goes through sh:quote; comments go through
   sh:comment (line breaks and other control characters escaped, so a model string cannot start a
@@ -162,6 +164,12 @@
       </xsl:result-document>
     </xsl:for-each>
 
+    <xsl:result-document href="bin/console" method="text" encoding="UTF-8">
+      <xsl:call-template name="console">
+        <xsl:with-param name="app" select="$app"/>
+      </xsl:call-template>
+    </xsl:result-document>
+
     <files>
       <file path="bin/env.sh" element="{$app/@name}" ids="{$all-ids}" regions="hash"/>
       <xsl:for-each select="$containers">
@@ -173,6 +181,7 @@
       <file path="bin/stop-all" element="{$app/@name}" ids="{$all-ids}" executable="yes"/>
       <file path="bin/start-host" element="{$app/@name}" ids="{$all-ids}" executable="yes"/>
       <file path="bin/stop-host" element="{$app/@name}" ids="{$all-ids}" executable="yes"/>
+      <file path="bin/console" element="{$app/@name}" ids="{$all-ids}" executable="yes"/>
     </files>
   </xsl:template>
 
@@ -357,5 +366,20 @@ status=0
       <xsl:value-of select="'sh &quot;$bin/' || @name || '-' || $verb || '&quot;' || (if ($verb = 'start') then ' &quot;$@&quot;' else '') || ' || status=1' || $nl"/>
     </xsl:for-each>
     <xsl:text>exit $status&#10;</xsl:text>
+  </xsl:template>
+
+  <!-- ========================================================================== console -->
+
+  <xsl:template name="console">
+    <xsl:param name="app" as="element(d:application)"/>
+    <xsl:text>#!/bin/sh&#10;</xsl:text>
+    <xsl:value-of select="sh:header('application ''' || $app/@name || '''',
+        'Serves the browser console of the running application on 127.0.0.1 (acordcs-gen console, run by $PYTHON: '
+        || 'python -m acordcs.console), found as these scripts find it; prints its link, runs until Ctrl-C. '
+        || 'Arguments go to it (--model FILE, --port N: acordcs-gen console --help). '
+        || 'Exit: 0 stopped by Ctrl-C, 2 a container does not answer or a setting refused.')"/>
+    <xsl:call-template name="prologue"/>
+    <xsl:text><![CDATA[exec "$PYTHON" -m acordcs.console "$ACORDCS_HOME" "$@"
+]]></xsl:text>
   </xsl:template>
 </xsl:stylesheet>

@@ -9,10 +9,10 @@ network and seed in the form; the page says so when the server goes away."""
 from __future__ import annotations
 
 import pytest
-from weblab_console.hub import ConsoleHub
 from weblab_console.serving import serving
 from weblab_console.session import ConsoleSession
 
+from acordcs.console.fanout import ConsoleHub
 from tests.support.browser import chromium_driver
 
 TOKEN = "browser-test-token"

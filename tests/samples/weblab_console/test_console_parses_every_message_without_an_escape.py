@@ -24,10 +24,11 @@ import pytest
 from starlette.testclient import TestClient
 from weblab_console import server as console_server
 from weblab_console.commands import MAX_MESSAGE, MAX_SPEED, MAX_TURN
-from weblab_console.hub import ConsoleHub
 from weblab_console.server import STRIKES, create_app
 from weblab_console.serving import serving
 
+from acordcs.console import web_app
+from acordcs.console.fanout import ConsoleHub
 from tests.samples.weblab_console.test_console_server_holds_under_bad_viewers import (
     BASE,
     HOLDER,
@@ -181,7 +182,7 @@ def test_every_message_kind_with_hostile_values_is_answered_and_counted(caplog):
 
 
 def _reason(kind: str) -> str:
-    return console_server.REFUSED[kind]
+    return web_app.REFUSED[kind]
 
 
 def test_a_401_digit_speed_is_a_strike_before_the_token_check():

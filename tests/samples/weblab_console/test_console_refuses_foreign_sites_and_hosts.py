@@ -17,11 +17,11 @@ import threading
 import pytest
 from starlette.testclient import TestClient
 from starlette.websockets import WebSocketDisconnect
-from weblab_console.guard import allowed_names, host_name, same_origin
-from weblab_console.hub import ConsoleHub
 from weblab_console.server import create_app
 from weblab_console.serving import free_port
 
+from acordcs.console.fanout import ConsoleHub
+from acordcs.console.site_guard import allowed_names, host_name, same_origin
 from tests.samples.weblab_console.conftest import WEBLAB_DIR
 from tests.samples.weblab_console.test_console_server_holds_under_bad_viewers import (
     BASE,

@@ -12,9 +12,9 @@ import time
 import pytest
 from starlette.testclient import TestClient
 from weblab_console.commands import MAX_MESSAGE, CommandError, parse
-from weblab_console.hub import EVENT, EVENTS_KEPT, ConsoleHub
 from weblab_console.server import STRIKES, create_app
 
+from acordcs.console.fanout import EVENT, EVENTS_KEPT, ConsoleHub
 from tests.support.services import wait_for
 
 PROFILES = ("residential", "campus", "lan")
@@ -30,6 +30,9 @@ class Session:
     def __init__(self) -> None:
         self.calls: list[tuple] = []
         self.fail = False
+
+    def describe(self) -> dict:
+        return {"profiles": list(self.profiles), "mode": self.mode}
 
     def authorize(self, token: str) -> bool:
         return token == "s3cret"
@@ -109,12 +112,8 @@ def test_good_commands_are_read_with_their_types():
         "turn": -12.5,
     }
     start = parse('{"cmd": "start", "profile": "campus", "seed": 7}', PROFILES)
-    assert (start.name, start.args, start.controls) == (
-        "start",
-        {"profile": "campus", "seed": 7},
-        True,
-    )
-    assert not parse('{"cmd": "ping"}', PROFILES).controls
+    assert (start.name, start.args) == ("start", {"profile": "campus", "seed": 7})
+    assert parse('{"cmd": "ping"}', PROFILES).name == "ping"
 
 
 # ---------------------------------------------------------------------------------- server

@@ -11,9 +11,10 @@ import json
 import time
 
 import pytest
-from weblab_console.hub import ConsoleHub
 from weblab_console.serving import serving
 from weblab_console.session import ConsoleSession, SessionError
+
+from acordcs.console.fanout import ConsoleHub
 
 websockets_sync = pytest.importorskip("websockets.sync.client")
 ConnectionClosed = pytest.importorskip("websockets.exceptions").ConnectionClosed

@@ -7,9 +7,9 @@ from __future__ import annotations
 import importlib
 import time
 
-from weblab_console.hub import ConsoleHub
 from weblab_console.session import ConsoleSession
 
+from acordcs.console.fanout import ConsoleHub
 from acordcs.descriptor import to_xml
 from acordcs.generator.describe import describe
 from acordcs.model.reading import read_model

@@ -12,7 +12,8 @@ descriptor.
 :class:`ManagementEndpoint` serves it over Pyro5 beside the container's endpoint, at the object
 ``acordcs.manage.<container>`` of the same daemon: the same token admits callers (the handshake
 of :mod:`.connectors.pyrogate`), calls in serpent only, and only its methods are exposed:
-``status``, ``descriptor``, ``properties``, ``apply``, ``hold`` and ``release``. A container
+``status``, ``descriptor``, ``properties``, ``apply``, ``set_property``, ``hold`` and
+``release``. A container
 served without a token refuses updates and holds unless it was started with updates allowed
 explicitly on a loopback host (``--updates-without-token``). :func:`manage` also serves the
 container's observer interface beside it (:mod:`.observer`: its context and policy firings, for a
@@ -46,6 +47,7 @@ from acordcs.runtime.live.apply_update import UpdateFailed, apply_part
 from acordcs.runtime.live.code_check import hosted_here
 from acordcs.runtime.live.holds import CallHold
 from acordcs.runtime.live.observer import OBSERVE_OBJECT, Observer, ObserverEndpoint
+from acordcs.runtime.live.property_setting import model_property, typed
 from acordcs.runtime.live.update_steps import Classes
 
 if TYPE_CHECKING:
@@ -157,7 +159,8 @@ class Management:
         the user's files of its components and monitors as it loaded them (``code``: element ->
         ``kind``, ``file`` from the application's directory, ``sha256``), and the connections
         ``refused`` by the Pyro5 daemon serving it (its endpoint, this interface and its
-        observer's), by why: ``wrong_token`` (empty when not served)."""
+        observer's), by why: ``wrong_token`` (empty when not served), and the ``holds`` lasting
+        now (each as :meth:`hold` returns it)."""
         sets: dict[str, Any] = {}
         for name in self.policy_sets():
             try:
@@ -182,13 +185,40 @@ class Management:
             "last_update": self.last_update,
             "code": {n: dict(v) for n, v in self.code.items()},
             "refused": self.refused() if self.refused is not None else {},
+            "holds": self._held(),
         }
+
+    def _held(self) -> list[dict[str, Any]]:
+        with self._holding:
+            holds = list(self._holds.values())
+        return [state for state in (h.state() for h in holds) if state["left"] > 0]
 
     def properties(self, elements: list[str]) -> dict[str, dict[str, Any]]:
         """The properties of ``elements`` (components, ``Component.Port``, connections, monitors,
         the container) as they are now; an element it does not have is left out."""
         found = self.container.elements()
         return {e: _plain(found[e]) for e in elements if isinstance(e, str) and e in found}
+
+    def set_property(self, element: str, attribute: str, value: object) -> dict[str, Any]:
+        """Set property ``element.attribute`` of the model the container runs to ``value``,
+        typed by its kind (:mod:`.property_setting`); refused as updates are. A change at run
+        time: an update leaves it be. Returns the ``value`` set and the ``old`` one."""
+        if self.refusal is not None:
+            raise ConfigurationError(
+                self.refusal.replace(
+                    "it takes no update", "it takes no update and sets no property"
+                )
+            )
+        prop = model_property(self.application, self.name, element, attribute)
+        new = typed(prop, value)
+        old = self.container.get_property(element, attribute)
+        self.container.set_property(element, attribute, new)
+        return {
+            "element": element,
+            "attribute": attribute,
+            "value": new,
+            "old": _plain({"": old})[""],
+        }
 
     def hold(self, component: str, seconds: float) -> dict[str, Any]:
         """Hold the calls other processes make to ``component`` for ``seconds`` (see the module
@@ -459,6 +489,12 @@ class ManagementEndpoint:
                 descriptor, expected, remote, bool(reset), tuple(code)[:10000]
             )
         )
+
+    @serpent_only
+    def set_property(self, element: str, attribute: str, value: Any) -> dict[str, Any]:
+        if not isinstance(element, str) or not isinstance(attribute, str):
+            raise RemoteFault("TypeError", "set_property(element, attribute, value)", None)
+        return self._guarded(lambda: self._management.set_property(element, attribute, value))
 
     @serpent_only
     def hold(self, component: str, seconds: float) -> dict[str, Any]:

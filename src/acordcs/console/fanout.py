@@ -1,13 +1,12 @@
-"""The console's hub: what the running experiment shows, fanned out to every viewer, never waiting
-for one.
+"""A console's hub: what the console shows, fanned out to every viewer, never waiting for one.
 
-The experiment (any thread) calls :meth:`ConsoleHub.publish` with a channel and a payload. Each
-viewer has a :class:`Mailbox` that keeps, per *latest* channel (camera frames, the robot's state,
-the context values, each policy set's last firing), only the newest payload, and for the *event*
-channel (recoveries, user requests, stripe losses, faults) a bounded queue that drops its oldest
-entry when full. So a viewer that is slow or gone costs the experiment one dictionary store per
-publish, memory per viewer is bounded whatever the rates, and a slow viewer sees the newest frame,
-not a backlog. Drops are counted per viewer.
+The publisher (any thread: the WebLab's experiment, the watches of an attached application) calls
+:meth:`ConsoleHub.publish` with a channel and a payload. Each viewer has a :class:`Mailbox` that
+keeps, per *latest* channel (camera frames, the context values, each policy set's last firing),
+only the newest payload, and for the *event* channel (faults, updates, recoveries...) a bounded
+queue that drops its oldest entry when full. So a viewer that is slow or gone costs the publisher
+one dictionary store per publish, memory per viewer is bounded whatever the rates, and a slow
+viewer sees the newest frame, not a backlog. Drops are counted per viewer.
 """
 
 from __future__ import annotations
@@ -46,7 +45,7 @@ class Mailbox:
 
 
 class ConsoleHub:
-    """Fan-out of the experiment's output to viewers, with two caps on their number: viewers who
+    """Fan-out of what the console shows to viewers, with two caps on their number: viewers who
     presented the session's token (``max_viewers``) and viewers without it (``max_watchers``), so
     that connections without the token, however many, never take a token holder's place."""
 
@@ -61,7 +60,7 @@ class ConsoleHub:
         self._recent_events: deque[Any] = deque(maxlen=64)
         self.published = 0
 
-    # -------------------------------------------------------------------- the experiment's side
+    # --------------------------------------------------------------------- the publisher's side
     def publish(self, channel: str, payload: Any) -> None:
         """Offer ``payload`` on ``channel`` to every viewer; never blocks on a viewer."""
         with self._lock:
@@ -75,7 +74,7 @@ class ConsoleHub:
                 if not box.latest and not box.events:
                     # Only a mailbox that was empty needs waking: one that holds something has a
                     # wake pending, and its sender takes everything at once (a wake per publish
-                    # was a cross-thread call per viewer per payload, which slowed the experiment).
+                    # was a cross-thread call per viewer per payload, which slowed the publisher).
                     boxes.append(box)
                 if channel == EVENT:
                     if len(box.events) == box.events.maxlen:

@@ -1,10 +1,11 @@
-"""The two-process WebLab application as the attached console reaches it: where each container
-serves, found as its generated scripts find it (:func:`acordcs.cli.running.settings` sources
-``bin/env.sh``: the run directory, the application's token, each container's host and port), which
-container hosts which component (the package's descriptor), and the calls the console makes,
-each presenting the application's token: an operation through a component's provided port (the
-container's endpoint, as the Navigator calls them), the observer interface (``watch``, ``poll``:
-:mod:`acordcs.runtime.live.observer`) and the management interface (``hold``, ``release``).
+"""A running application as an attached console reaches it: where each container serves, found as
+its generated scripts find it (:func:`acordcs.cli.running.settings` sources ``bin/env.sh``: the run
+directory, the application's token, each container's host and port), its descriptor (which
+container hosts which component, and all the rest the console shows), and the calls the console
+makes, each presenting the application's token: an operation through a component's provided port
+(the container's endpoint, as another container calls it), the observer interface (``watch``,
+``poll``: :mod:`acordcs.runtime.live.observer`) and the management interface (``status``,
+``hold``, ``release``...: :mod:`acordcs.runtime.live.management`).
 
 :class:`Watcher` is one container's watch: a thread that polls its observer and hands what it
 gets to the console's loop, watching again (with a new snapshot) after the container was
@@ -15,10 +16,10 @@ from __future__ import annotations
 
 import contextlib
 import threading
-from collections.abc import Callable
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from acordcs.cli.running import NotFound, settings
 from acordcs.descriptor import DescriptorError, from_xml
@@ -27,8 +28,17 @@ from acordcs.runtime.errors import RuntimeFailure
 from acordcs.runtime.live.management import MANAGE_OBJECT
 from acordcs.runtime.live.observer import OBSERVE_OBJECT
 
+if TYPE_CHECKING:
+    from acordcs.descriptor import Application as AppDescriptor
+
 POLL_WAIT = 1.0  # seconds a poll waits for something new
 RETRY = 2.0  # seconds between attempts to reach a container that did not answer
+
+
+HOW_TO_START = (
+    "start the application first (its bin/start-all, with the same ACORDCS_RUN_DIR and ports "
+    "as the console's environment)"
+)
 
 
 class AttachError(RuntimeError):
@@ -57,10 +67,39 @@ class Place:
 
 
 class Application:
-    """The application built in ``app_dir`` as its scripts run it (see the module docstring);
-    ``timeout``: seconds a call may take (a ``stop`` answered by a recovery takes several)."""
+    """An application's running containers as a console reaches them: ``descriptor``, what it
+    runs; ``places``, where each container serves; ``token``, the application's (empty: none);
+    ``timeout``: seconds a call may take; ``how_to_start``: what a container that does not answer
+    is told to do; ``app_dir``: the directory it was built in (None: not known, as for a
+    single process that serves its own console). :meth:`built_in` finds them as the scripts
+    do."""
 
-    def __init__(self, app_dir: Path, timeout: float) -> None:
+    def __init__(
+        self,
+        descriptor: AppDescriptor,
+        places: Mapping[str, Place],
+        token: str,
+        timeout: float,
+        how_to_start: str = HOW_TO_START,
+        app_dir: Path | None = None,
+    ) -> None:
+        self.descriptor = descriptor
+        self.places = dict(places)
+        self.token = token
+        self.how_to_start = how_to_start
+        self.app_dir = app_dir
+        self.name = descriptor.name
+        self.host_of = {
+            component: c.name for c in descriptor.containers for component in c.hosted("component")
+        }
+        self.connector = RemoteConnector(timeout=timeout, token=token or None)
+
+    @classmethod
+    def built_in(
+        cls, app_dir: Path, timeout: float, how_to_start: str = HOW_TO_START
+    ) -> Application:
+        """The application built in ``app_dir`` as its scripts run it (see the module
+        docstring), or AttachError saying why not."""
         try:
             found = settings(app_dir)
         except NotFound as err:
@@ -70,17 +109,12 @@ class Application:
             descriptor = from_xml(path.read_bytes(), file=str(path))
         except (OSError, DescriptorError) as err:
             raise AttachError(f"{path}: {err}: build the application first") from None
-        self.name = descriptor.name
-        self.run_dir = found.run_dir
-        self.places: dict[str, Place] = {}
+        places = {}
         for name, (host, port) in found.containers.items():
             if not port.isdigit():
                 raise AttachError(f"container {name}: its port is {port!r}, not a number")
-            self.places[name] = Place(name, host, int(port))
-        self.host_of = {
-            component: c.name for c in descriptor.containers for component in c.hosted("component")
-        }
-        self.connector = RemoteConnector(timeout=timeout, token=found.token or None)
+            places[name] = Place(name, host, int(port))
+        return cls(descriptor, places, found.token, timeout, how_to_start, Path(app_dir))
 
     def place_of(self, component: str) -> Place:
         return self.places[self.host_of[component]]
@@ -133,7 +167,7 @@ class Watcher(threading.Thread):
         calls: list[str],
         deliver: Callable[[str, str, Any], None],
     ) -> None:
-        super().__init__(name=f"weblab-console-watch-{container}", daemon=True)
+        super().__init__(name=f"acordcs-console-watch-{container}", daemon=True)
         self.app = app
         self.container = container
         self.calls = calls
@@ -149,9 +183,8 @@ class Watcher(threading.Thread):
             self._watch()
         except RuntimeFailure as err:
             raise AttachError(
-                f"container {self.container} does not answer: {err.message}: start the "
-                "application first (make live-console starts it with the console; its "
-                "bin/start-all, with the same ACORDCS_RUN_DIR and ports, without)"
+                f"container {self.container} does not answer: {err.message}: "
+                f"{self.app.how_to_start}"
             ) from None
         self.start()
 

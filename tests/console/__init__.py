@@ -1,0 +1,1 @@
+"""Tests of acordcs.console: the console of any running application."""
