@@ -22,12 +22,12 @@ def test_nothing_is_written_to_an_empty_output(tmp_path: Path, option: str):
 def test_check_exits_1_until_built_then_0(tmp_path: Path):
     result = build(WEBLAB, tmp_path, "--check")
     assert result.code == 1
-    assert f"{tmp_path}: not up to date: 56 files to write, 0 to delete" in result.err
+    assert f"{tmp_path}: not up to date: 59 files to write, 0 to delete" in result.err
     assert build(WEBLAB, tmp_path).code == 0
     result = build(WEBLAB, tmp_path, "--check")
     assert result.code == 0 and "up to date" in result.out
     result = build(WEBLAB, tmp_path, "--check", "--force")  # the model read and transformed
-    assert result.code == 0 and "up to date (56 files)" in result.out
+    assert result.code == 0 and "up to date (59 files)" in result.out
 
 
 def test_check_after_a_model_change(tmp_path: Path):
