@@ -9,6 +9,7 @@ indent=1, sort_keys=True, ensure_ascii=False)``, by hand so that no code of toda
 
 from __future__ import annotations
 
+import dataclasses
 import json
 import os
 from pathlib import Path
@@ -134,6 +135,15 @@ def test_only_json_true_makes_a_file_the_users(tmp_path):
         text = json.dumps({"format": 1, "files": {"x.txt": entry}, "targets": {}})
         m = read_manifest(_write(tmp_path, text))
         assert m is not None and m.files["x.txt"].user is False, value
+
+
+def test_an_entry_is_no_users_file_and_has_no_regions_unless_it_says_so():
+    entry = Entry(A, "t")
+    assert (entry.element, entry.ids, entry.user, entry.outside) == ("", (), False, "")
+    written = json.loads(Manifest(files={"x.txt": entry}).to_bytes())["files"]["x.txt"]
+    assert written == {"element": "", "ids": [], "sha256": A, "target": "t"}
+    with pytest.raises(dataclasses.FrozenInstanceError):
+        entry.user = True  # type: ignore[misc]  # a record of what a build wrote
 
 
 def test_no_manifest_is_none(tmp_path):
