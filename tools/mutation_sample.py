@@ -17,6 +17,10 @@ part of ``make test``)::
 
     nice -n 10 .venv/bin/python -m tools.mutation_sample            # the four modules of MODULES
     .venv/bin/python -m tools.mutation_sample --list src/acordcs/rules/binding.py
+    .venv/bin/python -m tools.mutation_sample --only 3,17 src/acordcs/rules/binding.py
+
+Tests only added kill every mutant the tests before them killed, so after adding tests the
+survivors of a run (``--only``) are all that can change.
 """
 
 from __future__ import annotations
@@ -39,6 +43,7 @@ MODULES: dict[str, tuple[str, ...]] = {
     "src/acordcs/runtime/context/xpathcost.py": (
         "tests/runtime/test_context_xpath_cost.py",
         "tests/runtime/test_context_xpath_cost_model_is_pinned.py",
+        "tests/runtime/test_context_xpath_cost_knows_which_node_sets_hold_one_node.py",
     ),
     "src/acordcs/engines/fuzzy/membership.py": (
         "tests/engines/test_fuzzy_membership.py",
@@ -260,9 +265,11 @@ def measure(
     seed: int = SEED,
     timeout: float | None = None,
     pytest_args: Sequence[str] = PYTEST_ARGS,
+    only: frozenset[int] | None = None,
 ) -> Result:
     """Run a seeded sample of ``module``'s mutants against ``tests`` in a copy of ``root``.
-    ``timeout``: seconds per mutant (None: four times the unmutated run, at least 20)."""
+    ``timeout``: seconds per mutant (None: four times the unmutated run, at least 20); ``only``:
+    the numbers of the sampled mutants to run (None: all of them)."""
     source = (root / module).read_text(encoding="utf-8")
     found = mutants(source)
     result = Result(module, len(found))
@@ -277,6 +284,8 @@ def measure(
         limit = timeout or max(20.0, 4 * (time.monotonic() - started))
         stamp = int(time.time()) - 10**6  # a distinct mtime per mutant: no stale bytecode
         for mutant in sample(found, size, seed):
+            if only is not None and mutant.number not in only:
+                continue
             target.write_text(mutated(source, mutant), encoding="utf-8")
             os.utime(target, (stamp + mutant.number, stamp + mutant.number))
             result.outcomes[mutant] = _pytest(copy, tests, pytest_args, limit)
@@ -310,6 +319,11 @@ def main(argv: Sequence[str] | None = None) -> int:
     parser.add_argument("--seed", type=int, default=SEED, help="seed of the sample")
     parser.add_argument("--timeout", type=float, help="seconds per mutant")
     parser.add_argument("--list", action="store_true", help="list the mutants, run nothing")
+    parser.add_argument(
+        "--only",
+        type=lambda text: frozenset(int(n) for n in text.split(",")),
+        help="run only these sampled mutants (numbers, comma-separated: a run's survivors again)",
+    )
     args = parser.parse_args(argv)
     root = Path.cwd()
     unknown = [m for m in args.modules if m not in MODULES]
@@ -326,7 +340,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     results = []
     for module in chosen:
         results.append(measure(root, module, MODULES[module], size=args.sample,
-                               seed=args.seed, timeout=args.timeout))  # fmt: skip
+                               seed=args.seed, timeout=args.timeout, only=args.only))  # fmt: skip
         print(report(results[-1:]), flush=True)
     print("\n" + report(results))
     return 0
