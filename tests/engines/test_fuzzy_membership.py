@@ -159,3 +159,9 @@ def test_singletons_and_function_terms_are_single_points_and_write_their_fcl():
     assert not make_membership("triangle", (0, 5, 10)).singleton
     assert function.fcl() == "FUNCTION 2 * x + 1"
     assert not function.linear and make_membership("points", (0, 1, 4, 0)).linear
+
+
+def test_a_sigmoid_at_its_overflow_cutoff_is_the_same_number_scalar_and_vectorised():
+    mf = make_membership("sigmoid", (1, 0))  # exp's argument is exactly the cutoff, 700, at -700
+    assert mf(-700.0) == float(mf.evaluate(np.array([-700.0]))[0]) == 1.0 / (1.0 + math.exp(700.0))
+    assert mf(-700.0) > 0.0 and mf(-701.0) == float(mf.evaluate(np.array([-701.0]))[0]) == 0.0
