@@ -35,8 +35,9 @@ import subprocess
 import sys
 import tempfile
 import time
-from collections.abc import Iterator, Sequence
+from collections.abc import Callable, Iterator, Sequence
 from dataclasses import dataclass, field
+from functools import partial
 from pathlib import Path
 
 MODULES: dict[str, tuple[str, ...]] = {
@@ -138,14 +139,14 @@ class _Mutator(ast.NodeTransformer):
                 return apply()
         return self.generic_visit(node)
 
-    def _changes(self, node: ast.AST) -> Iterator[tuple[str, object]]:
+    def _changes(self, node: ast.AST) -> Iterator[tuple[str, Callable[[], ast.AST]]]:
         if isinstance(node, ast.BinOp | ast.AugAssign) and type(node.op) in _OPERATORS:
             new = _OPERATORS[type(node.op)]
             yield _swap(node.op, new), lambda: _set(node, "op", new())
         elif isinstance(node, ast.Compare):
             for i, op in enumerate(node.ops):
                 new = _COMPARISONS[type(op)]
-                yield _swap(op, new), lambda i=i, new=new: _set_op(node, i, new())
+                yield _swap(op, new), partial(_set_op, node, i, new())
         elif isinstance(node, ast.BoolOp):
             new = ast.Or if isinstance(node.op, ast.And) else ast.And
             yield _swap_words(node.op, new), lambda: _set(node, "op", new())
