@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+from types import SimpleNamespace
 
 import numpy as np
 import pytest
@@ -10,7 +11,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from acordcs.engines.fuzzy import make_membership
-from acordcs.engines.fuzzy.membership import Membership
+from acordcs.engines.fuzzy.membership import Membership, function_membership
 from acordcs.engines.rule_engine import RuleError
 
 
@@ -33,6 +34,8 @@ SHAPES = [
     ("points", (0, 1, 4, 0)),
     ("points", (1, 0, 4, 1, 6, 1, 9, 0)),
     ("points", (0, 0, 2, 0, 2, 1, 5, 1, 5, 0.5)),
+    ("points", (0, 0, 1, 1, 3, 1)),  # a slope of exactly 1
+    ("points", (2, 0, 2, 1, 5, 1)),  # a vertical edge first
     ("gaussian", (5, 2)),
     ("bell", (2, 3, 5)),
     ("sigmoid", (2, 5)),
@@ -85,6 +88,7 @@ def test_point_lists_extend_their_end_values():
     ("shape", "params", "words"),
     [
         ("triangle", (50, 20, 80), "inverted"),
+        ("triangle", (0, 10, 5), "inverted"),
         ("trapezoid", (0, 30, 20, 50), "inverted"),
         ("triangle", (5, 5, 5), "zero width"),
         ("trapezoid", (7, 7, 7, 7), "zero width"),
@@ -95,6 +99,7 @@ def test_point_lists_extend_their_end_values():
         ("points", (0, 1), "at least two"),
         ("gaussian", (5, 0), "sigma must be > 0"),
         ("bell", (0, 2, 5), "must be > 0"),
+        ("bell", (2, 0, 5), "must be > 0"),
         ("sigmoid", (0, 5), "gain must not be 0"),
         ("triangle", (0, 5), "takes 3 parameters"),
         ("triangle", (0, float("nan"), 5), "finite"),
@@ -127,3 +132,36 @@ def test_fcl_text_reads_back_as_the_same_function(shape, params):
     mf = make_membership(shape, params)
     (term,) = parse_terms(f"t := {mf.fcl()}")
     assert make_membership(term.shape, term.parameters) == mf
+
+
+def test_trapezoid_edges_rise_and_fall_linearly():
+    trap = make_membership("trapezoid", (0, 10, 20, 30))
+    assert [trap(x) for x in (-1, 0, 5, 10, 15, 20, 25, 30, 31)] == [0, 0, 0.5, 1, 1, 1, 0.5, 0, 0]
+
+
+def test_an_inverted_shape_is_described_by_its_own_points():
+    with pytest.raises(RuleError, match=r"\(left foot, peak, right foot\)"):
+        make_membership("triangle", (0, 10, 5))
+    with pytest.raises(RuleError, match=r"\(left foot, shoulders, right foot\)"):
+        make_membership("trapezoid", (0, 10, 5, 20))
+
+
+def test_narrow_but_positive_widths_and_a_leading_vertical_edge_are_accepted():
+    assert make_membership("gaussian", (5, 0.5))(5.5) == pytest.approx(math.exp(-0.5))
+    assert make_membership("bell", (0.5, 0.5, 5))(5.5) == pytest.approx(0.5)
+    step = make_membership("points", (2, 0, 2, 1, 5, 1))
+    assert (step(1), step(2), step(3), step(6)) == (0.0, 1.0, 1.0, 1.0)
+
+
+def test_singletons_and_function_terms_are_single_points_and_write_their_fcl():
+    function = function_membership(SimpleNamespace(text="2 * x + 1"))
+    assert function.singleton and make_membership("singleton", (3,)).singleton
+    assert not make_membership("triangle", (0, 5, 10)).singleton
+    assert function.fcl() == "FUNCTION 2 * x + 1"
+    assert not function.linear and make_membership("points", (0, 1, 4, 0)).linear
+
+
+def test_a_sigmoid_at_its_overflow_cutoff_is_the_same_number_scalar_and_vectorised():
+    mf = make_membership("sigmoid", (1, 0))  # exp's argument is exactly the cutoff, 700, at -700
+    assert mf(-700.0) == float(mf.evaluate(np.array([-700.0]))[0]) == 1.0 / (1.0 + math.exp(700.0))
+    assert mf(-700.0) > 0.0 and mf(-701.0) == float(mf.evaluate(np.array([-701.0]))[0]) == 0.0

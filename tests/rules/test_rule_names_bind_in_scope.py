@@ -3,6 +3,10 @@ validator, ``describe`` and hand-made runtime policy sets share."""
 
 from __future__ import annotations
 
+import dataclasses
+
+import pytest
+
 from acordcs.rules import parse_rule
 from acordcs.rules.binding import (
     Ambiguous,
@@ -104,3 +108,38 @@ def test_one_default_label_and_one_syntax_per_engine():
         "fuzzy",
     )
     assert rule_syntax("jess") == "crisp"  # an engine registered at run time: crisp unless it says
+
+
+def test_a_scope_lists_its_elements_and_members_and_shows_a_port_by_its_own_name():
+    s = scope()
+    assert s.names() == ["Control", "Robot", "Robot.Drive", "Arm"]
+    assert s.members("attribute") == ["speed", "angle", "retries", "rate"]
+    assert s.members("operation") == ["recover", "stop"]
+    assert [e.shown for e in s.elements] == ["Control", "Robot", "Drive", "Arm"]
+
+
+def test_a_short_name_equal_to_the_name_is_one_owner_not_two():
+    s = Scope([ScopeElement("Pump", {"rate": 1, "count": 2}, {}, short="Pump")])
+    missing = s.resolve("Pump.nope", "attribute")
+    assert isinstance(missing, Unresolved)
+    assert len(missing.owners) == 1 and missing.known == ("rate", "count")
+
+
+def test_resolutions_are_immutable_the_scope_hands_the_same_one_to_every_rule():
+    s = scope()
+    target = s.resolve("Control.angle", "attribute")
+    assert target is s.resolve("Control.angle", "attribute")
+    assert isinstance(target, Target)
+    for value, field in ((target, "member"), (target.element, "name")):
+        with pytest.raises(dataclasses.FrozenInstanceError):
+            setattr(value, field, "x")
+    ambiguous = s.resolve("speed", "attribute")
+    unresolved = s.resolve("nothing", "attribute")
+    for value, field in ((ambiguous, "candidates"), (unresolved, "member")):
+        with pytest.raises(dataclasses.FrozenInstanceError):
+            setattr(value, field, ())
+
+
+def test_the_next_free_default_label_is_the_first_not_taken():
+    assert default_label(2, {"rule2"}) == "rule3"
+    assert default_label(3, {"rule1", "rule3", "rule4", "rule6"}) == "rule5"
