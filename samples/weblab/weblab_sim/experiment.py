@@ -62,6 +62,7 @@ SAME_PLACE_MM = 300.0  # progress along the stripe that makes the next recovery 
 RECORD_PERIOD = 0.5  # s between samples of fps, maxSpeed and cycleRate
 CORNER_MM = 400.0  # a stripe loss this close to a corner (along the stripe) is counted at it
 TIME_CAP = 400.0
+BACKWARDS_MM = 100.0  # driving this far back along the stripe under the user's control: backwards
 ADAPTIVE_SPEED = 200.0  # mm/s the user's program asks for when the policies may cap it
 FIXED = "fixed_"  # prefix of the fixed-speed conditions: fixed_<mm/s>
 FIXED_RANGE = (10.0, 300.0)  # mm/s a fixed speed may be (300: the wheels' top speed)
@@ -323,6 +324,8 @@ def _metrics(lab: World, nav: Any, recovery: Any, record: list, cap: float) -> d
         "cycles": len(cycles),
         "users_max": max((r[4] for r in record), default=0),
         "progress_mm": lab.progress,
+        "backwards_mm": lab.backwards_mm,
+        "followed_backwards": int(lab.backwards_mm > BACKWARDS_MM),
     }
 
 

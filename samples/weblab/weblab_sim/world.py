@@ -30,6 +30,11 @@ PLACE_AHEAD_MM = 50.0  # how far past the farthest point reached the person puts
 HUMAN_DELAY = 10.0  # s a person takes to walk over and put the robot back on the stripe
 MOTOR_SPEED_SIGMA = 0.03  # relative error of the speed the wheels give
 MOTOR_TURN_SIGMA = 0.02  # rad/s error of the turn rate
+ON_STRIPE_MM = 150.0  # the robot's centre this close to the centre line: it is on the stripe
+AHEAD_MM = (
+    400.0  # a stripe point farther than this past the farthest point reached: another segment
+)
+SLIP_MM = 100.0  # a change of the nearest point's arc length in one sample this big: a jump
 
 
 @dataclass
@@ -84,6 +89,10 @@ class World:
         self._arrays: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None
         self.commanded = 0.0
         self.progress = 0.0  # arc length along the stripe reached so far, mm
+        # Driving the stripe backwards: the most the robot's place along the stripe fell below
+        # its peak while it drove forward on the stripe (mm), and that stretch's peak and last.
+        self.backwards_mm = 0.0
+        self._stretch: tuple[float, float] | None = None
         self.done = False
         self.finish_time: float | None = None
         self.sessions: set[str] = set()
@@ -128,14 +137,16 @@ class World:
     # --------------------------------------------------------------------------- sensors
     def telemetry(self) -> dict[str, float]:
         """Position, heading, sonar ranges, battery voltage and progress along the stripe now (the
-        Telemetry monitor's fields)."""
+        Telemetry monitor's fields); when the robot is on the stripe, also ``along`` (mm, the arc
+        length of the stripe's point nearest the robot) and ``stripeHeading`` (degrees, the way
+        the stripe runs there)."""
         with self._lock:
             now = self.clock.now()
             x, y, heading = self.robot.pose(now)
             ranges = self.robot.sonar(now, SONAR_BEARINGS, SONAR_RANGE_MM)
         volts = BATTERY_FULL_V - 0.002 * now - 0.05 * self.robot.distance / 1000.0
         noise = self.clock.rng("telemetry").normal(0.0, 0.01)
-        return {
+        reading = {
             "positionX": x,
             "positionY": y,
             "heading": math.degrees(heading),
@@ -143,6 +154,13 @@ class World:
             "batteryVoltage": volts + noise,
             "progress": self.progress,
         }
+        # Where on the stripe the lab sees the robot, and which way the stripe runs there: the
+        # lab knows its floor (its panoramic camera watches the robot), the user does not.
+        dist, along, direction = self.path.nearest(x, y)
+        if dist < ON_STRIPE_MM:
+            reading["along"] = along
+            reading["stripeHeading"] = direction
+        return reading
 
     def telemetry_reading(self) -> dict[str, object]:
         """The reading the Locomotion publishes now: :meth:`telemetry`, or a malformed one (a
@@ -178,14 +196,32 @@ class World:
         dist, s = self.path.closest(x, y)
         # Progress only along the stripe near where the robot is: a nearby other segment must
         # not count as reached.
-        if dist < 150.0 and s <= self.progress + 400.0:
+        if dist < ON_STRIPE_MM and s <= self.progress + AHEAD_MM:
             self.progress = max(self.progress, s)
+        self._track_backwards(dist, s)
         self.samples.append(
             Sample(now, x, y, heading, self.robot.distance, self.commanded, self.progress)
         )
-        if not self.done and self.path.crossed_finish(x, y):
+        # The finish counts for a robot that got to the last stretch along the stripe, not for
+        # one that took a short cut over to it.
+        reached = self.progress >= self.path.length - AHEAD_MM
+        if not self.done and reached and self.path.crossed_finish(x, y):
             self.done = True
             self.finish_time = now
+
+    def _track_backwards(self, dist: float, s: float) -> None:
+        """How far the robot drove the stripe backwards: within a stretch of driving forward on
+        the stripe (a stop, backing up, leaving the stripe or a jump ends it), the most its place
+        along the stripe fell below the stretch's peak."""
+        if dist >= ON_STRIPE_MM or self.commanded <= 0.0:
+            self._stretch = None
+            return
+        if self._stretch is None or abs(s - self._stretch[1]) > SLIP_MM:
+            self._stretch = (s, s)
+            return
+        peak = max(self._stretch[0], s)
+        self.backwards_mm = max(self.backwards_mm, peak - s)
+        self._stretch = (peak, s)
 
     def distance_at(self, t: float) -> float:
         """Distance travelled by time ``t`` (interpolated between samples)."""
