@@ -16,7 +16,7 @@ import os
 import sys
 from pathlib import Path
 
-from weblab_sim.experiment import FIXED_RANGE, TIME_CAP, fixed_speed
+from weblab_sim.experiment import FIXED_RANGE, TIME_CAP, UNLIMITED, fixed_speed
 
 from weblab_experiment import printed
 from weblab_experiment.grid import CONDITIONS, PATHS, PROFILES, SWEEP, fixed_name, run_all, tasks
@@ -32,7 +32,12 @@ def _names(text: str, known: tuple[str, ...], what: str, fixed: bool = False) ->
     names = tuple(dict.fromkeys(n.strip() for n in text.split(",") if n.strip()))
     unknown = [n for n in names if n not in known and not (fixed and fixed_speed(n) is not None)]
     if unknown or not names:
-        more = f", fixed_<speed> ({FIXED_RANGE[0]:g} to {FIXED_RANGE[1]:g} mm/s)" if fixed else ""
+        more = (
+            f", fixed_<speed>, no_speed_policy_<speed> ({FIXED_RANGE[0]:g} to "
+            f"{FIXED_RANGE[1]:g} mm/s)"
+            if fixed
+            else ""
+        )
         raise argparse.ArgumentTypeError(
             f"unknown {what} {', '.join(unknown) or '(none given)'}; the {what}s are "
             f"{', '.join(known)}{more} (or all)"
@@ -73,14 +78,16 @@ def _parser() -> argparse.ArgumentParser:
         "--conditions",
         type=lambda t: _names(t, CONDITIONS, "condition", fixed=True),
         default=None,
-        help=f"comma-separated conditions ({', '.join(CONDITIONS)}, fixed_<speed>; default all "
-        "of them and the sweep's fixed speeds)",
+        help=f"comma-separated conditions ({', '.join(CONDITIONS)}, fixed_<speed>, "
+        "no_speed_policy_<speed>; default all of them and the sweep's fixed speeds in both "
+        "families)",
     )
     parser.add_argument(
         "--fixed-speeds",
         type=_speeds,
         default=None,
-        help="the sweep's fixed speeds, comma-separated mm/s, or none (default "
+        help="the sweep's fixed speeds, comma-separated mm/s, or none, each run as fixed_<speed> "
+        "and no_speed_policy_<speed> (default "
         f"{','.join(f'{v:g}' for v in SWEEP)} when --conditions is not given, else none)",
     )
     parser.add_argument(
@@ -118,7 +125,13 @@ def main(argv: list[str] | None = None) -> int:
         else (SWEEP if args.conditions is None else ())
     )
     conditions = tuple(
-        dict.fromkeys([*(args.conditions or CONDITIONS), *(fixed_name(v) for v in speeds)])
+        dict.fromkeys(
+            [
+                *(args.conditions or CONDITIONS),
+                *(fixed_name(v) for v in speeds),
+                *(fixed_name(v, UNLIMITED) for v in speeds),
+            ]
+        )
     )
 
     from weblab_sim.experiment import APP_DIR

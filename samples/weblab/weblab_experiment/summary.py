@@ -17,7 +17,7 @@ import itertools
 from collections import defaultdict
 from dataclasses import dataclass
 
-from weblab_sim.experiment import fixed_speed
+from weblab_sim.experiment import FIXED, family, fixed_speed
 
 from weblab_experiment.display import interval
 from weblab_experiment.grid import Outcome
@@ -41,6 +41,8 @@ METRICS = (
     "stopped_s",
     "finished",
     "faults",
+    "backwards_mm",
+    "followed_backwards",
 )
 """The metrics summarised (plain names, as in results.json and results.csv)."""
 
@@ -93,10 +95,12 @@ def summarise(outcomes: list[Outcome]) -> Table:
     return out
 
 
-def fixed_conditions(by_condition: dict[str, dict[str, dict[str, Stat]]]) -> list[str]:
-    """The fixed-speed conditions of a path's table, slowest first."""
+def fixed_conditions(
+    by_condition: dict[str, dict[str, dict[str, Stat]]], prefix: str = FIXED
+) -> list[str]:
+    """The fixed-speed conditions of a path's table of one family (``prefix``), slowest first."""
     return sorted(
-        (c for c in by_condition if fixed_speed(c) is not None),
+        (c for c in by_condition if family(c) == prefix),
         key=lambda c: fixed_speed(c) or 0.0,
     )
 

@@ -68,6 +68,19 @@ def _number(value: object) -> float | None:
     return number if math.isfinite(number) else None
 
 
+def judge(reading: object) -> tuple[bool, bool] | None:
+    """Of a telemetry reading of a robot on the stripe: (it heads more than
+    :data:`BACKWARDS_DEG` from the way the stripe runs there, it is more than :data:`AHEAD_MM` past
+    the farthest point reached); None when the reading does not put the robot on the stripe."""
+    if not isinstance(reading, dict):
+        return None
+    heading, runs = _number(reading.get("heading")), _number(reading.get("stripeHeading"))
+    along, reached = _number(reading.get("along")), _number(reading.get("progress"))
+    if heading is None or runs is None or along is None or reached is None:
+        return None
+    return abs(wrap(heading - runs)) > BACKWARDS_DEG, along > reached + AHEAD_MM
+
+
 class Course:
     """The direction of travel (world bearing, degrees) and the robot's last known heading."""
 
@@ -92,12 +105,13 @@ class Course:
         if self.heading is not None and abs(wrap(heading - self.heading)) > CARRIED_DEG:
             self.travel, self.side, self.stripe = None, 0.0, None
         self.heading = heading
-        along, reached = _number(reading.get("along")), _number(reading.get("progress"))
-        runs = _number(reading.get("stripeHeading"))
-        if along is None or reached is None or runs is None:
+        if forward and reading.get("stoppedBackwards"):
+            self.halt = True  # the lab stopped it: it drove the stripe backwards
+        judged = judge(reading)
+        if judged is None:
             return
-        backwards = abs(wrap(heading - runs)) > BACKWARDS_DEG
-        elsewhere = along > reached + AHEAD_MM
+        backwards, elsewhere = judged
+        runs = float(reading["stripeHeading"])  # judge() found it a number
         if forward and elsewhere:
             self.astray = True
         elif not elsewhere and not backwards:

@@ -35,6 +35,7 @@ AHEAD_MM = (
     400.0  # a stripe point farther than this past the farthest point reached: another segment
 )
 SLIP_MM = 100.0  # a change of the nearest point's arc length in one sample this big: a jump
+STOP_MM = 50.0  # driven back along the stripe this far, the lab stops the robot
 
 
 @dataclass
@@ -89,10 +90,13 @@ class World:
         self._arrays: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None
         self.commanded = 0.0
         self.progress = 0.0  # arc length along the stripe reached so far, mm
-        # Driving the stripe backwards: the most the robot's place along the stripe fell below
-        # its peak while it drove forward on the stripe (mm), and that stretch's peak and last.
+        # Driving the stripe backwards (mm): see _track_backwards.
         self.backwards_mm = 0.0
-        self._stretch: tuple[float, float] | None = None
+        # set by the lab's safety stop, cleared once a telemetry reading has said so
+        self.stopped_backwards = False
+        self._driven = self._driven_peak = 0.0
+        self._last_along: float | None = None
+        self._receding = False
         self.done = False
         self.finish_time: float | None = None
         self.sessions: set[str] = set()
@@ -132,6 +136,8 @@ class World:
         with self._lock:
             self.robot.place(self.clock.now(), x, y, heading)
             self.commanded = 0.0
+            self._driven_peak = self._driven  # carried: a fresh start
+            self._last_along = None
             self.placements += 1
 
     # --------------------------------------------------------------------------- sensors
@@ -154,13 +160,25 @@ class World:
             "batteryVoltage": volts + noise,
             "progress": self.progress,
         }
+        reading.update(self._where(x, y))
+        if self.stopped_backwards:
+            reading["stoppedBackwards"] = 1.0
+        return reading
+
+    def on_stripe(self) -> dict[str, float]:
+        """The robot's heading and progress now, and :meth:`telemetry`'s ``along`` and
+        ``stripeHeading`` when it is on the stripe (what the lab's safety stop looks at)."""
+        with self._lock:
+            x, y, heading = self.robot.pose(self.clock.now())
+        return {"heading": math.degrees(heading), "progress": self.progress, **self._where(x, y)}
+
+    def _where(self, x: float, y: float) -> dict[str, float]:
         # Where on the stripe the lab sees the robot, and which way the stripe runs there: the
         # lab knows its floor (its panoramic camera watches the robot), the user does not.
         dist, along, direction = self.path.nearest(x, y)
-        if dist < ON_STRIPE_MM:
-            reading["along"] = along
-            reading["stripeHeading"] = direction
-        return reading
+        if dist >= ON_STRIPE_MM:
+            return {}
+        return {"along": along, "stripeHeading": direction}
 
     def telemetry_reading(self) -> dict[str, object]:
         """The reading the Locomotion publishes now: :meth:`telemetry`, or a malformed one (a
@@ -210,18 +228,30 @@ class World:
             self.finish_time = now
 
     def _track_backwards(self, dist: float, s: float) -> None:
-        """How far the robot drove the stripe backwards: within a stretch of driving forward on
-        the stripe (a stop, backing up, leaving the stripe or a jump ends it), the most its place
-        along the stripe fell below the stretch's peak."""
-        if dist >= ON_STRIPE_MM or self.commanded <= 0.0:
-            self._stretch = None
+        """How far the robot drove the stripe backwards: the change of its place along the stripe
+        summed over the samples in which it drove forward under the user's control, on the stripe
+        (backing up, standing, jumps between two parts of the stripe and carrying do not count),
+        and the most that sum fell below its peak."""
+        last, self._last_along = self._last_along, (s if dist < ON_STRIPE_MM else None)
+        self._receding = False
+        if self._last_along is None or last is None or abs(s - last) > SLIP_MM:
             return
-        if self._stretch is None or abs(s - self._stretch[1]) > SLIP_MM:
-            self._stretch = (s, s)
+        if self.commanded <= 0.0:
             return
-        peak = max(self._stretch[0], s)
-        self.backwards_mm = max(self.backwards_mm, peak - s)
-        self._stretch = (peak, s)
+        self._driven += s - last
+        self._driven_peak = max(self._driven_peak, self._driven)
+        self.backwards_mm = max(self.backwards_mm, self._driven_peak - self._driven)
+        self._receding = s < last
+
+    def driving_backwards(self) -> bool:
+        """True when the robot, driven forward, is moving back along the stripe and has already
+        fallen :data:`STOP_MM` below the farthest it had driven (the lab's safety stop), or is
+        on the stripe more than :data:`AHEAD_MM` past the farthest point reached."""
+        if self.commanded <= 0.0:
+            return False
+        if self._receding and self._driven_peak - self._driven > STOP_MM:
+            return True
+        return self._last_along is not None and self._last_along > self.progress + AHEAD_MM
 
     def distance_at(self, t: float) -> float:
         """Distance travelled by time ``t`` (interpolated between samples)."""
