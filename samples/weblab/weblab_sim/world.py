@@ -35,7 +35,7 @@ AHEAD_MM = (
     400.0  # a stripe point farther than this past the farthest point reached: another segment
 )
 SLIP_MM = 100.0  # a change of the nearest point's arc length in one sample this big: a jump
-STOP_MM = 50.0  # driven back along the stripe this far, the lab stops the robot
+STOP_MM = 40.0  # driven back along the stripe this far, the lab stops the robot
 
 
 @dataclass

@@ -26,7 +26,7 @@ from .conftest import SAMPLE_DIR
 README = (ROOT / "README.md").read_text(encoding="utf-8")
 WHOLE = (SAMPLE_DIR / "README.md").read_text(encoding="utf-8")  # the whole transcript
 TIMING = re.compile(r"simulated s in [\d.]+ wall s|^WebLab runs: |^report: ")
-CLAIMS = 12  # the claims made of the default path
+CLAIMS = 13  # the claims made of the default path
 ELIDED = re.compile(r"^\[\.\.\. .* \.\.\.\]$")
 
 

@@ -15,10 +15,10 @@ retry (and recover) at every firing while the control's last speed is 0, so a re
 stopped robot would start recoveries nobody asked for.
 
 The lab's safety stop: when the robot, driven forward by the user's control, moves back along
-the stripe and has fallen 50 mm behind the farthest it drove (or is on the stripe far past the
+the stripe and has fallen 40 mm behind the farthest it drove (or is on the stripe far past the
 farthest point reached: another segment), the lab stops the wheels at once
 (:meth:`weblab_sim.world.World.driving_backwards`, looked at every :data:`WATCH_PERIOD` s), and
-its next telemetry reading on ``TelemetryPort`` says so (``stoppedBackwards``). The user's Navigator
+it pushes a telemetry reading on ``TelemetryPort`` at once that says so (``stoppedBackwards``). The user's Navigator
 learns it at its next cycle and stops too (which is what the policies see); on a slow network
 that cycle can be more than a second away, and the robot would drive on meanwhile.
 """
@@ -32,7 +32,7 @@ from weblab_sim import steering, world
 
 TELEMETRY_PERIOD = 0.5  # s
 STATUS_PERIOD = 5.0  # s between live mode's status lines
-WATCH_PERIOD = 0.1  # s between the lab's looks at whether the robot drives the stripe backwards
+WATCH_PERIOD = 0.05  # s between the lab's looks at whether the robot drives the stripe backwards
 
 
 class Locomotion(LocomotionBase):
@@ -100,6 +100,10 @@ class Locomotion(LocomotionBase):
         if lab.driving_backwards():
             lab.drive(0.0, 0.0)
             lab.stopped_backwards = True
+            port = self.port("TelemetryPort")
+            if port.connections:  # at once: the user's next cycle must know before it moves
+                port.notify(lab.telemetry_reading())
+                lab.stopped_backwards = False  # said
 
     def _publish(self) -> None:
         lab = world.current(self.clock)
