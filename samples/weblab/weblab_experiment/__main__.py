@@ -1,6 +1,7 @@
 """``python -m weblab_experiment``: the WebLab experiment (what ``make demo`` runs after validating
 and building the application): every condition on every network profile for every seed, on the
-default path (``--paths`` adds the sharp one), the fixed speeds of a sweep besides the named
+default path (``--paths`` adds the sharp, right-angle and gentle ones, or all), the fixed speeds
+of a sweep in both families (every policy off; only SpeedLimiting off) besides the named
 conditions, the paper's Table 1 beside ours, the claims checked, results.json, results.csv,
 plots and report.html.
 

@@ -73,16 +73,19 @@ user less often than every fixed speed with every policy off, on every profile (
 SCOPES = {
     "fewer_user_requests": ("sharp",),
     "time_first_step": ("default", "right", "gentle"),
-    "time_last_step": ("default", "gentle"),
+    "time_last_step": ("gentle",),
     "fast_needs_user": ("default", "sharp", "right"),
     "faster_than_safe_fixed": ("default", "sharp"),
     "safe_unlimited_as_fast": ("default", "right", "gentle"),
-    "none_as_good_unlimited": ("default", "sharp", "right"),
+    "none_as_good_unlimited": ("sharp", "right"),
 }
 """Where a claim is made, for the claims that do not hold on every path of the family (set from
 the runs on seeds 0 to 2, or 0 to 9 for the default path, and checked on seeds never run while
-developing). Elsewhere the output shows the same figures as "not claimed here". Why each is
-where it is: on the right-angle path adaptation needs the user at the second corner (the robot
+developing: seeds 3000 to 3004 on all four paths). Elsewhere the output shows the same figures
+as "not claimed here". Two scopes were narrowed after that check, and are not checked on unseen
+seeds since: the time from campus to LAN (on the default path it fell by 3 s [-8, +3], a tie) and
+no fixed speed with the recovery kept as good as adaptation everywhere (on the default path one
+was). Why each is where it is: on the right-angle path adaptation needs the user at the second corner (the robot
 overshoots it and the lab stops it on a segment far ahead), so a fixed speed that needs no user
 ties it there on the LAN, and on campus and LAN some fixed speeds need no user; on the sharp
 and right-angle paths the time from campus to LAN falls by less than its interval, and on the
