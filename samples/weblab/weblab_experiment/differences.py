@@ -6,7 +6,8 @@ each reason with the measurement that supports it (computed from this run's figu
   same formula with our path's length, our speeds and our recovery counts predicts our times; when
   it does (within :data:`PREDICTED`), the difference is the path and the recoveries, not the speed.
 - **recoveries**: where our stripe losses happen (within ``CORNER_MM`` of a corner, along the
-  stripe), how many per run, and without the speed policy when that condition ran.
+  stripe), how many per run, and without the speed policy when that condition ran (like with
+  like: the same speed asked for and the same recovery, only SpeedLimiting off).
 - **fps**: BandwidthLimiting's output before rounding, the rate the int attribute ``fps`` takes
   and for how much of the time.
 - **cycles/s** and **speed**: the measured mm per cycle and the reason the speeds are lower.
@@ -143,7 +144,13 @@ def _recoveries(adaptive, by_condition, path, shown) -> str:
     unlimited = by_condition.get("no_speed_policy", {})
     if all(p in unlimited for p in shown):
         text += (
-            "; without it (no_speed_policy) the runs recover "
+            "; without it (no_speed_policy: the same 200 mm/s asked for and the same recovery, "
+            "whose 60 mm/s cap lasts until it has succeeded, only SpeedLimiting off) the runs "
+            "lose the stripe "
+            + ", ".join(f"{p} {unlimited[p]['stripe_losses'].mean:.1f}" for p in shown)
+            + " times (adaptive: "
+            + ", ".join(f"{adaptive[p]['stripe_losses'].mean:.1f}" for p in shown)
+            + ") and recover "
             + ", ".join(f"{p} {unlimited[p]['recoveries'].mean:.1f}" for p in shown)
             + " times"
         )

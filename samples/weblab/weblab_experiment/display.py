@@ -24,6 +24,8 @@ DIGITS = {
     "stopped_s": 0,
     "finished": 2,
     "faults": 0,
+    "backwards_mm": 0,
+    "followed_backwards": 2,
 }
 HEADERS = {
     "cycles_per_s": "cycles/s",

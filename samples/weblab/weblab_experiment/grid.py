@@ -26,12 +26,14 @@ PATHS = tuple(floor.PATHS)
 CONDITIONS = tuple(experiment.CONDITIONS)
 """The named conditions, in table order."""
 SWEEP = (40.0, 60.0, 80.0, 100.0)
-"""The fixed speeds (mm/s) of the sensitivity sweep, besides those of fixed_50 and fixed_150."""
+"""The fixed speeds (mm/s) of the sensitivity sweep, besides 50 and 150, in both fixed-speed
+families (every policy off; only SpeedLimiting off)."""
 
 
-def fixed_name(speed: float) -> str:
-    """The condition that drives at a fixed ``speed`` (mm/s) with every policy off."""
-    return f"{experiment.FIXED}{speed:g}"
+def fixed_name(speed: float, prefix: str = experiment.FIXED) -> str:
+    """The condition that drives at a fixed ``speed`` (mm/s) with every policy off (``prefix``
+    :data:`weblab_sim.experiment.UNLIMITED`: with only SpeedLimiting off)."""
+    return f"{prefix}{speed:g}"
 
 
 @dataclass(frozen=True)

@@ -19,7 +19,7 @@ import matplotlib.pyplot as plt
 from weblab_sim.experiment import fixed_speed
 
 from weblab_experiment.grid import Outcome
-from weblab_experiment.summary import Table, fixed_conditions
+from weblab_experiment.summary import FAMILIES, Table, fixed_conditions
 
 FORMATS = ("png", "svg", "pdf")
 COLOURS = {
@@ -32,12 +32,18 @@ COLOURS = {
 }
 PROFILE_COLOURS = {"residential": "#d62728", "campus": "#ff7f0e", "LAN": "#2ca02c"}
 TRAJECTORIES = ("fixed_50", "fixed_150", "adaptive")
+SWEEP_COLOURS = {  # family -> (no run needed the user, some did)
+    "fixed_": ("#444444", "#d62728"),
+    "no_speed_policy_": ("#2ca02c", "#9467bd"),
+}
 
 
 def label(condition: str) -> str:
     """A condition as a legend shows it: fixed speeds with their unit."""
     speed = fixed_speed(condition)
-    return f"fixed {speed:g} mm/s" if speed is not None else condition
+    if speed is None:
+        return condition
+    return f"fixed {speed:g} mm/s" + ("" if condition.startswith("fixed_") else ", recovering")
 
 
 def _series(outcomes: list[Outcome], path: str) -> dict[tuple[str, str], tuple[int, dict]]:
@@ -193,9 +199,6 @@ def sweep(table: Table, path: str, profiles: tuple[str, ...], out: Path) -> Path
     )
     n = set()
     for ax, profile in zip(axes[0], profiles, strict=True):
-        cells = [
-            (fixed_speed(c), by_condition[c][profile]) for c in fixed if profile in by_condition[c]
-        ]
         if profile in adaptive:
             a = adaptive[profile]["time_s"]
             half = a.half_width() or 0.0
@@ -208,21 +211,27 @@ def sweep(table: Table, path: str, profiles: tuple[str, ...], out: Path) -> Path
             )
             ax.axhline(a.mean, color=COLOURS["adaptive"], linewidth=1.2, label="adaptive: mean")
             n.add(a.n)
-        for needs_user, style in ((False, "o"), (True, "x")):
-            chosen = [(v, c) for v, c in cells if (c["user_requests"].mean > 0) == needs_user]
-            if not chosen:
-                continue
-            ax.errorbar(
-                [v for v, _ in chosen],
-                [c["time_s"].mean for _, c in chosen],
-                yerr=[c["time_s"].half_width() or 0 for _, c in chosen],
-                fmt=style,
-                color="#444444" if not needs_user else "#d62728",
-                capsize=3,
-                label="fixed speed, mean and 95% t interval"
-                + (": some runs needed the user" if needs_user else ": no run needed the user"),
-            )
-            n |= {c["time_s"].n for _, c in chosen}
+        for prefix, what in FAMILIES.items():
+            cells = [
+                (fixed_speed(c), by_condition[c][profile])
+                for c in fixed_conditions(by_condition, prefix)
+                if profile in by_condition[c]
+            ]
+            for needs_user, style in ((False, "o"), (True, "x")):
+                chosen = [(v, c) for v, c in cells if (c["user_requests"].mean > 0) == needs_user]
+                if not chosen:
+                    continue
+                ax.errorbar(
+                    [v for v, _ in chosen],
+                    [c["time_s"].mean for _, c in chosen],
+                    yerr=[c["time_s"].half_width() or 0 for _, c in chosen],
+                    fmt=style,
+                    color=SWEEP_COLOURS[prefix][needs_user],
+                    capsize=3,
+                    label=f"fixed speed, {what.split(',')[0]}"
+                    + (": some runs needed the user" if needs_user else ": no run needed the user"),
+                )
+                n |= {c["time_s"].n for _, c in chosen}
         ax.set_title(profile, fontsize=10)
         ax.set_xlabel("fixed speed asked for (mm/s)")
     axes[0, 0].set_ylabel("time to the finish line (s)")

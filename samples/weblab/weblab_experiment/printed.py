@@ -9,7 +9,14 @@ import textwrap
 from weblab_experiment import display
 from weblab_experiment.differences import THRESHOLD, gaps
 from weblab_experiment.display import DIGITS, HEADERS, TABLE_1, TABLE_METRICS, number
-from weblab_experiment.summary import PAPER, Claim, Table, fixed_conditions, sweep_verdicts
+from weblab_experiment.summary import (
+    FAMILIES,
+    PAPER,
+    Claim,
+    Table,
+    fixed_conditions,
+    sweep_verdicts,
+)
 
 WIDTH = 100
 
@@ -21,9 +28,7 @@ def report(table: Table, profiles: tuple[str, ...], found: list[Claim]) -> str:
         out += _conditions(by_condition, path, profiles)
         out += _sweep(by_condition, path, profiles)
     for claim in found:
-        out.append(
-            f"{'holds' if claim.holds else 'DOES NOT HOLD'}: {claim.path}: {claim.text} ({claim.detail})"
-        )
+        out.append(f"{claim.verdict}: {claim.path}: {claim.text} ({claim.detail})")
     return "\n".join(out)
 
 
@@ -80,21 +85,24 @@ def _conditions(by_condition, path: str, profiles: tuple[str, ...]) -> list[str]
 
 
 def _sweep(by_condition, path: str, profiles: tuple[str, ...]) -> list[str]:
-    if "adaptive" not in by_condition or not fixed_conditions(by_condition):
-        return []
-    verdicts = sweep_verdicts(by_condition, profiles)
-    lines = [
-        f"Fixed speeds against adaptation, path {path}: adaptive minus fixed time to the finish, "
-        "s, [95% Welch interval]; user requests per run of the fixed speed",
-        f"{'condition':<12}" + "".join(f"{p:>30}" for p in profiles),
-    ]
-    for c, by_profile in verdicts.items():
-        cells = []
-        for p in profiles:
-            if p not in by_profile:
-                cells.append("")
-                continue
-            users = number(by_condition[c][p]["user_requests"].mean, 1)
-            cells.append(f"{display.interval(by_profile[p])}, {users} req.")
-        lines.append(f"{c:<12}" + "".join(f"{x:>30}" for x in cells))
-    return [*lines, ""]
+    lines: list[str] = []
+    for prefix, what in FAMILIES.items():
+        if "adaptive" not in by_condition or not fixed_conditions(by_condition, prefix):
+            continue
+        verdicts = sweep_verdicts(by_condition, profiles, prefix)
+        lines += [
+            f"Fixed speeds ({what}) against adaptation, path {path}: adaptive minus fixed time "
+            "to the finish, s, [95% Welch interval]; user requests per run of the fixed speed",
+            f"{'condition':<20}" + "".join(f"{p:>30}" for p in profiles),
+        ]
+        for c, by_profile in verdicts.items():
+            cells = []
+            for p in profiles:
+                if p not in by_profile:
+                    cells.append("")
+                    continue
+                users = number(by_condition[c][p]["user_requests"].mean, 1)
+                cells.append(f"{display.interval(by_profile[p])}, {users} req.")
+            lines.append(f"{c:<20}" + "".join(f"{x:>30}" for x in cells))
+        lines.append("")
+    return lines

@@ -17,6 +17,7 @@ from weblab_experiment.differences import THRESHOLD, gaps
 from weblab_experiment.grid import Outcome
 from weblab_experiment.plots import FORMATS, all_plots
 from weblab_experiment.summary import (
+    FAMILIES,
     METRICS,
     PAPER,
     Claim,
@@ -73,7 +74,14 @@ def as_json(
             for path, by_condition in table.items()
         },
         "claims": [
-            {"path": c.path, "claim": c.text, "holds": c.holds, "figures": c.detail} for c in found
+            {
+                "path": c.path,
+                "claim": c.text,
+                "claimed": c.claimed,
+                "holds": c.holds,
+                "figures": c.detail,
+            }
+            for c in found
         ],
         "unfinished_runs": unfinished(outcomes),
     }
@@ -121,9 +129,11 @@ def write_all(
             "conditions": by_condition,
             "gaps": gaps(by_condition, path, profiles),
             "fixed": fixed_conditions(by_condition),
-            "verdicts": sweep_verdicts(by_condition, profiles)
-            if "adaptive" in by_condition
-            else {},
+            "sweeps": {
+                prefix: (what, sweep_verdicts(by_condition, profiles, prefix))
+                for prefix, what in FAMILIES.items()
+                if "adaptive" in by_condition and fixed_conditions(by_condition, prefix)
+            },
             "claims": [c for c in found if c.path == path],
             "plots": [p for p in plots if p.stem.endswith(f"-{path}")],
         }
@@ -142,12 +152,13 @@ def write_all(
         table_metrics=display.TABLE_METRICS,
         table_1=display.TABLE_1,
         headers=display.HEADERS,
-        all_hold=all(c.holds for c in found),
+        all_hold=all(c.holds for c in found if c.claimed),
         rules={
             "time_cap": meta.get("time_cap_s", experiment.TIME_CAP),
             "patience": experiment.PATIENCE,
             "repeats": experiment.REPEATS,
             "adaptive_speed": experiment.ADAPTIVE_SPEED,
+            "backwards_mm": experiment.BACKWARDS_MM,
         },
     )
     report = out / "report.html"

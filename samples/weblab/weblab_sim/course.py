@@ -22,6 +22,22 @@ the direction it was travelling in, the world bearing of the last point it steer
   (the lab's person puts it back on the stripe facing along it): the direction of travel is
   forgotten, and the next stripe seen gives it again.
 
+The heading alone is not enough: after the robot overshoots a corner it may pick up another
+segment of the stripe (on the right-angle path one runs 700 mm away) and follow it the wrong way,
+and at every step the way it is going agrees with the way it went a step before. The lab knows
+its floor: while the robot is on the stripe its telemetry also says where along the stripe
+(``along``, mm) and which way the stripe runs there (``stripeHeading``). So, judging the readings
+taken while the robot drove forward under the user's control:
+
+- a robot on the stripe heading more than :data:`BACKWARDS_DEG` from the way the stripe runs
+  there drives it backwards: the direction of travel becomes the stripe's there, and the next
+  step reports no stripe (the robot stops before it goes farther);
+- a robot on the stripe more than :data:`AHEAD_MM` past the farthest point the lab has seen it
+  reach (``progress``) is on another segment: it is astray, and reports no stripe until a
+  reading shows it back where it was (the lab's recovery or its person puts it there);
+- the way the stripe ran where the robot was last on it (where it lost it, when it has) also
+  bounds a single crossing: one more than :data:`BACKWARDS_DEG` from it runs backwards too.
+
 Headings are in degrees, counter-clockwise from east (as the telemetry gives them).
 """
 
@@ -33,6 +49,7 @@ from weblab_sim.detector import Sighting, bearing
 
 SIDE_BIAS_DEG = 45.0
 BACKWARDS_DEG = 150.0
+AHEAD_MM = 400.0  # as far past the farthest point reached as the next stretch of stripe starts
 TURNING_DEG = 2.0  # a turn smaller than this says nothing about the side the stripe goes to
 CARRIED_DEG = 75.0  # a heading change between two telemetry readings the wheels cannot make
 
@@ -42,6 +59,28 @@ def wrap(angle: float) -> float:
     return (angle + 180.0) % 360.0 - 180.0
 
 
+def _number(value: object) -> float | None:
+    """A finite float, or None (missing or malformed)."""
+    try:
+        number = float(value)  # type: ignore[arg-type]
+    except (TypeError, ValueError):
+        return None
+    return number if math.isfinite(number) else None
+
+
+def judge(reading: object) -> tuple[bool, bool] | None:
+    """Of a telemetry reading of a robot on the stripe: (it heads more than
+    :data:`BACKWARDS_DEG` from the way the stripe runs there, it is more than :data:`AHEAD_MM` past
+    the farthest point reached); None when the reading does not put the robot on the stripe."""
+    if not isinstance(reading, dict):
+        return None
+    heading, runs = _number(reading.get("heading")), _number(reading.get("stripeHeading"))
+    along, reached = _number(reading.get("along")), _number(reading.get("progress"))
+    if heading is None or runs is None or along is None or reached is None:
+        return None
+    return abs(wrap(heading - runs)) > BACKWARDS_DEG, along > reached + AHEAD_MM
+
+
 class Course:
     """The direction of travel (world bearing, degrees) and the robot's last known heading."""
 
@@ -49,26 +88,46 @@ class Course:
         self.heading: float | None = None
         self.travel: float | None = None
         self.side = 0.0  # +1 left, -1 right: the side of the last clear turn; 0 before one
+        self.stripe: float | None = None  # the way the stripe ran where the robot last was on it
+        self.halt = False  # the robot drove the stripe backwards: the next step stops it
+        self.astray = False  # the robot is on another segment, far ahead
 
-    def observe(self, reading: object) -> None:
-        """Take the heading of a telemetry reading (a mapping with ``heading`` in degrees); a
-        malformed reading, without a finite heading, is ignored."""
+    def observe(self, reading: object, forward: bool = False) -> None:
+        """Take the heading of a telemetry reading (a mapping with ``heading`` in degrees, and
+        ``along``, ``progress`` and ``stripeHeading`` when the robot is on the stripe);
+        ``forward``: the robot was driving forward under the user's control when it was taken.
+        A malformed reading, without a finite heading, is ignored."""
         if not isinstance(reading, dict):
             return
-        try:
-            heading = float(reading.get("heading"))  # type: ignore[arg-type]
-        except (TypeError, ValueError):
-            return
-        if not math.isfinite(heading):
+        heading = _number(reading.get("heading"))
+        if heading is None:
             return
         if self.heading is not None and abs(wrap(heading - self.heading)) > CARRIED_DEG:
-            self.travel, self.side = None, 0.0
+            self.travel, self.side, self.stripe = None, 0.0, None
         self.heading = heading
+        if forward and reading.get("stoppedBackwards"):
+            self.halt = True  # the lab stopped it: it drove the stripe backwards
+        judged = judge(reading)
+        if judged is None:
+            return
+        backwards, elsewhere = judged
+        runs = float(reading["stripeHeading"])  # judge() found it a number
+        if forward and elsewhere:
+            self.astray = True
+        elif not elsewhere and not backwards:
+            self.astray = False
+        if forward and backwards and not elsewhere:
+            self.travel, self.side, self.halt = runs, 0.0, True
+        if not backwards and not elsewhere:
+            self.stripe = runs
 
     def choose(self, seen: Sighting | None) -> float | None:
         """The turn (degrees, + left) to steer at in what the camera saw, or None: no stripe, or
-        only a stripe that runs backwards."""
-        if seen is None:
+        only a stripe that runs backwards, or the robot is astray."""
+        if self.halt:
+            self.halt = False
+            return None
+        if seen is None or self.astray:
             return None
         if self.heading is None or self.travel is None:
             return self._take(bearing(seen.target))
@@ -81,7 +140,10 @@ class Course:
                 )
             )
         turn = bearing(seen.target)
-        if abs(wrap(self.heading + turn - self.travel)) > BACKWARDS_DEG:
+        way = wrap(self.heading + turn)
+        if abs(wrap(way - self.travel)) > BACKWARDS_DEG:
+            return None
+        if self.stripe is not None and abs(wrap(way - self.stripe)) > BACKWARDS_DEG:
             return None
         return self._take(turn)
 

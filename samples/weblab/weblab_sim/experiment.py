@@ -15,8 +15,10 @@ it, the person is the only help (a user request).
 Conditions (:func:`parse_condition`) switch policies off from outside, through the public runtime API
 (``container.remove_policy_set``), and set the Navigator's ``forwardSpeed``: ``adaptive`` (every
 policy on), ``fixed_<speed>`` (every policy off, the user asks for ``<speed>`` mm/s: ``fixed_50``,
-``fixed_150``, and any other speed of a sweep), ``no_speed_policy``, ``no_recovery_policy`` and
-``no_bandwidth_policy`` (that set off).
+``fixed_150``, and any other speed of a sweep), ``no_speed_policy_<speed>`` (only SpeedLimiting
+off, Recovering and BandwidthLimiting on, the user asks for ``<speed>`` mm/s: what speed
+adaptation alone buys), ``no_speed_policy`` (the same at the adaptive runs' 200 mm/s),
+``no_recovery_policy`` and ``no_bandwidth_policy`` (that set off).
 
 Metrics (plain names, all numbers): ``cycles_per_s`` (control cycles that found the stripe, per
 second of those cycles: stops, retries and recoveries do not count), ``speed_mm_s`` (distance
@@ -32,7 +34,9 @@ before the int attribute rounds it; the attribute where the policy is off or has
 ``stopped_s`` (``time_s`` minus those cycles' time: stops, recoveries, help), ``faults`` (runtime
 faults recorded by both containers), ``frames_dropped`` (panorama frames the link could not
 carry), ``cycles`` (all control cycles), ``users_max`` (the most users the Usage monitor saw),
-``progress_mm`` (along the stripe), ``sim_s``, ``wall_s`` and ``sim_per_wall``.
+``progress_mm`` (along the stripe), ``backwards_mm`` (the most the robot drove back along the
+stripe while driving forward under the user's control) and ``followed_backwards`` (1 when that
+is more than :data:`BACKWARDS_MM`), ``sim_s``, ``wall_s`` and ``sim_per_wall``.
 """
 
 from __future__ import annotations
@@ -62,8 +66,14 @@ SAME_PLACE_MM = 300.0  # progress along the stripe that makes the next recovery 
 RECORD_PERIOD = 0.5  # s between samples of fps, maxSpeed and cycleRate
 CORNER_MM = 400.0  # a stripe loss this close to a corner (along the stripe) is counted at it
 TIME_CAP = 400.0
+BACKWARDS_MM = 100.0  # driving this far back along the stripe under the user's control: backwards
 ADAPTIVE_SPEED = 200.0  # mm/s the user's program asks for when the policies may cap it
-FIXED = "fixed_"  # prefix of the fixed-speed conditions: fixed_<mm/s>
+FIXED = "fixed_"  # prefix of the fixed-speed conditions with every policy off: fixed_<mm/s>
+UNLIMITED = (
+    "no_speed_policy_"  # prefix of those with only SpeedLimiting off: no_speed_policy_<mm/s>
+)
+FAMILIES = {FIXED: POLICY_SETS, UNLIMITED: ("SpeedLimiting",)}
+"""The fixed-speed families: the prefix, and the policy sets it switches off."""
 FIXED_RANGE = (10.0, 300.0)  # mm/s a fixed speed may be (300: the wheels' top speed)
 
 
@@ -82,32 +92,44 @@ CONDITIONS: dict[str, Condition] = {
     "no_speed_policy": Condition(("SpeedLimiting",), ADAPTIVE_SPEED),
     "no_recovery_policy": Condition(("Recovering",), ADAPTIVE_SPEED),
     "no_bandwidth_policy": Condition(("BandwidthLimiting",), ADAPTIVE_SPEED),
+    "no_speed_policy_50": Condition(("SpeedLimiting",), 50.0),
+    "no_speed_policy_150": Condition(("SpeedLimiting",), 150.0),
 }
-"""The named conditions; :func:`parse_condition` also knows ``fixed_<speed>`` for any other speed."""
+"""The named conditions; :func:`parse_condition` also knows ``fixed_<speed>`` and
+``no_speed_policy_<speed>`` for any other speed."""
+
+
+def family(name: str) -> str | None:
+    """The prefix of the fixed-speed family (:data:`FAMILIES`) of a condition name, or None."""
+    return next((f for f in FAMILIES if name.startswith(f) and fixed_speed(name) is not None), None)
 
 
 def fixed_speed(name: str) -> float | None:
-    """The speed (mm/s) of a ``fixed_<speed>`` condition name, None for any other name."""
-    if not name.startswith(FIXED):
+    """The speed (mm/s) of a ``fixed_<speed>`` or ``no_speed_policy_<speed>`` condition name,
+    None for any other name."""
+    prefix = next((f for f in FAMILIES if name.startswith(f)), None)
+    if prefix is None:
         return None
     try:
-        speed = float(name[len(FIXED) :])
+        speed = float(name[len(prefix) :])
     except ValueError:
         return None
     return speed if FIXED_RANGE[0] <= speed <= FIXED_RANGE[1] else None
 
 
 def parse_condition(name: str) -> Condition:
-    """The condition ``name``: one of :data:`CONDITIONS` or ``fixed_<speed>`` (mm/s, 10-300)."""
+    """The condition ``name``: one of :data:`CONDITIONS`, ``fixed_<speed>`` or
+    ``no_speed_policy_<speed>`` (mm/s, 10-300)."""
     if name in CONDITIONS:
         return CONDITIONS[name]
-    speed = fixed_speed(name)
-    if speed is None:
+    speed, prefix = fixed_speed(name), family(name)
+    if speed is None or prefix is None:
         raise ValueError(
-            f"no condition {name!r} (conditions: {', '.join(CONDITIONS)}, or fixed_<speed> "
-            f"with a speed of {FIXED_RANGE[0]:g} to {FIXED_RANGE[1]:g} mm/s)"
+            f"no condition {name!r} (conditions: {', '.join(CONDITIONS)}, or fixed_<speed> or "
+            f"no_speed_policy_<speed> with a speed of {FIXED_RANGE[0]:g} to {FIXED_RANGE[1]:g} "
+            "mm/s)"
         )
-    return Condition(POLICY_SETS, speed)
+    return Condition(FAMILIES[prefix], speed)
 
 
 def _registry() -> Any:
@@ -323,6 +345,8 @@ def _metrics(lab: World, nav: Any, recovery: Any, record: list, cap: float) -> d
         "cycles": len(cycles),
         "users_max": max((r[4] for r in record), default=0),
         "progress_mm": lab.progress,
+        "backwards_mm": lab.backwards_mm,
+        "followed_backwards": int(lab.backwards_mm > BACKWARDS_MM),
     }
 
 

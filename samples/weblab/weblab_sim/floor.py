@@ -1,14 +1,23 @@
 """The lab's floor: a 4 x 3 m raster at 5 mm/px with a coloured stripe path and a finish line.
 
-Two paths (:data:`PATHS`), each six straight segments from the same start (the stripe runs on
-350 mm past the finish line); a 50 mm orange stripe on a grey, faintly textured floor:
+A family of four paths (:data:`PATHS`), each six straight segments from the same start (the
+stripe runs on 350 mm past the finish line), given by its segment lengths and the turns between
+them; a 50 mm orange stripe on a grey, faintly textured floor:
 
 - ``default``, fixed beforehand (not tuned to the paper): 6.4 m, turning by +75, +80, +45, -100
   and -70 degrees; the experiment's Table 1 runs on it;
 - ``sharp``, for robustness (designed after the default path's results were known, to be harder):
   6.6 m, turning by +115, -115, +110, +70 and +45 degrees, three of them sharper than any turn of
   the default path; segments that are not neighbours are at least 810 mm apart, so the camera
-  (750 mm ahead, 960 mm wide) never sees two of them at once.
+  (750 mm ahead, 960 mm wide) never sees two of them at once;
+- ``right``, a serpentine of right angles (designed after the first two were run, not changed
+  after its own runs): 7.7 m, segments of 2400, 700, 1600, 700, 1700 and 600 mm turning +90,
+  +90, -90, -90, +90 degrees; the third segment runs 700 mm from the first and the fifth 700 mm
+  from the third, within the camera's reach: a robot that overshoots a corner can see them;
+- ``gentle``, turns of 60 degrees only (designed with ``right``, not changed after its runs):
+  5.5 m, segments of 1300, 800, 800, 800, 800 and 1000 mm turning +60, -60, +60, +60, +60
+  degrees; the longest path of 60 degree turns with segments of 800 to 1300 mm that keeps
+  450 mm from the walls and 800 mm between segments that are not neighbours.
 
 The texture has its own fixed seed (:data:`TEXTURE_SEED`), so every run sees the same floor; a
 run's seed changes only what happens on it. World coordinates are millimetres, x east, y north,
@@ -51,6 +60,22 @@ PATHS: dict[str, tuple[tuple[float, float], ...]] = {
         (1200.0, 70.0),
         (500.0, 45.0),
     ),
+    "right": (
+        (2400.0, 0.0),
+        (700.0, 90.0),
+        (1600.0, 90.0),
+        (700.0, -90.0),
+        (1700.0, -90.0),
+        (600.0, 90.0),
+    ),
+    "gentle": (
+        (1300.0, 0.0),
+        (800.0, 60.0),
+        (800.0, -60.0),
+        (800.0, 60.0),
+        (800.0, 60.0),
+        (1000.0, 60.0),
+    ),
 }
 DEFAULT_PATH = "default"
 RUN_OUT_MM = 350.0  # the stripe goes on past the finish line, so the camera sees it to the end
@@ -79,6 +104,12 @@ class Path:
         i = int(np.argmin(dist))
         before = float(np.sum(seg_len[:i]))
         return float(dist[i]), before + float(t[i] * seg_len[i])
+
+    def nearest(self, x: float, y: float) -> tuple[float, float, float]:
+        """(distance from (x, y) to the centre line, arc length of the closest point, the
+        direction the stripe runs there in degrees counter-clockwise from east)."""
+        dist, s = self.closest(x, y)
+        return dist, s, math.degrees(self.pose_at(s)[2])
 
     def pose_at(self, s: float) -> tuple[float, float, float]:
         """The point at arc length ``s`` and the stripe's heading there (radians)."""

@@ -30,6 +30,12 @@ PLACE_AHEAD_MM = 50.0  # how far past the farthest point reached the person puts
 HUMAN_DELAY = 10.0  # s a person takes to walk over and put the robot back on the stripe
 MOTOR_SPEED_SIGMA = 0.03  # relative error of the speed the wheels give
 MOTOR_TURN_SIGMA = 0.02  # rad/s error of the turn rate
+ON_STRIPE_MM = 150.0  # the robot's centre this close to the centre line: it is on the stripe
+AHEAD_MM = (
+    400.0  # a stripe point farther than this past the farthest point reached: another segment
+)
+SLIP_MM = 100.0  # a change of the nearest point's arc length in one sample this big: a jump
+STOP_MM = 40.0  # driven back along the stripe this far, the lab stops the robot
 
 
 @dataclass
@@ -84,6 +90,13 @@ class World:
         self._arrays: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None
         self.commanded = 0.0
         self.progress = 0.0  # arc length along the stripe reached so far, mm
+        # Driving the stripe backwards (mm): see _track_backwards.
+        self.backwards_mm = 0.0
+        # set by the lab's safety stop, cleared once a telemetry reading has said so
+        self.stopped_backwards = False
+        self._driven = self._driven_peak = 0.0
+        self._last_along: float | None = None
+        self._receding = False
         self.done = False
         self.finish_time: float | None = None
         self.sessions: set[str] = set()
@@ -123,19 +136,23 @@ class World:
         with self._lock:
             self.robot.place(self.clock.now(), x, y, heading)
             self.commanded = 0.0
+            self._driven_peak = self._driven  # carried: a fresh start
+            self._last_along = None
             self.placements += 1
 
     # --------------------------------------------------------------------------- sensors
     def telemetry(self) -> dict[str, float]:
         """Position, heading, sonar ranges, battery voltage and progress along the stripe now (the
-        Telemetry monitor's fields)."""
+        Telemetry monitor's fields); when the robot is on the stripe, also ``along`` (mm, the arc
+        length of the stripe's point nearest the robot) and ``stripeHeading`` (degrees, the way
+        the stripe runs there)."""
         with self._lock:
             now = self.clock.now()
             x, y, heading = self.robot.pose(now)
             ranges = self.robot.sonar(now, SONAR_BEARINGS, SONAR_RANGE_MM)
         volts = BATTERY_FULL_V - 0.002 * now - 0.05 * self.robot.distance / 1000.0
         noise = self.clock.rng("telemetry").normal(0.0, 0.01)
-        return {
+        reading = {
             "positionX": x,
             "positionY": y,
             "heading": math.degrees(heading),
@@ -143,6 +160,25 @@ class World:
             "batteryVoltage": volts + noise,
             "progress": self.progress,
         }
+        reading.update(self._where(x, y))
+        if self.stopped_backwards:
+            reading["stoppedBackwards"] = 1.0
+        return reading
+
+    def on_stripe(self) -> dict[str, float]:
+        """The robot's heading and progress now, and :meth:`telemetry`'s ``along`` and
+        ``stripeHeading`` when it is on the stripe (what the lab's safety stop looks at)."""
+        with self._lock:
+            x, y, heading = self.robot.pose(self.clock.now())
+        return {"heading": math.degrees(heading), "progress": self.progress, **self._where(x, y)}
+
+    def _where(self, x: float, y: float) -> dict[str, float]:
+        # Where on the stripe the lab sees the robot, and which way the stripe runs there: the
+        # lab knows its floor (its panoramic camera watches the robot), the user does not.
+        dist, along, direction = self.path.nearest(x, y)
+        if dist >= ON_STRIPE_MM:
+            return {}
+        return {"along": along, "stripeHeading": direction}
 
     def telemetry_reading(self) -> dict[str, object]:
         """The reading the Locomotion publishes now: :meth:`telemetry`, or a malformed one (a
@@ -178,14 +214,44 @@ class World:
         dist, s = self.path.closest(x, y)
         # Progress only along the stripe near where the robot is: a nearby other segment must
         # not count as reached.
-        if dist < 150.0 and s <= self.progress + 400.0:
+        if dist < ON_STRIPE_MM and s <= self.progress + AHEAD_MM:
             self.progress = max(self.progress, s)
+        self._track_backwards(dist, s)
         self.samples.append(
             Sample(now, x, y, heading, self.robot.distance, self.commanded, self.progress)
         )
-        if not self.done and self.path.crossed_finish(x, y):
+        # The finish counts for a robot that got to the last stretch along the stripe, not for
+        # one that took a short cut over to it.
+        reached = self.progress >= self.path.length - AHEAD_MM
+        if not self.done and reached and self.path.crossed_finish(x, y):
             self.done = True
             self.finish_time = now
+
+    def _track_backwards(self, dist: float, s: float) -> None:
+        """How far the robot drove the stripe backwards: the change of its place along the stripe
+        summed over the samples in which it drove forward under the user's control, on the stripe
+        (backing up, standing, jumps between two parts of the stripe and carrying do not count),
+        and the most that sum fell below its peak."""
+        last, self._last_along = self._last_along, (s if dist < ON_STRIPE_MM else None)
+        self._receding = False
+        if self._last_along is None or last is None or abs(s - last) > SLIP_MM:
+            return
+        if self.commanded <= 0.0:
+            return
+        self._driven += s - last
+        self._driven_peak = max(self._driven_peak, self._driven)
+        self.backwards_mm = max(self.backwards_mm, self._driven_peak - self._driven)
+        self._receding = s < last
+
+    def driving_backwards(self) -> bool:
+        """True when the robot, driven forward, is moving back along the stripe and has already
+        fallen :data:`STOP_MM` below the farthest it had driven (the lab's safety stop), or is
+        on the stripe more than :data:`AHEAD_MM` past the farthest point reached."""
+        if self.commanded <= 0.0:
+            return False
+        if self._receding and self._driven_peak - self._driven > STOP_MM:
+            return True
+        return self._last_along is not None and self._last_along > self.progress + AHEAD_MM
 
     def distance_at(self, t: float) -> float:
         """Distance travelled by time ``t`` (interpolated between samples)."""

@@ -94,9 +94,12 @@ def test_a_run_that_lost_the_stripe_at_a_corner_ends_instead_of_recovering_in_a_
     # Without the speed policy this robot overshoots the first corner on the residential link,
     # and used to follow the stripe back to its start, "recovering" there until the 400 s cap
     # (34 recoveries). Now it keeps its direction of travel and a recovery must get it ahead.
+    # (Since the recovery's speed cap lasts only until the recovery succeeded, this robot is
+    # back at 200 mm/s after each one, and loses the stripe at more corners: 6 losses.)
     m = experiment.run("residential", 1009, "no_speed_policy")
     assert m["finished"] == 1 and m["time_s"] < 200.0
-    assert m["recoveries"] <= m["recovery_actions"] <= 6
+    assert m["recoveries"] <= m["recovery_actions"] <= 3 * m["stripe_losses"]
+    assert m["followed_backwards"] == 0
 
 
 def test_the_sharp_path_and_any_fixed_speed_are_conditions_of_a_run(weblab_app: None) -> None:
@@ -110,5 +113,5 @@ def test_the_sharp_path_and_any_fixed_speed_are_conditions_of_a_run(weblab_app: 
         assert detector.find_stripe(camera.encode(rig.lab.grab_frame(), 75)) > 20.0
     with pytest.raises(ValueError, match="fixed_<speed>"):
         experiment.run("LAN", 0, "fixed_5000")
-    with pytest.raises(ValueError, match="paths: default, sharp"):
+    with pytest.raises(ValueError, match="paths: default, sharp, right, gentle"):
         experiment.run("LAN", 0, path="zigzag")

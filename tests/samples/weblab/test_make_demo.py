@@ -15,6 +15,7 @@ from pathlib import Path
 from weblab_experiment import tuning
 from weblab_experiment.grid import CONDITIONS, SWEEP, fixed_name
 from weblab_experiment.summary import METRICS
+from weblab_sim.experiment import UNLIMITED
 
 from tests.support.browser import headless_chromium
 from tests.support.toolchain import ROOT, run_main
@@ -24,6 +25,8 @@ from .conftest import SAMPLE_DIR
 README = (ROOT / "README.md").read_text(encoding="utf-8")
 WHOLE = (SAMPLE_DIR / "README.md").read_text(encoding="utf-8")  # the whole transcript
 TIMING = re.compile(r"simulated s in [\d.]+ wall s|^WebLab runs: |^report: ")
+CLAIMS = 13  # the claims shown for the default path
+NOT_CLAIMED = 2  # of which made on other paths only (summary.SCOPES)
 ELIDED = re.compile(r"^\[\.\.\. .* \.\.\.\]$")
 
 
@@ -83,7 +86,11 @@ def test_the_claims_hold_and_the_data_files_say_so(demo):
     data = json.loads((out / "results.json").read_text(encoding="utf-8"))
     assert data["claims"] and all(c["holds"] for c in data["claims"]), data["claims"]
     assert data["unfinished_runs"] == []
-    assert data["meta"]["conditions"] == [*CONDITIONS, *(fixed_name(v) for v in SWEEP)]
+    assert data["meta"]["conditions"] == [
+        *CONDITIONS,
+        *(fixed_name(v) for v in SWEEP),
+        *(fixed_name(v, UNLIMITED) for v in SWEEP),
+    ]
     adaptive = data["results"]["default"]["adaptive"]
     assert set(adaptive) == {"residential", "campus", "LAN"}
     for metric in ("cycles_per_s", "speed_mm_s", "time_s", "recoveries", "fps"):
@@ -99,10 +106,15 @@ def test_the_report_shows_claims_tables_tuning_and_plots_in_a_browser(demo):
     with headless_chromium(1200, 900) as browser:
         browser.get((out / "report.html").as_uri())
         claims = browser.find_elements("css selector", "#claims-default li")
-        assert len(claims) == 9 and all(c.text.startswith("holds") for c in claims)
+        assert len(claims) == CLAIMS
+        made = [c for c in claims if not c.text.startswith("not claimed here")]
+        assert len(made) == CLAIMS - NOT_CLAIMED and all(c.text.startswith("holds") for c in made)
         assert len(browser.find_elements("css selector", "#table1-default tbody tr")) == 6
-        assert len(browser.find_elements("css selector", "#conditions-default tbody tr")) == 30
-        assert len(browser.find_elements("css selector", "#sweep-default tbody tr")) == 6
+        assert len(browser.find_elements("css selector", "#conditions-default tbody tr")) == 48
+        for family in ("fixed", "no_speed_policy"):  # each family's six fixed speeds
+            assert (
+                len(browser.find_elements("css selector", f"#sweep-{family}-default tbody tr")) == 6
+            )
         shown = [
             [td.text for td in tr.find_elements("css selector", "td")]
             for tr in browser.find_elements("css selector", "#tuning-table tbody tr")

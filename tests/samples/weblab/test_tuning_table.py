@@ -9,7 +9,7 @@ import subprocess
 import sys
 
 import pytest
-from weblab_experiment import grid, tuning
+from weblab_experiment import grid, summary, tuning
 from weblab_sim import camera, course, experiment, floor, network, world
 
 from tests.support.toolchain import ROOT
@@ -95,6 +95,21 @@ def expected() -> dict[str, list[str]]:
             f"more than {course.CARRIED_DEG:g} degrees",
         ],
         "recovered": ["100 mm or more"],
+        "family_paths": [path_value("right"), path_value("gentle")]
+        + [
+            "segments " + ", ".join(f"{length:g}" for length, _ in floor.PATHS[name]) + " mm"
+            for name in ("right", "gentle")
+        ],
+        "lab_guard": [
+            f"more than {world.STOP_MM:g} mm",
+            f"more than {world.AHEAD_MM:g} mm past",
+            f"more than {course.BACKWARDS_DEG:g} degrees",
+            f"more than {experiment.BACKWARDS_MM:g} mm has followed",
+        ],
+        "unlimited": [
+            f"{experiment.CONDITIONS[f'no_speed_policy_{v}'].forward_speed:g}" for v in (50, 150)
+        ],
+        "sharp_scope": [", ".join(paths) for paths in summary.SCOPES.values()],
     }
 
 

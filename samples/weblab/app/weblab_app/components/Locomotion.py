@@ -14,10 +14,13 @@ This matters: the model's Telemetry monitor feeds the Recovering policy set, who
 retry (and recover) at every firing while the control's last speed is 0, so a reading of a
 stopped robot would start recoveries nobody asked for.
 
-``odometry()`` also says whether the robot has crossed the finish line (``finished``): how the
-Navigator in another process (live mode) knows the run is over. In live mode (a WebLab container
-run on its own, :attr:`weblab_sim.world.World.standalone`) a status line is printed every
-:data:`STATUS_PERIOD` seconds: the distance, the limits the policies set and the context they act on.
+The lab's safety stop: when the robot, driven forward by the user's control, moves back along
+the stripe and has fallen 40 mm behind the farthest it drove (or is on the stripe far past the
+farthest point reached: another segment), the lab stops the wheels at once
+(:meth:`weblab_sim.world.World.driving_backwards`, looked at every :data:`WATCH_PERIOD` s), and
+it pushes a telemetry reading on ``TelemetryPort`` at once that says so (``stoppedBackwards``). The user's Navigator
+learns it at its next cycle and stops too (which is what the policies see); on a slow network
+that cycle can be more than a second away, and the robot would drive on meanwhile.
 """
 
 from __future__ import annotations
@@ -29,18 +32,21 @@ from weblab_sim import steering, world
 
 TELEMETRY_PERIOD = 0.5  # s
 STATUS_PERIOD = 5.0  # s between live mode's status lines
+WATCH_PERIOD = 0.05  # s between the lab's looks at whether the robot drives the stripe backwards
 
 
 class Locomotion(LocomotionBase):
     def on_start(self) -> None:
         self._turn = 0.0
         self._timer = self.clock.call_every(TELEMETRY_PERIOD, self._publish)
+        self._watch = self.clock.call_every(WATCH_PERIOD, self._safety_stop)
         self._status = None
         if world.current(self.clock).standalone:
             self._status = self.clock.call_every(STATUS_PERIOD, self._print_status)
 
     def on_stop(self) -> None:
         self._timer.cancel()
+        self._watch.cancel()
         if self._status is not None:
             self._status.cancel()
             self._status = None
@@ -89,6 +95,16 @@ class Locomotion(LocomotionBase):
             flush=True,
         )
 
+    def _safety_stop(self) -> None:
+        lab = world.current(self.clock)
+        if lab.driving_backwards():
+            lab.drive(0.0, 0.0)
+            lab.stopped_backwards = True
+            port = self.port("TelemetryPort")
+            if port.connections:  # at once: the user's next cycle must know before it moves
+                port.notify(lab.telemetry_reading())
+                lab.stopped_backwards = False  # said
+
     def _publish(self) -> None:
         lab = world.current(self.clock)
         reading = lab.telemetry_reading()
@@ -101,3 +117,4 @@ class Locomotion(LocomotionBase):
         port = self.port("TelemetryPort")
         if port.connections:
             port.notify(reading)
+            lab.stopped_backwards = False  # said

@@ -123,8 +123,10 @@ class Navigator(NavigatorBase):
         # What the lab pushed meanwhile: the telemetry's heading for the course; the panorama
         # (a console would show it).
         telemetry, panorama = self.port("NavTelemetryPort"), self.port("NavPanoramaPort")
+        # The readings came while the last command was in force: a move drove forward.
+        forward = bool(self.cycles) and self.cycles[-1][2] is not None
         while (reading := telemetry.take()) is not None:
-            self.course.observe(reading)
+            self.course.observe(reading, forward)
         while panorama.take() is not None:
             pass
         turn = self.findStripe(frame)  # 2. find the stripe

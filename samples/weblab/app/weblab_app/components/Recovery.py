@@ -6,7 +6,13 @@
 ``turnAngle`` degrees towards the side the control was last turning to (where the stripe went),
 stop, cap ``Locomotion.maxSpeed`` at :data:`SPEED_CAP`, and wait ``waitTime`` s; all through
 ``RecoveryLocomotionPort`` except the cap, a property set through the container. It returns when
-done: the control's ``stop()`` that fired the policy waits for it.
+done: the control's ``stop()`` that fired the policy waits for it. The cap lasts until the
+recovery has succeeded (the lab's progress along the stripe is :data:`RECOVERED_MM` past
+``lostAt``, as the Recovering policy's ``recovered`` rule says) or a person has put the robot
+back: then the speed limit it replaced comes back, unless something else (SpeedLimiting) has set
+one since. Without that, a run with SpeedLimiting off would crawl at the cap for the rest of the
+run after its first recovery, and the conditions that switch only SpeedLimiting off would measure
+the cap, not the fixed speed.
 ``askUser()``: a person puts the robot back on the stripe (:data:`weblab_sim.world.HUMAN_DELAY`
 seconds later); counted in ``user_requests``, and the retries start again.
 In live mode (:attr:`weblab_sim.world.World.standalone`) each action is also printed.
@@ -22,12 +28,22 @@ from weblab_sim import steering, world
 
 BACKUP_SPEED = 100.0  # mm/s
 SPEED_CAP = 60.0  # mm/s
+RECOVERED_MM = 100.0  # the Recovering policy's recovered rule: progress past lostAt
+WATCH_PERIOD = 0.5  # s between looks at whether the capped recovery has succeeded
 
 
 class Recovery(RecoveryBase):
     state_fields = ("user_requests", "actions")
     user_requests = 0
     actions = 0
+    # (the limit the cap replaced, the cap) while a cap waits for the recovery to succeed
+    _capped: tuple[float, float] | None = None
+    _watch = None
+
+    def on_stop(self) -> None:
+        if self._watch is not None:
+            self._watch.cancel()
+            self._watch = None
 
     def recover(self) -> None:
         if world.current(self.clock).recovery_fails():
@@ -47,6 +63,10 @@ class Recovery(RecoveryBase):
             raise TypeError(f"Locomotion.maxSpeed is {current!r}, not a number")
         cap = min(float(current), SPEED_CAP)
         self.container.set_property("Locomotion", "maxSpeed", cap)
+        earlier = self._capped[0] if self._capped is not None else float(current)
+        self._capped = (earlier, cap)
+        if self._watch is None:
+            self._watch = self.clock.call_every(WATCH_PERIOD, self._lift_cap)
         self.actions += 1
         self._say(
             f"recover #{self.actions}: backed up {distance:.0f} mm, maxSpeed capped at {cap:.0f}"
@@ -60,6 +80,21 @@ class Recovery(RecoveryBase):
         self.clock.sleep(world.HUMAN_DELAY)
         lab.place_on_stripe()
         self.retries = 0
+        self._lift_cap(force=True)
+
+    def _lift_cap(self, force: bool = False) -> None:
+        """Give back the speed limit the cap replaced once the recovery has succeeded."""
+        if self._capped is None:
+            return
+        if not force and world.current(self.clock).progress <= self.lostAt + RECOVERED_MM:
+            return
+        earlier, cap = self._capped
+        if self.container.get_property("Locomotion", "maxSpeed") == cap:
+            self.container.set_property("Locomotion", "maxSpeed", earlier)
+        self._capped = None
+        if self._watch is not None:
+            self._watch.cancel()
+            self._watch = None
 
     def _say(self, what: str) -> None:
         if world.current(self.clock).standalone:
