@@ -32,7 +32,7 @@ def value(text: str) -> str:
 def text_of(outline: o.Outline) -> str:
     """The text of ``outline``."""
     lines: list[str] = []
-    if outline.name or outline.doc or outline.id:
+    if outline.name or outline.doc or outline.id is not None:
         _doc(lines, outline.doc, "")
         lines.append(f"model {name(outline.name)}{_ident(outline.id)}")
     for item in outline.items:
@@ -74,7 +74,7 @@ def _item(lines: list[str], item: o.Package | o.Element, indent: str) -> None:
     for op in item.operations:
         _doc(body, op.doc, inner)
         params = ", ".join(_parameter(p) for p in op.parameters)
-        returns = f": {value(op.returns)}" if op.returns is not None else ""
+        returns = f": {name(op.returns)}" if op.returns is not None else ""
         body.append(f"{inner}operation {name(op.name)}{_ident(op.id)}({params}){returns}")
     for nested in item.nested:
         _item(body, nested, inner)
@@ -96,7 +96,7 @@ def _attribute(lines: list[str], attr: o.Attribute, indent: str) -> None:
     _doc(lines, attr.doc, indent)
     text = f"{indent}attribute {name(attr.name)}{_ident(attr.id)}"
     if attr.type is not None:
-        text += f": {value(attr.type)}"
+        text += f": {name(attr.type)}"
     if attr.default is not None:
         text += f" = {value(attr.default)}"
     var = attr.variable
@@ -118,5 +118,5 @@ def _block(lines: list[str], head: str, block: o.Block, indent: str) -> None:
 
 def _parameter(p: o.Parameter) -> str:
     direction = f"{p.direction} " if p.direction != "in" else ""
-    typed = f": {value(p.type)}" if p.type is not None else ""
+    typed = f": {name(p.type)}" if p.type is not None else ""
     return f"{direction}{name(p.name)}{_ident(p.id)}{typed}"
