@@ -46,6 +46,9 @@ class SequenceBook:
         self._behind: dict[str, tuple[int, int]] = {}  # publisher -> (last seq below, count)
         self._seen: dict[str, tuple[bytes, int]] = {}  # publisher -> (epoch, last seq)
         self._missing: dict[str, set[int]] = {}  # publisher -> numbers of its gaps
+        # publisher -> numbers above a resynchronisation point taken already (a resumed session's
+        # new documents that came before its queued ones): not lost when the sequence passes them
+        self._taken: dict[str, set[int]] = {}
 
     def forget(self, publisher: str) -> None:
         """``publisher`` was retired: its next document starts afresh."""
@@ -53,6 +56,7 @@ class SequenceBook:
             self._seen.pop(publisher, None)
             self._behind.pop(publisher, None)
             self._missing.pop(publisher, None)
+            self._taken.pop(publisher, None)
 
     def figures(self) -> dict[str, int]:
         return {
@@ -95,6 +99,10 @@ class SequenceBook:
                         return NEW  # resynchronised at this number
                     self.duplicates -= 1  # counted by _behind_last: it was not one
                     return LATE
+                taken = self._taken.get(publisher)
+                if taken and seq in taken:  # it came before the resynchronisation: a repeat
+                    self.duplicates += 1
+                    return REFUSED
                 if seq <= last:
                     return NEW if self._behind_last(publisher, epoch, seq, last) else REFUSED
                 if seq - last > self.max_seq_jump:
@@ -117,7 +125,13 @@ class SequenceBook:
     def _gap(self, publisher: str, last: int, seq: int) -> None:
         """The numbers between ``last`` and ``seq`` did not come (yet): counted lost, the most
         recent remembered in case they come late. Under the lock."""
-        gap = seq - last - 1
+        taken = self._taken.get(publisher)
+        came = len(taken.intersection(range(last + 1, seq))) if taken else 0
+        if taken:
+            taken.difference_update(range(last + 1, seq + 1))
+        gap = seq - last - 1 - came
+        if gap == 0:
+            return
         self.lost += gap
         log.warning("%s: %d document(s) lost before seq %d", publisher, gap, seq)
         missing = self._missing.setdefault(publisher, set())
@@ -164,10 +178,13 @@ class SequenceBook:
         # the numbers counted lost above ``seq`` were the gap before the higher number, which
         # was not this sequence's: they are still to come
         missing = self._missing.get(publisher)
+        above: set[int] = set()
         if missing:
             above = {n for n in missing if n > seq}
             missing.difference_update(above)
             self.lost -= len(above)
+        if last - seq <= MAX_MISSING:
+            self._taken[publisher] = set(range(seq + 1, last + 1)) - above
         log.warning(
             "%s: %d documents in a row numbered below seq %d: taking seq %d as its sequence "
             "(the higher number was forged, or sent by another process under this name)",
