@@ -460,8 +460,8 @@ def render() -> dict[Path, str]:
 
 
 def main() -> int:
+    from acordcs.model.outline_builder import to_form
     from acordcs.model.reading import read_model
-    from acordcs.notation.conversion import to_form
 
     for path, text in render().items():
         path.parent.mkdir(exist_ok=True)

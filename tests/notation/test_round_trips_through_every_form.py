@@ -9,8 +9,8 @@ from pathlib import Path
 import pytest
 
 from acordcs.generator.describe import describe
+from acordcs.model.outline_builder import to_form
 from acordcs.model.reading import read_model
-from acordcs.notation.conversion import to_form
 from tests.support.toolchain import SAMPLES, XMI_SAMPLES, reference_params
 
 SHIPPED = sorted(

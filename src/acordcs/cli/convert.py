@@ -54,7 +54,7 @@ def convert(model: str, output: str | None, form: str | None) -> None:
       acordcs-gen convert greenhouse.acord -o greenhouse.uml
       acordcs-gen convert greenhouse.acord --to bouml -o greenhouse.xmi
     """
-    from acordcs.notation.conversion import SUFFIXES, to_form
+    from acordcs.model.outline_builder import SUFFIXES, to_form
     from acordcs.notation.text_model import DIALECT
 
     reading = read_one(model, check=False)

@@ -4,7 +4,7 @@ stereotype's tags, members and relations, each with where the text says it.
 Every form goes through it: the text is parsed into it (:mod:`acordcs.notation.syntax`), written
 from it (:mod:`acordcs.notation.text_form`), read as the neutral UML view from it
 (:mod:`acordcs.notation.text_model`), turned into XMI from it (:mod:`acordcs.notation.xmi_forms`),
-and made from any model the XMI readers read (:mod:`acordcs.notation.from_uml`).
+and made from any model the XMI readers read (:mod:`acordcs.model.outline_builder`).
 """
 
 from __future__ import annotations

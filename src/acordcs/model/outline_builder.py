@@ -1,4 +1,8 @@
-"""The outline of a model any reader read: what the text notation says of it.
+"""The model in the text notation's forms (what ``acordcs-gen convert`` writes), as
+:mod:`acordcs.model.ecore_builder` gives it as the metamodel's instance: the outline of a model any
+reader read, what the text notation says of it (:func:`outline_of`), and the model in each form
+through it (:func:`to_form`: the text, the XMI Papyrus opens, the XMI BOUML reads), so that each
+form says the same model.
 
 Only what the profile says is kept: the elements with an ACORD-CS stereotype (with their tags,
 attributes, operations, ports and the relations the architecture found between them), and the
@@ -11,6 +15,9 @@ from __future__ import annotations
 from acordcs.errors import AcordError
 from acordcs.model.architecture import VARIABLE, Architecture, Role
 from acordcs.notation import outline as o
+from acordcs.notation.text_form import text_of
+from acordcs.notation.text_model import uml_of
+from acordcs.notation.xmi_forms import bouml_form, papyrus_form
 from acordcs.rules.parser import split_rules
 from acordcs.xmi.uml import Classifier, Element
 from acordcs.xmi.uml import Operation as UmlOperation
@@ -165,3 +172,16 @@ def _writable(line: str, what: str, element: Element) -> None:
 def _doc(element: Element) -> list[str]:
     text = "\n".join(c for c in element.comments if c)
     return text.split("\n") if text else []
+
+
+FORMS = ("text", "papyrus", "bouml")
+SUFFIXES = {".acord": "text", ".uml": "papyrus", ".xmi": "bouml"}
+
+
+def to_form(arch: Architecture, form: str) -> bytes:
+    """The model ``arch`` interprets, in ``form`` (one of :data:`FORMS`)."""
+    outline = outline_of(arch)
+    if form == "text":
+        return text_of(outline).encode("utf-8")
+    uml = uml_of(outline, arch.uml.file)
+    return papyrus_form(uml) if form == "papyrus" else bouml_form(uml)
