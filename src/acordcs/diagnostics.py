@@ -270,10 +270,11 @@ class Diagnostic:
         """``file:line:col`` (column 1 when unknown), or ``file`` when the line is unknown."""
         return f"{self.file}:{self.line}:{self.column or 1}" if self.line else self.file
 
-    def format_text(self) -> str:
-        """One line, ``file:line:col: severity: CODE message [element (id)]``; names from the
-        model cannot break it (newlines, bidi controls are escaped)."""
-        text = f"{self.location()}: {self.severity}: {self.code} {self.message}"
+    def format_text(self, severity: str | None = None) -> str:
+        """One line, ``file:line:col: severity: CODE message [element (id)]`` (``severity``: the
+        word said instead of the severity's own, as gcc's ``note`` for info); names from the model
+        cannot break it (newlines, bidi controls are escaped)."""
+        text = f"{self.location()}: {severity or self.severity}: {self.code} {self.message}"
         if self.element or self.xmi_id:
             where = " ".join(
                 p for p in (self.element, f"({self.xmi_id})" if self.xmi_id else None) if p

@@ -1,4 +1,5 @@
-"""Formatting diagnostics as text, JSON or SARIF 2.1.0 (formatting only: the CLI shows the result)."""
+"""Formatting diagnostics as text, gcc's lines, JSON or SARIF 2.1.0 (formatting only: the CLI
+shows the result)."""
 
 from __future__ import annotations
 
@@ -20,11 +21,18 @@ def render(
     at_least: Severity | None = None,
 ) -> str:
     """``readings`` in ``fmt``; ``exit_code`` goes into SARIF's invocation; ``at_least`` (text
-    only, ``--quiet``) keeps the diagnostics of that severity or worse and drops the summaries."""
+    and gcc, ``--quiet``) keeps the diagnostics of that severity or worse and drops the summaries."""
     if fmt == "json":
         return json.dumps(as_json(readings), indent=2) + "\n"
     if fmt == "sarif":
         return json.dumps(as_sarif(readings, exit_code=exit_code), indent=2) + "\n"
+    if fmt == "gcc":  # gcc's own words (error, warning, note), no summary: what editors match
+        return "".join(
+            d.format_text(_SARIF_LEVEL[d.severity]) + "\n"
+            for r in readings
+            for d in r.diagnostics
+            if at_least is None or d.severity >= at_least
+        )
     if at_least is not None:
         lines = [d.format_text() for r in readings for d in r.diagnostics if d.severity >= at_least]
         return "".join(line + "\n" for line in lines)

@@ -14,11 +14,12 @@ from acordcs.diagnostics import Severity
 @click.option(
     "--format",
     "fmt",
-    type=click.Choice(["text", "json", "sarif"]),
+    type=click.Choice(["text", "gcc", "json", "sarif"]),
     default="text",
     show_default=True,
-    help="text for people and editors (file:line:col: severity: CODE message), json for scripts, "
-    "sarif for code-scanning dashboards.",
+    help="text for people and editors (file:line:col: severity: CODE message), gcc for editors' "
+    "problem matchers (the same lines in gcc's words: error, warning, note; no summary), json for "
+    "scripts, sarif for code-scanning dashboards.",
 )
 @click.option(
     "--fail-on",
