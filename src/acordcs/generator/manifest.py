@@ -62,26 +62,21 @@ class Manifest:
 
 
 def _json(value: object) -> str:
-    """A string, int or boolean as JSON (strings not escaped beyond what JSON needs)."""
+    """A string or int (all the head holds) as JSON (strings not escaped beyond what JSON needs)."""
     if isinstance(value, str):
         return encode_basestring(value)
-    return "true" if value is True else "false" if value is False else str(int(value))  # type: ignore[call-overload]
+    return str(int(value))  # type: ignore[call-overload]
 
 
 def _indented(value: object, newline: str) -> str:
-    """``value`` as ``json.dumps(value, indent=1, sort_keys=True, ensure_ascii=False)`` writes it
-    at the indentation ``newline`` ends with."""
+    """``value`` (the head's dicts of strings and ints) as ``json.dumps(value, indent=1,
+    sort_keys=True, ensure_ascii=False)`` writes it at the indentation ``newline`` ends with."""
     if isinstance(value, dict):
         if not value:
             return "{}"
         inner = newline + " "
         items = (f"{_json(key)}: {_indented(value[key], inner)}" for key in sorted(value))
         return "{" + inner + ("," + inner).join(items) + newline + "}"
-    if isinstance(value, list):
-        if not value:
-            return "[]"
-        inner = newline + " "
-        return "[" + inner + ("," + inner).join(_indented(v, inner) for v in value) + newline + "]"
     return _json(value)
 
 

@@ -88,9 +88,6 @@ def pytest_unconfigure(config: pytest.Config) -> None:
 @pytest.fixture(scope="session")
 def demo(request: pytest.FixtureRequest) -> tuple[list[str], Path]:
     """The demo's output lines (progress bar off: not a terminal) and its report directory."""
-    started = request.config.stash.get(DemoInBackground.KEY, None)
-    if started is None:  # collected without the hook seeing it (e.g. a plug-in's own collection)
-        started = request.config.stash[DemoInBackground.KEY] = DemoInBackground()
-    code, lines, errors, out = started.result()
+    code, lines, errors, out = request.config.stash[DemoInBackground.KEY].result()
     assert code == 0, "\n".join(lines) + errors
     return lines, out
