@@ -157,6 +157,12 @@ def _why(message: str) -> str:
             "was started with another one; use the same ACORDCS_RUN_DIR or ACORDCS_TOKEN as "
             "when it was started"
         )
+    if message.startswith("no reply to "):  # connected, then nothing came back in time
+        return (
+            f"it does not answer within the timeout ({message}): it took the connection but "
+            "answers nothing (stopped by a signal such as SIGSTOP, overloaded, or hung); resume it "
+            "(kill -CONT PID), or wait and run the command again (--timeout gives it longer)"
+        )
     if "cannot reach" in message:
         said = message.split(": ", 1)[-1]
         if "receiving" in said and "timeout" in said:
