@@ -40,7 +40,9 @@ def test_a_frozen_container_does_not_answer_within_the_timeout_a_gone_one_is_not
         frozen = problem(port)
     finally:
         child.send_signal(signal.SIGCONT)
-    assert frozen.startswith("it does not answer within the timeout (receiving: timeout)")
+    # the handshake or the status call found it frozen (a race): the same words either way
+    assert frozen.startswith("it does not answer within the timeout (")
+    assert "receiving: timeout" in frozen
     assert "takes connections but answers none" in frozen and "kill -CONT" in frozen
     assert "not running" not in frozen
     assert problem(port) == ""  # resumed: it answers again

@@ -158,20 +158,11 @@ def _why(message: str) -> str:
             "when it was started"
         )
     if message.startswith("no reply to "):  # connected, then nothing came back in time
-        return (
-            f"it does not answer within the timeout ({message}): it took the connection but "
-            "answers nothing (stopped by a signal such as SIGSTOP, overloaded, or hung); resume it "
-            "(kill -CONT PID), or wait and run the command again (--timeout gives it longer)"
-        )
+        return _answers_none(message)
     if "cannot reach" in message:
         said = message.split(": ", 1)[-1]
         if "receiving" in said and "timeout" in said:
-            return (
-                f"it does not answer within the timeout ({said}): it takes connections but "
-                "answers none (stopped by a signal such as SIGSTOP, overloaded, or hung); "
-                "resume it (kill -CONT PID), or wait and run the command again (--timeout "
-                "gives it longer)"
-            )
+            return _answers_none(said)
         if "timeout" in said or "timed out" in said:
             return (
                 f"it does not answer within the timeout ({said}): no connection was made (its "
@@ -180,6 +171,16 @@ def _why(message: str) -> str:
             )
         return f"not running (nothing answers: {said})"
     return message
+
+
+def _answers_none(said: str) -> str:
+    """A container that took the connection (in the handshake or after it) and sent nothing
+    back in time: one meaning, whichever call found it."""
+    return (
+        f"it does not answer within the timeout ({said}): it takes connections but answers "
+        "none (stopped by a signal such as SIGSTOP, overloaded, or hung); resume it (kill -CONT "
+        "PID), or wait and run the command again (--timeout gives it longer)"
+    )
 
 
 def apply(
