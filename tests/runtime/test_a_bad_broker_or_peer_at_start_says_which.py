@@ -33,13 +33,17 @@ def test_the_context_option_reads_embedded_and_broker_addresses() -> None:
         "ctx.invalid", 8883, "lab@x"
     )
     assert str(BrokerSetting("::1", 1884, "u")) == "mqtt://u@[::1]:1884"
+    assert parse_context("mqtt://h/lab/one/") == BrokerSetting("h", 1883, None, "lab/one")
+    assert str(BrokerSetting("h", prefix="lab/one")) == "mqtt://h:1883/lab/one"
     for bad, said in [
         ("tcp://h", "is not 'embedded' or mqtt://"),
         ("mqtt://u:secret@h", "give the broker's password in $ACORDCS_MQTT_PASSWORD"),
         ("mqtt://h:99999", "the port is a whole number 1 to 65535"),
         ("mqtt://h:0", "the port is a whole number 1 to 65535"),
-        ("mqtt://h/path", "is not 'embedded' or mqtt://"),
-        ("mqtt://h?x=1", "no query or fragment"),
+        ("mqtt://h/a/+", "has a wildcard or an empty level"),
+        ("mqtt://h/a//b", "has a wildcard or an empty level"),
+        ("mqtt://h?x=1", "no '?' or '#'"),
+        ("mqtt://h/a/#", "no '?' or '#'"),
     ]:
         with pytest.raises(ValueError, match=None) as caught:
             parse_context(bad)

