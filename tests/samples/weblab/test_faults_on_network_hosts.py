@@ -22,10 +22,13 @@ Needs root (skips outside CI otherwise, fails in CI). About 35 s on a quiet host
 
 from __future__ import annotations
 
+import functools
+import json
 import os
 import re
 import secrets
 import shutil
+import signal
 import subprocess
 import sys
 import threading
@@ -35,6 +38,7 @@ import pytest
 from weblab_sim.network import PROFILES
 
 from tests.samples.weblab.conftest import APP_DIR, SAMPLE_DIR
+from tests.samples.weblab.test_live_mode_on_three_network_hosts import Output
 from tests.support import netns
 from tests.support.services import mosquitto_binary, wait_for
 from tests.support.toolchain import ROOT
@@ -45,7 +49,7 @@ RATES = {"residential": "2mbit", "campus": "10mbit", "LAN": "100mbit"}  # the pr
 SHORT = {"residential": "r", "campus": "c", "LAN": "l"}
 PEER_ENV = {**os.environ, "PYTHONPATH": f"{ROOT}:{ROOT / 'src'}"}  # the test's own helpers
 USER_PORT, LAB_PORT = 47011, 47020  # the WebLab's containers' ports (the model's numbering)
-TIME_CAP = 8  # s each profile's Navigator drives
+TIME_CAP = 6  # s each profile's Navigator drives
 BROKER_CONF = """\
 listener 1883 {address}
 allow_anonymous true
@@ -168,6 +172,27 @@ class Pair:
             relay.wait(timeout=10)
 
 
+def at_once(*calls):
+    """Call each in a thread of its own; their results, in order (an exception is raised again)."""
+    results: list = [None] * len(calls)
+
+    def run(i: int) -> None:
+        try:
+            results[i] = calls[i]()
+        except BaseException as err:  # handed to the test's thread
+            results[i] = err
+
+    threads = [threading.Thread(target=run, args=(i,)) for i in range(len(calls))]
+    for thread in threads:
+        thread.start()
+    for thread in threads:
+        thread.join(timeout=180)
+    for result in results:
+        if isinstance(result, BaseException):
+            raise result
+    return results
+
+
 def retained(network: netns.Network, topic: str) -> str:
     """The document the broker keeps retained on ``topic`` (empty: none within 5 s)."""
     broker = network.hosts["broker"]
@@ -189,21 +214,17 @@ def test_the_cycle_rate_orders_the_profiles_on_real_links_with_context_over_the_
     weblab_app: None, network: netns.Network, broker: Path, tmp_path: Path
 ) -> None:
     pairs = [Pair(p, network, tmp_path) for p in PROFILES]
-    stopped = []
+    stopped: list = []
     try:
         for pair in pairs:
             pair.link()
-        threads = [threading.Thread(target=pair.start) for pair in pairs]
-        for thread in threads:
-            thread.start()
-        for thread in threads:
-            thread.join(timeout=120)
+        at_once(*(pair.start for pair in pairs))
         for pair in pairs:
             assert wait_for(lambda pair=pair: pair.said(r"^Navigator: time cap"), TIME_CAP + 40), \
                 pair.user_log.read_text()  # fmt: skip
     finally:
+        stopped = at_once(*(pair.stop for pair in pairs))
         for pair in pairs:
-            stopped.append(pair.stop())
             pair.close()
     rates = {pair.profile: cycle_rate(pair) for pair in pairs}
     assert rates["residential"] < rates["campus"] < rates["LAN"], rates
@@ -217,3 +238,114 @@ def test_the_cycle_rate_orders_the_profiles_on_real_links_with_context_over_the_
         assert "<telemetry><positionX>" in kept, (pair.profile, kept)
     assert all(s == (0, 0) for s in stopped), stopped
     print("cycles/s on real links:", rates)
+
+
+def cycle_lines(pair: Pair) -> list[str]:
+    text = pair.user_log.read_text() if pair.user_log.exists() else ""
+    return [line for line in text.splitlines() if re.match(r"Navigator t=.*: (cycle|a call)", line)]
+
+
+def test_a_lab_side_killed_and_started_again_by_its_script_is_driven_on(
+    weblab_app: None, network: netns.Network, broker: Path, tmp_path: Path
+) -> None:
+    pair = Pair("LAN", network, tmp_path)
+    lab_pid = pair.tmp / f"run-{pair.lab.name}" / "WebLabSide.pid"
+    try:
+        pair.link()
+        for host, name in ((pair.lab, "weblab.example.org"), (pair.user, "user.example.org")):
+            started = pair.script(host, "start-host", name, WEBLAB_TIME_CAP="60")
+            assert started.returncode == 0, started.stdout + started.stderr
+        user_status = pair.script(pair.user, "UserSide-status").stdout
+        assert wait_for(lambda: any("cycle" in x for x in cycle_lines(pair)), 30), cycle_lines(pair)
+        killed = int(lab_pid.read_text())
+        os.kill(killed, signal.SIGKILL)
+        assert wait_for(lambda: "a call to the WebLab failed" in "".join(cycle_lines(pair)), 20)
+        # its script starts it again: the pid file of the killed process is taken for stale
+        again = pair.script(pair.lab, "WebLabSide-start")
+        assert again.returncode == 0, again.stdout + again.stderr
+        # (the killed one is gone, or a zombie whose command line is empty until it is reaped)
+        assert re.search(rf"pid file \S+ not used: (no )?process {killed} .*; not signalled, removed",
+                         again.stderr), again.stderr  # fmt: skip
+        failed_at = max(i for i, x in enumerate(cycle_lines(pair)) if "failed" in x)
+        # the Navigator, the same process, drives on against the new lab side
+        assert wait_for(lambda: any("cycle" in x for x in cycle_lines(pair)[failed_at + 1 :]), 30), \
+            cycle_lines(pair)  # fmt: skip
+        assert pair.script(pair.user, "UserSide-status").stdout == user_status
+    finally:
+        stopped = pair.stop()
+        pair.close()
+    assert stopped == (0, 0), stopped
+    assert pair.said(r"^UserSide: stopped at t=[\d.]+ s, faults: 0$"), pair.user_log.read_text()
+    lab = pair.lab_log.read_text()  # the log of the second process (the first one's is replaced)
+    assert "WebLabSide: serving at" in lab and "stopped at t=" in lab, lab
+
+
+def test_a_partition_heals_and_qos1_documents_arrive_each_once(
+    network: netns.Network, broker: Path
+) -> None:
+    publisher_host, subscriber_host = network.hosts["c-user"], network.hosts["c-lab"]
+    address = network.hosts["broker"].address
+    peer = [sys.executable, "-m", "tests.support.context_peer"]
+    processes: list[subprocess.Popen] = []
+
+    def start(host: netns.Host, *argv: str) -> tuple[subprocess.Popen, Output]:
+        process = subprocess.Popen(host.command(*peer, *argv), env=PEER_ENV, text=True,
+                                   stdout=subprocess.PIPE)  # fmt: skip
+        processes.append(process)
+        return process, Output(process)
+
+    def dropped() -> bool:  # the broker's log: it gave up the publisher's connection
+        return "Client context-peer-publisher has exceeded timeout" in broker.read_text()
+
+    try:
+        subscriber, sub_out = start(subscriber_host, "subscribe", address)
+        assert wait_for(lambda: sub_out.has("ready"), 20), sub_out.lines
+        publisher, pub_out = start(publisher_host, "publish", address, "600", "100", "1")
+        assert wait_for(lambda: pub_out.has("published 100"), 20), pub_out.lines
+        network.link_down(publisher_host.name)  # cut off from the broker and the other host
+        try:
+            assert wait_for(dropped, 20)
+        finally:
+            network.link_up(publisher_host.name)
+        publisher.wait(timeout=60)
+        pub_out.reader.join(5)
+        subscriber.wait(timeout=60)
+        sub_out.reader.join(5)
+    finally:
+        for process in processes:
+            if process.poll() is None:
+                process.kill()
+                process.wait(timeout=10)
+    published = json.loads(pub_out.lines[-1])
+    assert published["unacknowledged"] == 0 and published["reconnects"] >= 1, published
+    figures = json.loads(sub_out.lines[-1])
+    seqs = figures.pop("seqs")
+    assert sorted(seqs) == list(range(1, 601)), (sorted(set(range(1, 601)) - set(seqs)), figures)
+    assert figures["lost"] == 0, figures
+
+
+BAD_STARTS = [  # a setting of the lab side, and what its start says
+    ({"ACORDCS_CONTEXT": "mqtt://ctx.invalid"},
+     "container 'WebLabSide': error: its context broker mqtt://ctx.invalid:1883: the host name "
+     "'ctx.invalid' does not resolve"),
+    ({"ACORDCS_CONTEXT": "mqtt://ctx.example.org:1884"},  # the broker's host, no broker there
+     "container 'WebLabSide': error: its context broker mqtt://ctx.example.org:1884: cannot "
+     "reach the MQTT broker at ctx.example.org:1884: [Errno 111] Connection refused"),
+    ({"ACORDCS_WebLabSide_HOST": "lab.invalid"},
+     "container 'WebLabSide' cannot serve at lab.invalid:47020:"),
+]  # fmt: skip
+
+
+def test_a_bad_address_at_start_is_said_at_once(
+    weblab_app: None, network: netns.Network, broker: Path, tmp_path: Path
+) -> None:
+    pairs = [Pair("residential", network, tmp_path / str(i)) for i in range(len(BAD_STARTS))]
+    starts = at_once(*(
+        functools.partial(pair.script, pair.lab, "start-host", "weblab.example.org",
+                          ACORDCS_START_TIMEOUT="10", **setting)
+        for pair, (setting, _) in zip(pairs, BAD_STARTS, strict=True)
+    ))  # fmt: skip
+    for started, (_, said) in zip(starts, BAD_STARTS, strict=True):
+        out = started.stdout + started.stderr
+        assert started.returncode == 1, out
+        assert "WebLabSide: stopped before serving" in out and said in out, out
