@@ -1,7 +1,8 @@
 """Where a container's process keeps its context documents: in the process (``embedded``, the
 default) or at an MQTT broker that containers on several machines share
-(``mqtt://[USER@]HOST[:PORT]``, port 1883 by default), as the launcher's ``--context`` says
-(default: ``$ACORDCS_CONTEXT``; docs/deployment.md).
+(``mqtt://[USER@]HOST[:PORT][/PREFIX]``: port 1883 and topic prefix ``acordcs/ctx`` by default;
+one prefix per application sharing a broker), as the launcher's ``--context`` says (default:
+``$ACORDCS_CONTEXT``; docs/deployment.md).
 
 The broker's password is read from ``$ACORDCS_MQTT_PASSWORD``, never from the command line (which
 every user of the machine can read in ``ps``). With an application token (``$ACORDCS_TOKEN``, the
@@ -31,6 +32,7 @@ CONTEXT_ENV = "ACORDCS_CONTEXT"
 PASSWORD_ENV = "ACORDCS_MQTT_PASSWORD"
 EMBEDDED = "embedded"
 MQTT_PORT = 1883
+DEFAULT_PREFIX = "acordcs/ctx"
 MIN_KEY_BYTES = 16  # what MqttContextProvider accepts as a payload key
 
 
@@ -41,25 +43,30 @@ class BrokerSetting:
     host: str
     port: int = MQTT_PORT
     username: str | None = None
+    prefix: str = DEFAULT_PREFIX  # the topics' prefix: <prefix>/<publisher>
 
     def __str__(self) -> str:
         user = f"{self.username}@" if self.username else ""
         host = f"[{self.host}]" if ":" in self.host else self.host
-        return f"mqtt://{user}{host}:{self.port}"
+        prefix = "" if self.prefix == DEFAULT_PREFIX else f"/{self.prefix}"
+        return f"mqtt://{user}{host}:{self.port}{prefix}"
 
 
 def parse_context(text: str) -> BrokerSetting | None:
-    """``embedded`` (or empty): None; ``mqtt://[USER@]HOST[:PORT]``: the broker. ValueError says
-    what is wrong and what to write."""
+    """``embedded`` (or empty): None; ``mqtt://[USER@]HOST[:PORT][/PREFIX]``: the broker.
+    ValueError says what is wrong and what to write."""
     text = text.strip()
     if text in ("", EMBEDDED):
         return None
-    shape = f"{EMBEDDED!r} or mqtt://[USER@]HOST[:PORT]"
+    shape = f"{EMBEDDED!r} or mqtt://[USER@]HOST[:PORT][/PREFIX]"
     parts = urlsplit(text)
-    if parts.scheme != "mqtt" or not parts.netloc or parts.path not in ("", "/"):
+    if parts.scheme != "mqtt" or not parts.netloc:
         raise ValueError(f"{text!r} is not {shape}")
-    if parts.query or parts.fragment:
-        raise ValueError(f"{text!r}: no query or fragment in a broker's address ({shape})")
+    if "?" in text or "#" in text:
+        raise ValueError(f"{text!r}: no '?' or '#' in a broker's address ({shape})")
+    prefix = unquote(parts.path).strip("/") or DEFAULT_PREFIX
+    if any(c in prefix for c in "+#\x00") or "//" in prefix:
+        raise ValueError(f"{text!r}: the topic prefix {prefix!r} has a wildcard or an empty level")
     if parts.password is not None:
         raise ValueError(
             f"{text!r}: give the broker's password in ${PASSWORD_ENV}, not in the address "
@@ -74,7 +81,7 @@ def parse_context(text: str) -> BrokerSetting | None:
     if port == 0:
         raise ValueError(f"{text!r}: the port is a whole number 1 to 65535 ({shape})")
     user = unquote(parts.username) if parts.username else None
-    return BrokerSetting(parts.hostname, port or MQTT_PORT, user)
+    return BrokerSetting(parts.hostname, port or MQTT_PORT, user, prefix)
 
 
 def open_broker(
@@ -99,7 +106,7 @@ def open_broker(
     password = os.environ.get(PASSWORD_ENV) if setting.username else None
     key = token if token and len(token.encode()) >= MIN_KEY_BYTES else None
     try:
-        provider = MqttContextProvider(setting.host, setting.port, qos=1,
+        provider = MqttContextProvider(setting.host, setting.port, qos=1, prefix=setting.prefix,
                                        username=setting.username, password=password,
                                        payload_key=key, connect_timeout=timeout)  # fmt: skip
     except ContextError as err:

@@ -20,7 +20,8 @@ Exit status (:data:`EXIT_STATUS`, also in ``--help`` and docs/build.md): 0 stopp
 (or with faults and ``--faults-ok``); 1 a ``--run`` operation failed; 2 not started (a usage
 error, a ``--run`` whose arguments do not fit, a descriptor that cannot be read or fails its
 schema, component or monitor classes that do not import, an assembly failure, an operation without
-code under ``--strict``, a port that cannot be served); 3 stopped after recording faults. ``--exit-file PATH`` records the status and the
+code under ``--strict``, a port that cannot be served, a ``--context`` broker not reached or
+refusing the connection); 3 stopped after recording faults. ``--exit-file PATH`` records the status and the
 number of faults as one line ``EXIT_CODE FAULTS``.
 """
 
@@ -71,7 +72,7 @@ EXIT_STATUS = f"""exit status:
   {EXIT_NOT_STARTED}  not started: a usage error (a --run whose arguments do not fit), a
      descriptor that cannot be read or fails its schema, classes that do not
      import, an assembly failure, an operation without code under --strict, a
-     port that cannot be served
+     port that cannot be served, a --context broker not reached
   {EXIT_FAULTS}  stopped after recording faults (the last line says how many)"""
 
 DEFAULT_DURATION = 10.0  # virtual seconds run when --duration is not given

@@ -153,10 +153,10 @@ class Pair:
             self.relays.append(process)
             assert process.stdout is not None and process.stdout.readline() == "relaying\n"
 
-    def start(self) -> None:
-        for host, name in ((self.lab, "weblab.example.org"), (self.user, "user.example.org")):
-            started = self.script(host, "start-host", name)
-            assert started.returncode == 0, started.stdout + started.stderr
+    def starts(self, **extra: str) -> list:
+        """The calls that start the two sides (at once: the Navigator waits for the lab)."""
+        return [functools.partial(self.script, self.lab, "start-host", "weblab.example.org", **extra),
+                functools.partial(self.script, self.user, "start-host", "user.example.org", **extra)]  # fmt: skip
 
     def stop(self) -> tuple[int, int]:
         stopped = self.script(self.user, "stop-host", "user.example.org").returncode
@@ -218,7 +218,8 @@ def test_the_cycle_rate_orders_the_profiles_on_real_links_with_context_over_the_
     try:
         for pair in pairs:
             pair.link()
-        at_once(*(pair.start for pair in pairs))
+        for started in at_once(*(start for pair in pairs for start in pair.starts())):
+            assert started.returncode == 0, started.stdout + started.stderr
         for pair in pairs:
             assert wait_for(lambda pair=pair: pair.said(r"^Navigator: time cap"), TIME_CAP + 40), \
                 pair.user_log.read_text()  # fmt: skip
@@ -252,8 +253,7 @@ def test_a_lab_side_killed_and_started_again_by_its_script_is_driven_on(
     lab_pid = pair.tmp / f"run-{pair.lab.name}" / "WebLabSide.pid"
     try:
         pair.link()
-        for host, name in ((pair.lab, "weblab.example.org"), (pair.user, "user.example.org")):
-            started = pair.script(host, "start-host", name, WEBLAB_TIME_CAP="60")
+        for started in at_once(*pair.starts(WEBLAB_TIME_CAP="60")):
             assert started.returncode == 0, started.stdout + started.stderr
         user_status = pair.script(pair.user, "UserSide-status").stdout
         assert wait_for(lambda: any("cycle" in x for x in cycle_lines(pair)), 30), cycle_lines(pair)
