@@ -21,6 +21,7 @@ import pytest
 from acordcs.runtime.broker_setting import BrokerSetting, open_broker, parse_context
 from acordcs.runtime.connectors.remote import RemoteConnector, container_uri
 from acordcs.runtime.errors import ConfigurationError, RemoteTimeoutError, RemoteUnreachableError
+from acordcs.runtime.launcher import Launcher
 from tests.support.services import free_port, mosquitto_binary, wait_for
 
 BOUND = 1.0  # the timeout given: each failure must come within it (plus a margin for a loaded host)
@@ -177,3 +178,20 @@ def test_a_remote_container_speaking_no_pyro_is_said_within_the_timeout(
     assert message.startswith("connection 'ControlLink' to Locomotion.LocomotionPort: error: ")
     assert f"the remote container at {uri}: " in message, message
     assert took < BOUND + 2, took
+
+
+def test_the_launcher_takes_the_broker_from_its_setting_and_says_a_bad_one(
+    monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]
+) -> None:
+    monkeypatch.setenv("ACORDCS_CONTEXT", "mqtt://ctx.example.org/weblab")
+    args = Launcher("weblab_app", "WebLabSide").parser().parse_args([])
+    assert args.context == BrokerSetting("ctx.example.org", prefix="weblab")
+    args = Launcher("weblab_app", "WebLabSide").parser().parse_args(["--context", "embedded"])
+    assert args.context is None
+    monkeypatch.setenv("ACORDCS_CONTEXT", "tcp://ctx.example.org")
+    with pytest.raises(SystemExit) as stopped:
+        Launcher("weblab_app", "WebLabSide").parser().parse_args([])
+    assert stopped.value.code == 2
+    err = capsys.readouterr().err
+    assert "argument --context: 'tcp://ctx.example.org' is not 'embedded' or mqtt://" in err, err
+    assert err.rstrip().endswith("(the setting $ACORDCS_CONTEXT)"), err

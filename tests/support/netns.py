@@ -134,6 +134,8 @@ class Network:
         for ns in namespaces:
             ip("netns", "del", ns, check=False)
             shutil.rmtree(ETC_NETNS / ns, ignore_errors=True)
+        with contextlib.suppress(OSError):  # /etc/netns itself, once no namespace has files there
+            ETC_NETNS.rmdir()
 
 
 _runs = iter(range(1, 1 << 30))

@@ -187,7 +187,7 @@ class Launcher:
             help="the URI of another container (repeat for each)")  # fmt: skip
         add("--timeout", type=float, default=5.0, help="remote call timeout, s")
         add("--context", type=_context, default=os.environ.get(CONTEXT_ENV, ""),
-            metavar="embedded|mqtt://[USER@]HOST[:PORT]",
+            metavar="embedded|mqtt://[USER@]HOST[:PORT][/PREFIX]",
             help="where the context documents go: in this process (embedded, the default) or "
             f"through an MQTT broker other containers share (default: ${CONTEXT_ENV}; the "
             f"password in ${PASSWORD_ENV}); a broker not reached within --timeout: exit 2")  # fmt: skip
@@ -523,7 +523,8 @@ def _context(text: str) -> BrokerSetting | None:
     try:
         return parse_context(text)
     except ValueError as err:
-        raise argparse.ArgumentTypeError(str(err)) from None
+        given = " (the setting $" + CONTEXT_ENV + ")" if text == os.environ.get(CONTEXT_ENV) else ""
+        raise argparse.ArgumentTypeError(f"{err}{given}") from None
 
 
 def _operation(text: str) -> RunCall:
