@@ -195,3 +195,14 @@ def test_the_launcher_takes_the_broker_from_its_setting_and_says_a_bad_one(
     err = capsys.readouterr().err
     assert "argument --context: 'tcp://ctx.example.org' is not 'embedded' or mqtt://" in err, err
     assert err.rstrip().endswith("(the setting $ACORDCS_CONTEXT)"), err
+
+
+def test_the_launcher_runs_a_broker_only_on_a_real_clock(
+    capsys: pytest.CaptureFixture[str], monkeypatch: pytest.MonkeyPatch
+) -> None:
+    monkeypatch.delenv("ACORDCS_CONTEXT", raising=False)
+    launcher = Launcher("weblab_app", "WebLabSide")
+    with pytest.raises(SystemExit) as stopped:
+        launcher.main(["--context", "mqtt://127.0.0.1", "--clock", "virtual"])
+    assert stopped.value.code == 2
+    assert "error: --context mqtt://127.0.0.1:1883 needs --clock real" in capsys.readouterr().err

@@ -223,6 +223,9 @@ class Launcher:
         try:
             args = parser.parse_args(argv)
             _console_options(parser, args)
+            if isinstance(args.context, BrokerSetting) and args.clock != "real":
+                parser.error(f"--context {args.context} needs --clock real (the broker's "
+                             "documents come in wall time)")  # fmt: skip
         except SystemExit as exc:
             if exc.code not in (0, None):  # a usage error, which the exit file says if given
                 given = _exit_file_given(argv)
