@@ -18,7 +18,9 @@ bandwidth with ``tc tbf`` and given the profile's one-way latency by a relay on 
   the connection, a lab side's own address that does not resolve; each a clear error naming the
   container, host and port, at once.
 
-Needs root (skips outside CI otherwise, fails in CI). About 35 s on a quiet host."""
+Needs root (skips outside CI otherwise, fails in CI). Measured: 72 s on a 2-core machine at a load
+average of 26, most of it the three runs at once (six containers starting); 14 s the kill, 7 s the
+partition, 2 s the bad starts."""
 
 from __future__ import annotations
 
