@@ -6,8 +6,10 @@ bandwidth with ``tc tbf`` and given the profile's one-way latency by a relay on 
 (tests/support/latency_relay.py; no netem here: jitter and loss are not emulated). Then faults:
 
 - the cycle rate's ordering that the simulation predicts, residential < campus < LAN, holds on
-  the real links, and each lab's telemetry went through the broker (its latest document is
-  retained there, under the application's own topic prefix);
+  the real links, as the Navigator counts it and as the lab's Control monitor measures it, and
+  the lab's SpeedLimiting policy sets a lower speed limit on the residential line than on the LAN;
+  each lab's telemetry went through the broker (its latest document is retained there, under the
+  application's own topic prefix);
 - a lab side killed with SIGKILL and started again by its script: the Navigator's calls fail
   meanwhile, it retries, and its run resumes against the new process without a restart;
 - a partition healing: a publisher's host cut off from the broker and from the subscriber's host
@@ -204,6 +206,16 @@ def retained(network: netns.Network, topic: str) -> str:
     return got.stdout
 
 
+def adapted(pair: Pair) -> tuple[float, float] | None:
+    """The lab's last line with a cycle rate measured: (Control's cycleRate, SpeedLimiting's
+    maxSpeed); None before the robot has been driven."""
+    text = pair.lab_log.read_text() if pair.lab_log.exists() else ""
+    found = re.findall(r"^WebLab t=.*Control: cycleRate ([\d.]+)/s.*maxSpeed +([\d.]+) mm/s",
+                       text, re.M)  # fmt: skip
+    driven = [(float(rate), float(speed)) for rate, speed in found if float(rate) > 0]
+    return driven[-1] if driven else None
+
+
 def cycle_rate(pair: Pair) -> float:
     found = pair.said(
         r"^Navigator: time cap of \d+ s reached: \d+ cycles in [\d.]+ s = ([\d.]+) cycles/s"
@@ -225,12 +237,24 @@ def test_the_cycle_rate_orders_the_profiles_on_real_links_with_context_over_the_
         for pair in pairs:
             assert wait_for(lambda pair=pair: pair.said(r"^Navigator: time cap"), TIME_CAP + 40), \
                 pair.user_log.read_text()  # fmt: skip
+        # the lab's own view, every 5 s of its run: what its monitor measured, its policies set
+        for pair in pairs:
+            assert wait_for(lambda pair=pair: adapted(pair) is not None, 15), (
+                pair.lab_log.read_text()
+            )
+        adaptation = {pair.profile: adapted(pair) for pair in pairs}
     finally:
         stopped = at_once(*(pair.stop for pair in pairs))
         for pair in pairs:
             pair.close()
     rates = {pair.profile: cycle_rate(pair) for pair in pairs}
     assert rates["residential"] < rates["campus"] < rates["LAN"], rates
+    # the lab's Control monitor measures the same order, and SpeedLimiting slows the robot on
+    # the slow line (its fuzzy rules: a small cycle rate, a lower speed limit), as in the
+    # simulation
+    measured = {profile: found[0] for profile, found in adaptation.items()}
+    assert measured["residential"] < measured["campus"] < measured["LAN"], adaptation
+    assert adaptation["residential"][1] < adaptation["LAN"][1], adaptation
     for pair in pairs:
         assert pair.said(r"^UserSide: stopped at t=[\d.]+ s, faults: 0$"), pair.user_log.read_text()
         # the lab side's pushes to the user (telemetry, panorama) before the user side serves and
@@ -240,7 +264,7 @@ def test_the_cycle_rate_orders_the_profiles_on_real_links_with_context_over_the_
         kept = retained(network, f"weblab-{SHORT[pair.profile]}/Locomotion")
         assert "<telemetry><positionX>" in kept, (pair.profile, kept)
     assert all(s == (0, 0) for s in stopped), stopped
-    print("cycles/s on real links:", rates)
+    print("cycles/s on real links:", rates, "the labs' (cycleRate, maxSpeed):", adaptation)
 
 
 def cycle_lines(pair: Pair) -> list[str]:
