@@ -5,10 +5,15 @@ namespace, and nothing is sent to any other address. Everything is torn down at 
 fixture's finalizer, also after a failure); namespaces left by a crashed run (their names carry
 the pid of the process that made them, which is gone) are removed first.
 
+No name is looked up in a real DNS: each host has its own ``resolv.conf`` (a name server on its
+own loopback, where none listens: a name that is not in its ``hosts`` fails at once) and its own
+``hosts`` naming the hosts as the test says (``ip netns exec`` mounts ``/etc/netns/<namespace>/``
+over ``/etc``; removed at the end).
+
 Needs root and iproute2 (``ip``, ``tc``; Debian package ``iproute2``). Outside CI a machine that
 refuses to make namespaces skips with the reason; in CI it fails. Links are shaped with ``tc tbf``
-(a rate); the kernel's delay emulation (``netem``) is not available on these machines, so latency
-is not emulated."""
+(a rate); the kernel's delay emulation (``netem``) is not available on these machines: latency is
+added by a relay (:mod:`tests.support.latency_relay`) where a test needs it."""
 
 from __future__ import annotations
 
@@ -18,11 +23,13 @@ import shutil
 import signal
 import subprocess
 from dataclasses import dataclass, field
+from pathlib import Path
 
 import pytest
 
 PREFIX = "acx-"  # every namespace these tests make: acx-<pid>-<n>-<role>
 SUBNET = "169.254.33"
+ETC_NETNS = Path("/etc/netns")  # where ip netns exec finds a namespace's own resolv.conf, hosts
 
 
 def ip(*args: str, check: bool = True) -> subprocess.CompletedProcess:
@@ -51,6 +58,7 @@ def clean_stale() -> list[str]:
         if pid.isdigit() and not _alive(int(pid)):
             kill_processes_in(name)
             ip("netns", "del", name, check=False)
+            shutil.rmtree(ETC_NETNS / name, ignore_errors=True)
             removed.append(name)
     return removed
 
@@ -125,13 +133,28 @@ class Network:
             kill_processes_in(ns)
         for ns in namespaces:
             ip("netns", "del", ns, check=False)
+            shutil.rmtree(ETC_NETNS / ns, ignore_errors=True)
+        with contextlib.suppress(OSError):  # /etc/netns itself, once no namespace has files there
+            ETC_NETNS.rmdir()
 
 
 _runs = iter(range(1, 1 << 30))
 
 
-def make_network(*names: str) -> Network:
-    """A bridge and one host per name, addresses 169.254.33.1, .2, ... in the order given."""
+def _own_names(namespace: str, names: dict[str, str]) -> None:
+    """The namespace's resolv.conf (no name server reachable) and hosts (``names``: name ->
+    address, and localhost)."""
+    etc = ETC_NETNS / namespace
+    etc.mkdir(parents=True, exist_ok=True)
+    (etc / "resolv.conf").write_text("nameserver 127.0.0.1\noptions timeout:1 attempts:1\n")
+    lines = ["127.0.0.1 localhost"] + [f"{a} {n}" for n, a in sorted(names.items())]
+    (etc / "hosts").write_text("\n".join(lines) + "\n")
+
+
+def make_network(*names: str, hosts: dict[str, str] | None = None) -> Network:
+    """A bridge and one host per name, addresses 169.254.33.1, .2, ... in the order given; each
+    host resolves exactly the names ``hosts`` gives (name -> the name of the host it is, e.g.
+    ``{"weblab.example.org": "lab"}``), and localhost."""
     clean_stale()
     run = f"{PREFIX}{os.getpid()}-{next(_runs)}-"
     network = Network(bridge=run + "br")
@@ -142,6 +165,7 @@ def make_network(*names: str) -> Network:
         for n, name in enumerate(names, start=1):
             host = Host(name, run + name, f"{SUBNET}.{n}", f"v{n}")
             network.hosts[name] = host
+            _own_names(host.namespace, {})
             ip("netns", "add", host.namespace)
             ip("-n", host.namespace, "link", "set", "lo", "up")
             ip("-n", network.bridge, "link", "add", host.peer, "type", "veth", "peer", "name",
@@ -149,6 +173,9 @@ def make_network(*names: str) -> Network:
             ip("-n", network.bridge, "link", "set", host.peer, "master", "br0", "up")
             ip("-n", host.namespace, "addr", "add", f"{host.address}/24", "dev", "eth0")
             ip("-n", host.namespace, "link", "set", "eth0", "up")
+        addresses = {n: network.hosts[h].address for n, h in (hosts or {}).items()}
+        for host in network.hosts.values():
+            _own_names(host.namespace, addresses)
     except BaseException:
         network.teardown()
         raise

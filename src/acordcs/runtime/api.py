@@ -3,6 +3,8 @@
 Start with :class:`Container` (docs/runtime.md walks through an example).
 """
 
+from typing import TYPE_CHECKING
+
 from acordcs.engines.engine_registry import EngineSetup, Variable, register_engine
 from acordcs.runtime.acquisition import (
     InterceptingMonitor,
@@ -30,6 +32,9 @@ from acordcs.runtime.monitor import Monitor
 from acordcs.runtime.operations import unimplemented
 from acordcs.runtime.policy import PolicySet
 from acordcs.runtime.ports import PortSpec, async_port, stream_port, sync_port
+
+if TYPE_CHECKING:  # for annotations: importing the context provider loads lxml, which this does not
+    from acordcs.runtime.context.core import ProviderCore as ProviderCore
 
 __all__ = [
     "Clock",

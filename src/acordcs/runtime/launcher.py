@@ -20,7 +20,8 @@ Exit status (:data:`EXIT_STATUS`, also in ``--help`` and docs/build.md): 0 stopp
 (or with faults and ``--faults-ok``); 1 a ``--run`` operation failed; 2 not started (a usage
 error, a ``--run`` whose arguments do not fit, a descriptor that cannot be read or fails its
 schema, component or monitor classes that do not import, an assembly failure, an operation without
-code under ``--strict``, a port that cannot be served); 3 stopped after recording faults. ``--exit-file PATH`` records the status and the
+code under ``--strict``, a port that cannot be served, a ``--context`` broker not reached or
+refusing the connection); 3 stopped after recording faults. ``--exit-file PATH`` records the status and the
 number of faults as one line ``EXIT_CODE FAULTS``.
 """
 
@@ -41,6 +42,13 @@ from types import FrameType, ModuleType
 from typing import TYPE_CHECKING
 
 from acordcs.errors import AcordError
+from acordcs.runtime.broker_setting import (
+    CONTEXT_ENV,
+    PASSWORD_ENV,
+    BrokerSetting,
+    open_broker,
+    parse_context,
+)
 from acordcs.runtime.clock import Clock, RealClock, VirtualClock
 from acordcs.runtime.errors import RuntimeFailure
 from acordcs.runtime.live.code_check import hosted_here, operations_without_code
@@ -51,6 +59,7 @@ if TYPE_CHECKING:
     from acordcs.runtime.assembly import RunningApplication
     from acordcs.runtime.connectors.remote import ContainerServer
     from acordcs.runtime.container import Container
+    from acordcs.runtime.context.core import ProviderCore
 
 EXIT_OK = 0
 EXIT_RUN_FAILED = 1
@@ -63,7 +72,7 @@ EXIT_STATUS = f"""exit status:
   {EXIT_NOT_STARTED}  not started: a usage error (a --run whose arguments do not fit), a
      descriptor that cannot be read or fails its schema, classes that do not
      import, an assembly failure, an operation without code under --strict, a
-     port that cannot be served
+     port that cannot be served, a --context broker not reached
   {EXIT_FAULTS}  stopped after recording faults (the last line says how many)"""
 
 DEFAULT_DURATION = 10.0  # virtual seconds run when --duration is not given
@@ -135,17 +144,23 @@ class Launcher:
         remote_timeout: float = 5.0,
         *,
         application: Application | None = None,
+        context: ProviderCore | None = None,
     ) -> RunningApplication:
         """The container assembled from the descriptor (``application``, default: read from the
         package) with the package's classes; ``remote``: the URI of each other container its
-        connections reach (``PYRO:acordcs.container.<name>@host:port``)."""
+        connections reach (``PYRO:acordcs.container.<name>@host:port``); ``context``: its context
+        provider (default: an embedded one), closed with it."""
+        shared = {} if context is None else {"context": context}
         running: RunningApplication = self.registry().assemble_application(
             only=[self.container],
             clock=clock,
             remote=remote,
             remote_timeout=remote_timeout,
             application=application,
+            **shared,
         )
+        if context is not None:
+            running.release(context.close)
         return running
 
     # ----------------------------------------------------------------------- command line
@@ -171,6 +186,11 @@ class Launcher:
         add("--remote", type=_remote, action="append", default=[], metavar="NAME=URI",
             help="the URI of another container (repeat for each)")  # fmt: skip
         add("--timeout", type=float, default=5.0, help="remote call timeout, s")
+        add("--context", type=_context, default=os.environ.get(CONTEXT_ENV, ""),
+            metavar="embedded|mqtt://[USER@]HOST[:PORT][/PREFIX]",
+            help="where the context documents go: in this process (embedded, the default) or "
+            f"through an MQTT broker other containers share (default: ${CONTEXT_ENV}; the "
+            f"password in ${PASSWORD_ENV}); a broker not reached within --timeout: exit 2")  # fmt: skip
         add("--run", type=_operation, action="append", default=[], metavar="COMPONENT.OPERATION",
             help="call this operation of a component hosted here once the container serves, in "
             "a worker thread (virtual clock: in turn, before the duration runs); its failure "
@@ -203,6 +223,9 @@ class Launcher:
         try:
             args = parser.parse_args(argv)
             _console_options(parser, args)
+            if isinstance(args.context, BrokerSetting) and args.clock != "real":
+                parser.error(f"--context {args.context} needs --clock real (the broker's "
+                             "documents come in wall time)")  # fmt: skip
         except SystemExit as exc:
             if exc.code not in (0, None):  # a usage error, which the exit file says if given
                 given = _exit_file_given(argv)
@@ -271,11 +294,22 @@ class Launcher:
             hosted = hosted_here(application, self.container, "component")
             hosted += hosted_here(application, self.container, "monitor")
             code = PackageClasses(self.package).code(hosted)
+        context = None
+        if isinstance(args.context, BrokerSetting):
+            try:
+                context = open_broker(args.context, self.container, timeout=args.timeout,
+                                      token=os.environ.get("ACORDCS_TOKEN"))  # fmt: skip
+            except RuntimeFailure as err:
+                self._say(f"{err}")
+                return EXIT_NOT_STARTED, 0
         clock: Clock = VirtualClock(args.seed) if args.clock == "virtual" else RealClock()
         try:
-            app = self.assemble(clock, dict(args.remote), args.timeout, application=application)
+            app = self.assemble(clock, dict(args.remote), args.timeout, application=application,
+                                context=context)  # fmt: skip
         except AcordError as err:
             clock.close()
+            if context is not None:
+                context.close()
             self._say(f"{err}")
             others = [c.name for c in application.containers if c.name != self.container]
             if others:
@@ -486,6 +520,14 @@ def _remote(text: str) -> tuple[str, str]:
     if not sep or not name or not uri:
         raise argparse.ArgumentTypeError(f"{text!r} is not NAME=URI")
     return name, uri
+
+
+def _context(text: str) -> BrokerSetting | None:
+    try:
+        return parse_context(text)
+    except ValueError as err:
+        given = " (the setting $" + CONTEXT_ENV + ")" if text == os.environ.get(CONTEXT_ENV) else ""
+        raise argparse.ArgumentTypeError(f"{err}{given}") from None
 
 
 def _operation(text: str) -> RunCall:

@@ -320,6 +320,7 @@ from __future__ import annotations
 
 from collections.abc import Iterable, Mapping
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from acordcs.descriptor import Application, from_xml
 from acordcs.runtime.api import Clock, CtxComponent, Monitor, RunningApplication, assemble
@@ -331,6 +332,9 @@ from acordcs.runtime.api import Clock, CtxComponent, Monitor, RunningApplication
       <xsl:text>from {$pkg}.monitors.{@name} import {@name}&#10;</xsl:text>
     </xsl:for-each>
     <xsl:text>
+if TYPE_CHECKING:
+    from acordcs.runtime.api import ProviderCore
+
 FACTORIES: dict[str, type[CtxComponent]] = {{
 </xsl:text>
     <xsl:for-each select="$components">
@@ -370,11 +374,13 @@ def assemble_application(
     remote_timeout: float = 5.0,
     monitors: Mapping[str, type[Monitor]] | None = None,
     application: Application | None = None,
+    context: ProviderCore | None = None,
 ) -> RunningApplication:
     """The containers of the application (all, or those in ``only``), with the component classes
     of :data:`FACTORIES` and the monitor classes of :data:`MONITORS` (``monitors`` replaces some);
     ``remote`` gives the URI of each container running elsewhere; ``application``: the
-    descriptor, if read already (default: :func:`descriptor`)."""
+    descriptor, if read already (default: :func:`descriptor`); ``context``: the context provider
+    (default: an embedded one; an MQTT one shares context with other processes)."""
     return assemble(
         application if application is not None else descriptor(),
         factories=FACTORIES,
@@ -383,6 +389,7 @@ def assemble_application(
         only=only,
         remote=remote,
         remote_timeout=remote_timeout,
+        context=context,
 </xsl:text>
     <xsl:if test="$components[@language = 'java']">
       <xsl:text>        java_sources=JAVA_SOURCES,
