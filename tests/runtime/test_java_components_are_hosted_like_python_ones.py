@@ -243,9 +243,11 @@ def test_a_container_hosting_no_java_component_loads_no_jpype(out: Path):
 
 
 def test_a_start_without_javac_names_the_component_and_what_to_install(out: Path, tmp_path):
+    unbuilt = tmp_path / "out"  # as built without a JDK: no java-classes/
+    shutil.copytree(out, unbuilt, ignore=shutil.ignore_patterns("java-classes"))
     bare = tmp_path / "bin"  # a PATH without javac, and an empty cache: it must compile
     bare.mkdir()
-    done = run(out, "House", "--duration", "1", PATH=str(bare), XDG_CACHE_HOME=str(tmp_path))
+    done = run(unbuilt, "House", "--duration", "1", PATH=str(bare), XDG_CACHE_HOME=str(tmp_path))
     assert done.returncode == 2, done.stdout + done.stderr
     assert "error: component 'Vent' (Vent, id _Vent) tagged language=java" in done.stderr
     assert "no javac is on PATH" in done.stderr and "openjdk-17-jdk-headless" in done.stderr

@@ -19,8 +19,8 @@ import time
 from pathlib import Path
 from typing import Any
 
+from acordcs.javac import JDK_HINT
 from acordcs.runtime.jvm.errors import JavaHostError
-from acordcs.runtime.jvm.javac_cache import JDK_HINT
 
 JPYPE_HINT = (
     "install JPype, the bridge acordcs hosts Java components through: pip install "
