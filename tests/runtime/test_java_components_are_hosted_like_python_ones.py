@@ -294,3 +294,38 @@ def test_a_throwing_constructor_and_a_call_to_a_missing_port_are_faults(registry
         assert [(f.where, f.context.get("phase")) for f in test.faults.recent] == [
             ("Vent.report", None), ("Another", "create")]  # fmt: skip
         assert vent.call("lastNotice") == ""  # the container and the first vent go on
+
+
+def test_a_java_loop_past_its_calls_timeout_is_interrupted_and_a_fault(registry, out, tmp_path):
+    import jpype
+
+    sources = tmp_path / "java"
+    shutil.copytree(out / "java", sources)
+    user = sources / "mixedgreenhouse" / "Vent.java"
+    text = user.read_text(encoding="utf-8")
+    body = text[text.index("    public java.lang.String report() {") :]
+    body = body[: body.index("    }\n") + 6]
+    user.write_text(text.replace(body, (
+        "    public java.lang.String report() {\n"
+        "        long spins = 0;\n"
+        "        while (!Thread.currentThread().isInterrupted()) {  // forever, but for an interrupt\n"
+        "            spins++;\n"
+        "        }\n"
+        '        return "stopped after " + spins + " spins";\n'
+        "    }\n")), encoding="utf-8")  # fmt: skip
+    descriptor = next(c for c in registry.descriptor().components if c.name == "Vent")
+    with Container("Test", clock=VirtualClock()) as test:
+        test.install_factory(java_factory(descriptor, "MixedGreenhouse", sources, timeout=0.2))
+        vent = test.create("Vent", "Vent")
+        with pytest.raises(ComponentError) as raised:
+            vent.call("report")
+        assert (
+            "Vent.report did not return within its call's timeout of 0.2 s: its Java thread was "
+            "interrupted, and it ended with java.lang.InterruptedException" in str(raised.value)
+        )
+        assert test.faults.counts["component"] == 1
+        assert [f.where for f in test.faults.recent] == ["Vent.report"]
+        # the thread's interrupt status is cleared, and the container answers the next call
+        assert not jpype.JClass("java.lang.Thread").currentThread().isInterrupted()
+        assert vent.call("lastNotice") == ""
+        assert test.faults.counts["component"] == 1

@@ -28,6 +28,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any, ClassVar, TypeVar, cast
 
 from acordcs.runtime.component import ComponentFactory, CtxComponent
+from acordcs.runtime.jvm.deadlines import deadlines
 from acordcs.runtime.jvm.errors import JavaFault, JavaHostError
 from acordcs.runtime.jvm.java_names import identifier, method, package
 from acordcs.runtime.jvm.java_values import to_java, to_python
@@ -40,6 +41,8 @@ if TYPE_CHECKING:
     from acordcs.runtime.ports import Port
 
 API = "org.acordcs.runtime"
+DEFAULT_TIMEOUT = 5.0
+"""Seconds a Java operation may run by default: what a remote caller waits by default."""
 T = TypeVar("T")
 _GLUE = ("jdk.internal.", "java.base/jdk.internal.", "org.jpype.", "java.lang.reflect.")
 
@@ -72,6 +75,7 @@ class JavaComponent(CtxComponent):
     link_class: ClassVar[type[JavaPortLink]]  # JavaPortLink implementing the loaded Port.Link
     rules_class: ClassVar[type[JavaRules]]  # JavaRules implementing the loaded RuleEngine
     java_methods: ClassVar[tuple[str, ...]]  # the Java methods of the model's operations
+    call_timeout: ClassVar[float]  # seconds an operation may run before it is interrupted
     java: Any
     methods: dict[str, Any]  # java_methods, bound to the Java object (looked up once)
 
@@ -85,6 +89,18 @@ class JavaComponent(CtxComponent):
             raise fault(exc, f"the constructor of {cls.java_class.__name__}") from None
         self.java.attachHost(cls.host_class(self))
         self.methods = {name: getattr(self.java, name) for name in cls.java_methods}
+
+    def timed_out(self, operation: str, exc: BaseException | None) -> JavaFault:
+        """The fault of ``operation``, interrupted at its call's timeout (``exc``: what it threw
+        then; None: it returned, too late)."""
+        # JPype raises an interrupted thread's status as an InterruptedException on the way
+        # back, so a loop that stopped at the interrupt ends with one too
+        ended = f"ended with {exc}" if exc is not None else "then returned, too late"
+        return JavaFault(
+            f"{self.name}.{operation} did not return within its call's timeout of "
+            f"{self.call_timeout:g} s: its Java thread was interrupted, and it {ended}",
+            java_stack(exc) if exc is not None else "",
+        )
 
     def _java(self, what: str, call: Callable[[], Any]) -> Any:
         import jpype
@@ -187,11 +203,16 @@ class JavaRules:
 
 
 def java_factory(
-    comp: ComponentDescription, application: str, sources: Path | None
+    comp: ComponentDescription,
+    application: str,
+    sources: Path | None,
+    *,
+    timeout: float = DEFAULT_TIMEOUT,
 ) -> ComponentFactory:
     """The factory of ``comp``, tagged ``language=java``, whose classes are in ``sources`` (the
     ``java`` target's output of application ``application``); JavaHostError when it cannot be
-    hosted (said with the component's name and what to do)."""
+    hosted (said with the component's name and what to do). ``timeout``: seconds each of its
+    operations may run before its Java thread is interrupted (:mod:`.deadlines`)."""
     who = f"component {comp.name!r} ({comp.qualified_name}, id {comp.id})"
     pkg, cls_name = package(application), identifier(comp.name)
     user = sources / pkg / f"{cls_name}.java" if sources is not None else None
@@ -217,6 +238,7 @@ def java_factory(
         "properties": model.properties,
         "ports": model.ports,
         "java_class": jcls,
+        "call_timeout": float(timeout),
         "host_class": implementing(JavaHost, java_class(classes, f"{API}.CtxComponent$Host", who)),
         "link_class": implementing(JavaPortLink, java_class(classes, f"{API}.Port$Link", who)),
         "rules_class": implementing(JavaRules, java_class(classes, f"{API}.RuleEngine", who)),
@@ -260,10 +282,18 @@ def _operation(operation: str, java_name: str) -> Callable[..., Any]:
     thrown = jpype.JException
 
     def call(self: JavaComponent, *args: Any) -> Any:
+        running = deadlines.enter(self.call_timeout)
         try:
             result = self.methods[java_name](*args)
         except thrown as exc:
+            if deadlines.leave(running):
+                raise self.timed_out(operation, exc) from None
             raise fault(exc, f"{self.name}.{operation}") from None
+        except BaseException:
+            deadlines.leave(running)
+            raise
+        if deadlines.leave(running):
+            raise self.timed_out(operation, None)
         return to_python(result)
 
     call.__name__ = call.__qualname__ = operation
