@@ -326,9 +326,7 @@ class Assembler:
             from acordcs.runtime.jvm import java_factory  # here: only a Java component loads JPype
 
             # the call's timeout: what a caller in another process waits for the reply
-            return java_factory(
-                comp, self.app.name, self.java_sources, timeout=self.remote_timeout
-            )
+            return java_factory(comp, self.app.name, self.java_sources, timeout=self.remote_timeout)
         return ComponentFactory(comp.name, given or generic_component(comp))
 
     def component(
