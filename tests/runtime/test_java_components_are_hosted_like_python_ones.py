@@ -329,3 +329,59 @@ def test_a_java_loop_past_its_calls_timeout_is_interrupted_and_a_fault(registry,
         assert not jpype.JClass("java.lang.Thread").currentThread().isInterrupted()
         assert vent.call("lastNotice") == ""
         assert test.faults.counts["component"] == 1
+
+
+def test_stream_items_cross_both_ways_through_stream_ports(registry, out, tmp_path):
+    import dataclasses
+
+    from acordcs.descriptor.application import Port as PortDescription
+    from acordcs.runtime.component import ComponentFactory, CtxComponent
+    from acordcs.runtime.ports import stream_port
+
+    sources = tmp_path / "java"
+    shutil.copytree(out / "java", sources)
+    user = sources / "mixedgreenhouse" / "Vent.java"
+    text = user.read_text(encoding="utf-8")
+    stream = "org.acordcs.runtime.Port.Kind.STREAM, org.acordcs.runtime.Port.Role."
+    text = text.replace("    public Vent() {\n        super();\n", (
+        "    public Vent() {\n        super();\n"
+        f'        addPort(new org.acordcs.runtime.Port("Readings", {stream}PROVIDED));\n'
+        f'        addPort(new org.acordcs.runtime.Port("Feed", {stream}REQUIRED));\n'))  # fmt: skip
+    body = text[text.index("    public java.lang.String report() {") :]
+    body = body[: body.index("    }\n") + 6]
+    text = text.replace(body, (
+        "    public java.lang.String report() {\n"
+        '        port("Readings").push(java.util.List.of(1.5, "two"));\n'
+        '        port("Readings").push(3);\n'
+        '        return "pushed";\n'
+        "    }\n"))  # fmt: skip
+    user.write_text(text, encoding="utf-8")
+    vent = next(c for c in registry.descriptor().components if c.name == "Vent")
+
+    def port(name: str, role: str) -> PortDescription:
+        return PortDescription(f"_Vent.{name}", name, f"Vent::{name}", "stream", role)
+
+    vent = dataclasses.replace(
+        vent, ports=(*vent.ports, port("Readings", "provided"), port("Feed", "required"))
+    )
+
+    class Station(CtxComponent):  # the Python end: consumes Readings, produces Feed
+        ports = (stream_port("Readings", "required"), stream_port("Feed", "provided"))
+        got: list
+
+        def on_Readings(self, item: object) -> None:
+            self.got = [*getattr(self, "got", []), item]
+
+    with Container("Test", clock=VirtualClock()) as test:
+        test.install_factory(java_factory(vent, "MixedGreenhouse", sources))
+        test.install_factory(ComponentFactory("Station", Station))
+        java = test.create("Vent", "Vent")
+        station = test.create("Station", "Station")
+        test.connect("Station.Readings", "Vent.Readings")  # Java -> Python
+        test.connect("Vent.Feed", "Station.Feed")  # Python -> Java
+        assert java.call("report") == "pushed"
+        assert station.instance.got == [[1.5, "two"], 3]  # Java's List and Integer, as Python's
+        assert [type(v) for v in station.instance.got[0]] == [float, str]
+        station.instance.port("Feed").push({"t": 20.5})
+        assert java.call("lastNotice") == "Feed: {t=20.5}"  # Java's onMessage got a HashMap
+        assert not test.faults.recent
