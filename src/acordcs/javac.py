@@ -41,7 +41,10 @@ _ERROR = re.compile(r"^(?P<file>.+?\.java):(?P<line>\d+): error: (?P<message>.*)
 
 
 class JavacError(AcordError):
-    """javac is missing, failed, or found an error (``file`` and ``line``: javac's first)."""
+    """javac is missing, failed, or found an error (``file`` and ``line``: javac's first);
+    ``said``: javac's whole output when it found more than one."""
+
+    said = ""
 
 
 def source_digest(sources: Path) -> str:
@@ -108,10 +111,13 @@ def run_javac(javac: str, sources: Path, roots: list[Path], out: Path) -> None:
     if not errors:
         raise JavacError(f"javac failed: {said}", hint=JDK_HINT)
     first = errors[0]
-    more = f"; javac found {len(errors) - 1} more error(s):\n{said}" if len(errors) > 1 else ""
-    raise JavacError(
+    more = f" (and {len(errors) - 1} more error(s), below)" if len(errors) > 1 else ""
+    error = JavacError(
         f"its Java class does not compile: {first['message']}{more}",
         file=first["file"],
         line=int(first["line"]),
         hint="fix the Java source there (java/<package>/<Component>.java is yours)",
     )
+    if len(errors) > 1:
+        error.said = said
+    raise error

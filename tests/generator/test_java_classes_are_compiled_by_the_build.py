@@ -108,3 +108,34 @@ def test_without_a_jdk_the_build_says_the_start_compiles(out: Path, tmp_path, mo
         "them at start" in done.err
     )
     assert not (copy / "java-classes").exists()
+
+
+def test_a_renamed_or_removed_operation_is_drift_at_the_java_method(out: Path, tmp_path):
+    copy = tmp_path / "app"
+    shutil.copytree(out, copy)
+    shutil.copy(MODEL.parent / "ACORDCS.profile.uml", tmp_path)
+    text = MODEL.read_text(encoding="utf-8")
+    renamed = text.replace('xmi:id="_Vent.calibrate" name="calibrate"',
+                           'xmi:id="_Vent.calibrate" name="adjust"')  # fmt: skip
+    start = renamed.index('<ownedOperation xmi:type="uml:Operation" xmi:id="_Vent.lastNotice"')
+    end = renamed.index("</ownedOperation>", start) + len("</ownedOperation>")
+    model = tmp_path / "greenhouse.uml"
+    model.write_text(renamed[:start] + renamed[end:], encoding="utf-8")
+    done = build(model, copy)
+    user = copy / "java" / "mixedgreenhouse" / "Vent.java"
+    lines = user.read_text(encoding="utf-8").splitlines()
+    at = {name: 1 + next(i for i, line in enumerate(lines) if f" {name}(" in line)
+          for name in ("calibrate", "lastNotice")}  # fmt: skip
+    assert (
+        f"{user}:{at['calibrate']}:1: warning: G704 method calibrate() of Java class Vent "
+        "implements operation calibrate, which the model now names adjust (id _Vent.calibrate): "
+        "rename the method to adjust" in done.out
+    )
+    assert (
+        f"{user}:{at['lastNotice']}:1: warning: G704 method lastNotice() of Java class Vent "
+        "implements operation lastNotice (id _Vent.lastNotice), which is no longer in the model"
+        in done.out
+    )
+    assert "[Vent (_Vent.calibrate)]" in done.out
+    # and javac, run by the build, refuses the class in its own words: exit 1
+    assert done.code == 1 and "does not override abstract method adjust(double)" in done.err

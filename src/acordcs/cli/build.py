@@ -192,6 +192,8 @@ def _java_classes(result, out: str, quiet: bool) -> int:
         return 0
     if java.error is not None:
         click.echo(printable(str(java.error)), err=True)
+        for line in java.error.said.splitlines():  # each line escaped: none can forge another
+            click.echo(f"  {printable(line)}", err=True)
         click.echo(
             f"{out}: the generated files are in place; no Java classes were compiled for these "
             "sources (a container hosting the component stops at start with the same error)",

@@ -374,8 +374,12 @@ def _find_drift(out: Path, app: Application | None, result: BuildResult) -> None
         result.drift = find_drift(out, package, None, current)
         result.drift += not_compiling(out, package, current)
     else:
+        from acordcs.generator.java_drift import find_java_drift
+
         package = package_name(app.name)
-        result.drift = find_drift(out, package, previous_application(out, package), app)
+        previous = previous_application(out, package)
+        result.drift = find_drift(out, package, previous, app)
+        result.drift += find_java_drift(out, previous, app)
         result.drift += not_compiling(out, package, app)
     result.warnings += as_diagnostics(result.drift, out)
 

@@ -76,6 +76,7 @@ def compiled_classes(sources: Path, roots: Iterable[Path], components: str) -> P
         return compile_into(parent, key, javac, sources, roots, version)
     except JavacError as err:
         hint = f"{err.hint}, then start again" if err.line else err.hint
+        said = f":\n{err.said}" if err.said else ""
         raise JavaHostError(
-            f"{components}: {err.message}", file=err.file, line=err.line, hint=hint
+            f"{components}: {err.message}{said}", file=err.file, line=err.line, hint=hint
         ) from None
