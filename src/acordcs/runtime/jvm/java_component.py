@@ -27,10 +27,10 @@ from collections.abc import Callable
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, ClassVar, TypeVar, cast
 
+from acordcs.java_names import identifier, method, package
 from acordcs.runtime.component import ComponentFactory, CtxComponent
 from acordcs.runtime.jvm.deadlines import deadlines
 from acordcs.runtime.jvm.errors import JavaFault, JavaHostError
-from acordcs.java_names import identifier, method, package
 from acordcs.runtime.jvm.java_values import to_java, to_python
 from acordcs.runtime.jvm.javac_cache import compiled_classes
 from acordcs.runtime.jvm.machine import java_class, start_jvm
