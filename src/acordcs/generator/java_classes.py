@@ -49,6 +49,15 @@ def compile_java_classes(out: Path, app: Application, manifest: Manifest) -> Jav
         return None
     names = ", ".join(name for _rel, name in roots)
     what = f"component{'s' if len(roots) > 1 else ''} {names} (tagged language=java)"
+    sources = out / "java"
+    parent = out / BUILT
+    try:
+        digest = source_digest(sources)
+    except OSError as err:
+        return JavaBuild(error=JavacError(f"{what}: cannot read the sources: {err}"))
+    done = JavaBuild(classes=f"{BUILT}/{digest}")
+    if (parent / digest / COMPLETE).is_file():
+        return done  # compiled by an earlier build: nothing to do, JDK or not
     javac = find_javac()
     if javac is None:
         return JavaBuild(
@@ -56,15 +65,11 @@ def compile_java_classes(out: Path, app: Application, manifest: Manifest) -> Jav
             "each container hosting them compiles them at start (install a JDK 17 or later to "
             "compile them here)"
         )
-    sources = out / "java"
-    parent = out / BUILT
     try:
-        digest = source_digest(sources)
         parent.mkdir(exist_ok=True)
     except OSError as err:
-        return JavaBuild(error=JavacError(f"{what}: cannot read or compile the sources: {err}"))
-    done = JavaBuild(classes=f"{BUILT}/{digest}")
-    done.compiled = not (parent / digest / COMPLETE).is_file()
+        return JavaBuild(error=JavacError(f"{what}: cannot make {parent}: {err}"))
+    done.compiled = True
     try:
         compile_into(parent, digest, javac, sources, [out / rel for rel, _ in roots], javac)
     except JavacError as err:
