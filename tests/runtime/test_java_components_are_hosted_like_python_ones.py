@@ -296,23 +296,32 @@ def test_a_throwing_constructor_and_a_call_to_a_missing_port_are_faults(registry
         assert vent.call("lastNotice") == ""  # the container and the first vent go on
 
 
+LOOP = (
+    "    public java.lang.String report() {\n"
+    "        long spins = 0;\n"
+    "        while (!Thread.currentThread().isInterrupted()) {  // forever, but for an interrupt\n"
+    "            spins++;\n"
+    "        }\n"
+    '        return "stopped after " + spins + " spins";\n'
+    "    }\n"
+)
+
+
+def looping(sources: Path) -> None:
+    """The Java vent in ``sources`` with a report that loops until its thread is interrupted."""
+    user = sources / "mixedgreenhouse" / "Vent.java"
+    text = user.read_text(encoding="utf-8")
+    body = text[text.index("    public java.lang.String report() {") :]
+    body = body[: body.index("    }\n") + 6]
+    user.write_text(text.replace(body, LOOP), encoding="utf-8")
+
+
 def test_a_java_loop_past_its_calls_timeout_is_interrupted_and_a_fault(registry, out, tmp_path):
     import jpype
 
     sources = tmp_path / "java"
     shutil.copytree(out / "java", sources)
-    user = sources / "mixedgreenhouse" / "Vent.java"
-    text = user.read_text(encoding="utf-8")
-    body = text[text.index("    public java.lang.String report() {") :]
-    body = body[: body.index("    }\n") + 6]
-    user.write_text(text.replace(body, (
-        "    public java.lang.String report() {\n"
-        "        long spins = 0;\n"
-        "        while (!Thread.currentThread().isInterrupted()) {  // forever, but for an interrupt\n"
-        "            spins++;\n"
-        "        }\n"
-        '        return "stopped after " + spins + " spins";\n'
-        "    }\n")), encoding="utf-8")  # fmt: skip
+    looping(sources)
     descriptor = next(c for c in registry.descriptor().components if c.name == "Vent")
     with Container("Test", clock=VirtualClock()) as test:
         test.install_factory(java_factory(descriptor, "MixedGreenhouse", sources, timeout=0.2))
@@ -385,3 +394,35 @@ def test_stream_items_cross_both_ways_through_stream_ports(registry, out, tmp_pa
         station.instance.port("Feed").push({"t": 20.5})
         assert java.call("lastNotice") == "Feed: {t=20.5}"  # Java's onMessage got a HashMap
         assert not test.faults.recent
+
+
+def test_a_remote_callers_timeout_fault_and_the_container_answers_again(out: Path, tmp_path):
+    served = tmp_path / "app"
+    shutil.copytree(out, served)
+    looping(served / "java")
+    token = {"ACORDCS_TOKEN": "java-timeout-test-token"}
+    house = subprocess.Popen(
+        [sys.executable, "-m", f"{PACKAGE}.House", "--clock", "real", "--serve", "0",
+         "--host", "127.0.0.1", "--timeout", "0.3"],
+        cwd=served, env={**os.environ, "PYTHONPATH": str(served), **token},
+        stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+    )  # fmt: skip
+    try:
+        assert house.stdout is not None
+        uri = None
+        for line in house.stdout:  # readiness: the line its start script waits for
+            if line.startswith("House: serving at "):
+                uri = line.split(" at ", 1)[1].strip()
+                break
+        assert uri, house.stderr.read() if house.stderr else ""
+        for _ in range(2):  # the second call: the container answers after the first one's fault
+            shed = run(served, "Shed", "--remote", f"House={uri}", "--run", "Panel.show",
+                       "--duration", "0", "--timeout", "5", **token)  # fmt: skip
+            assert shed.returncode != 0, shed.stdout + shed.stderr
+            said = shed.stdout + shed.stderr
+            assert "Vent.report did not return within its call's timeout of 0.3 s: its Java " \
+                "thread was interrupted" in said, said  # fmt: skip
+    finally:
+        house.terminate()
+        rest, errors = house.communicate(timeout=30)
+    assert "faults: 2" in rest, rest + errors  # both counted by the serving container
