@@ -296,33 +296,54 @@ def test_a_throwing_constructor_and_a_call_to_a_missing_port_are_faults(registry
         assert vent.call("lastNotice") == ""  # the container and the first vent go on
 
 
-LOOP = (
-    "    public java.lang.String report() {\n"
-    "        long spins = 0;\n"
-    "        while (!Thread.currentThread().isInterrupted()) {  // forever, but for an interrupt\n"
-    "            spins++;\n"
-    "        }\n"
-    '        return "stopped after " + spins + " spins";\n'
-    "    }\n"
-)
+STREAM = "org.acordcs.runtime.Port.Kind.STREAM, org.acordcs.runtime.Port.Role."
+VARIANT = {  # what the variant's Vent.java has instead (method bodies, the constructor)
+    "    public Vent() {\n        super();\n": (
+        "    public Vent() {\n        super();\n"
+        f'        addPort(new org.acordcs.runtime.Port("Readings", {STREAM}PROVIDED));\n'
+        f'        addPort(new org.acordcs.runtime.Port("Feed", {STREAM}REQUIRED));\n'
+    ),
+    "    public java.lang.String report() {": (
+        "    public java.lang.String report() {\n"
+        "        long spins = 0;\n"
+        "        while (!Thread.currentThread().isInterrupted()) {  // forever, but for an interrupt\n"
+        "            spins++;\n"
+        "        }\n"
+        '        return "stopped after " + spins + " spins";\n'
+        "    }\n"
+    ),
+    "    public double advise(double temperature) {": (
+        "    public double advise(double temperature) {\n"
+        '        port("Readings").push(java.util.List.of(1.5, "two"));\n'
+        '        port("Readings").push(3);\n'
+        "        return temperature;\n"
+        "    }\n"
+    ),
+}
 
 
-def looping(sources: Path) -> None:
-    """The Java vent in ``sources`` with a report that loops until its thread is interrupted."""
-    user = sources / "mixedgreenhouse" / "Vent.java"
+@pytest.fixture(scope="module")
+def variant(out: Path, tmp_path_factory: pytest.TempPathFactory) -> Path:
+    """The application with a Java vent whose report loops until its thread is interrupted, and
+    whose advise pushes two items on a stream port Readings (it consumes one, Feed): compiled
+    once, into the cache every test here and the containers they start share."""
+    served = tmp_path_factory.mktemp("variant") / "app"
+    shutil.copytree(out, served)
+    user = served / "java" / "mixedgreenhouse" / "Vent.java"
     text = user.read_text(encoding="utf-8")
-    body = text[text.index("    public java.lang.String report() {") :]
-    body = body[: body.index("    }\n") + 6]
-    user.write_text(text.replace(body, LOOP), encoding="utf-8")
+    for start, new in VARIANT.items():
+        old = text[text.index(start) :]
+        old = old[: len(start) if start.endswith("\n") else old.index("    }\n") + 6]
+        text = text.replace(old, new)
+    user.write_text(text, encoding="utf-8")
+    return served
 
 
-def test_a_java_loop_past_its_calls_timeout_is_interrupted_and_a_fault(registry, out, tmp_path):
+def test_a_java_loop_past_its_calls_timeout_is_interrupted_and_a_fault(registry, variant):
     import jpype
 
-    sources = tmp_path / "java"
-    shutil.copytree(out / "java", sources)
-    looping(sources)
     descriptor = next(c for c in registry.descriptor().components if c.name == "Vent")
+    sources = variant / "java"
     with Container("Test", clock=VirtualClock()) as test:
         test.install_factory(java_factory(descriptor, "MixedGreenhouse", sources, timeout=0.2))
         vent = test.create("Vent", "Vent")
@@ -340,31 +361,13 @@ def test_a_java_loop_past_its_calls_timeout_is_interrupted_and_a_fault(registry,
         assert test.faults.counts["component"] == 1
 
 
-def test_stream_items_cross_both_ways_through_stream_ports(registry, out, tmp_path):
+def test_stream_items_cross_both_ways_through_stream_ports(registry, variant):
     import dataclasses
 
     from acordcs.descriptor.application import Port as PortDescription
     from acordcs.runtime.component import ComponentFactory, CtxComponent
     from acordcs.runtime.ports import stream_port
 
-    sources = tmp_path / "java"
-    shutil.copytree(out / "java", sources)
-    user = sources / "mixedgreenhouse" / "Vent.java"
-    text = user.read_text(encoding="utf-8")
-    stream = "org.acordcs.runtime.Port.Kind.STREAM, org.acordcs.runtime.Port.Role."
-    text = text.replace("    public Vent() {\n        super();\n", (
-        "    public Vent() {\n        super();\n"
-        f'        addPort(new org.acordcs.runtime.Port("Readings", {stream}PROVIDED));\n'
-        f'        addPort(new org.acordcs.runtime.Port("Feed", {stream}REQUIRED));\n'))  # fmt: skip
-    body = text[text.index("    public java.lang.String report() {") :]
-    body = body[: body.index("    }\n") + 6]
-    text = text.replace(body, (
-        "    public java.lang.String report() {\n"
-        '        port("Readings").push(java.util.List.of(1.5, "two"));\n'
-        '        port("Readings").push(3);\n'
-        '        return "pushed";\n'
-        "    }\n"))  # fmt: skip
-    user.write_text(text, encoding="utf-8")
     vent = next(c for c in registry.descriptor().components if c.name == "Vent")
 
     def port(name: str, role: str) -> PortDescription:
@@ -382,13 +385,13 @@ def test_stream_items_cross_both_ways_through_stream_ports(registry, out, tmp_pa
             self.got = [*getattr(self, "got", []), item]
 
     with Container("Test", clock=VirtualClock()) as test:
-        test.install_factory(java_factory(vent, "MixedGreenhouse", sources))
+        test.install_factory(java_factory(vent, "MixedGreenhouse", variant / "java"))
         test.install_factory(ComponentFactory("Station", Station))
         java = test.create("Vent", "Vent")
         station = test.create("Station", "Station")
         test.connect("Station.Readings", "Vent.Readings")  # Java -> Python
         test.connect("Vent.Feed", "Station.Feed")  # Python -> Java
-        assert java.call("report") == "pushed"
+        assert java.call("advise", 7.0) == 7.0
         assert station.instance.got == [[1.5, "two"], 3]  # Java's List and Integer, as Python's
         assert [type(v) for v in station.instance.got[0]] == [float, str]
         station.instance.port("Feed").push({"t": 20.5})
@@ -396,10 +399,8 @@ def test_stream_items_cross_both_ways_through_stream_ports(registry, out, tmp_pa
         assert not test.faults.recent
 
 
-def test_a_remote_callers_timeout_fault_and_the_container_answers_again(out: Path, tmp_path):
-    served = tmp_path / "app"
-    shutil.copytree(out, served)
-    looping(served / "java")
+def test_a_remote_callers_timeout_fault_and_the_container_answers_again(variant: Path):
+    served = variant
     token = {"ACORDCS_TOKEN": "java-timeout-test-token"}
     house = subprocess.Popen(
         [sys.executable, "-m", f"{PACKAGE}.House", "--clock", "real", "--serve", "0",
