@@ -102,9 +102,9 @@ NAMES = ("wait", "default", "ruleEngine", "onStart", "x-y", "2nd", "\u00e9t\u00e
 
 
 def test_the_java_host_names_classes_and_methods_as_the_stylesheet_does(tmp_path: Path, weblab):
-    """The host (``acordcs.runtime.jvm.java_names``) finds the class and the methods the
+    """The host (``acordcs.java_names``) finds the class and the methods the
     stylesheet wrote, for names that are keywords, taken, or not identifiers at all."""
-    from acordcs.runtime.jvm.java_names import identifier, method, package
+    from acordcs.java_names import identifier, method, package
 
     ops = tuple(Operation(f"o{i}", n, f"M::C::{n}") for i, n in enumerate(NAMES))
     comps = (r(weblab.components[0], name="class", operations=ops), *weblab.components[1:])

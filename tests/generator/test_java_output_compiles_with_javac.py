@@ -58,6 +58,7 @@ API = {
     "org.acordcs.runtime.CtxComponent",
     "org.acordcs.runtime.CtxComponent$Host",
     "org.acordcs.runtime.Port",
+    "org.acordcs.runtime.Port$Link",
     "org.acordcs.runtime.Port$Kind",
     "org.acordcs.runtime.Port$Role",
     "org.acordcs.runtime.RuleEngine",

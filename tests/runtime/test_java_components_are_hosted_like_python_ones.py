@@ -243,9 +243,11 @@ def test_a_container_hosting_no_java_component_loads_no_jpype(out: Path):
 
 
 def test_a_start_without_javac_names_the_component_and_what_to_install(out: Path, tmp_path):
+    unbuilt = tmp_path / "out"  # as built without a JDK: no java-classes/
+    shutil.copytree(out, unbuilt, ignore=shutil.ignore_patterns("java-classes"))
     bare = tmp_path / "bin"  # a PATH without javac, and an empty cache: it must compile
     bare.mkdir()
-    done = run(out, "House", "--duration", "1", PATH=str(bare), XDG_CACHE_HOME=str(tmp_path))
+    done = run(unbuilt, "House", "--duration", "1", PATH=str(bare), XDG_CACHE_HOME=str(tmp_path))
     assert done.returncode == 2, done.stdout + done.stderr
     assert "error: component 'Vent' (Vent, id _Vent) tagged language=java" in done.stderr
     assert "no javac is on PATH" in done.stderr and "openjdk-17-jdk-headless" in done.stderr
@@ -292,3 +294,136 @@ def test_a_throwing_constructor_and_a_call_to_a_missing_port_are_faults(registry
         assert [(f.where, f.context.get("phase")) for f in test.faults.recent] == [
             ("Vent.report", None), ("Another", "create")]  # fmt: skip
         assert vent.call("lastNotice") == ""  # the container and the first vent go on
+
+
+STREAM = "org.acordcs.runtime.Port.Kind.STREAM, org.acordcs.runtime.Port.Role."
+VARIANT = {  # what the variant's Vent.java has instead (method bodies, the constructor)
+    "    public Vent() {\n        super();\n": (
+        "    public Vent() {\n        super();\n"
+        f'        addPort(new org.acordcs.runtime.Port("Readings", {STREAM}PROVIDED));\n'
+        f'        addPort(new org.acordcs.runtime.Port("Feed", {STREAM}REQUIRED));\n'
+    ),
+    "    public java.lang.String report() {": (
+        "    public java.lang.String report() {\n"
+        "        long spins = 0;\n"
+        "        while (!Thread.currentThread().isInterrupted()) {  // forever, but for an interrupt\n"
+        "            spins++;\n"
+        "        }\n"
+        '        return "stopped after " + spins + " spins";\n'
+        "    }\n"
+    ),
+    "    public double advise(double temperature) {": (
+        "    public double advise(double temperature) {\n"
+        '        port("Readings").push(java.util.List.of(1.5, "two"));\n'
+        '        port("Readings").push(3);\n'
+        "        return temperature;\n"
+        "    }\n"
+    ),
+}
+
+
+@pytest.fixture(scope="module")
+def variant(out: Path, tmp_path_factory: pytest.TempPathFactory) -> Path:
+    """The application with a Java vent whose report loops until its thread is interrupted, and
+    whose advise pushes two items on a stream port Readings (it consumes one, Feed): compiled
+    once, into the cache every test here and the containers they start share."""
+    served = tmp_path_factory.mktemp("variant") / "app"
+    shutil.copytree(out, served)
+    user = served / "java" / "mixedgreenhouse" / "Vent.java"
+    text = user.read_text(encoding="utf-8")
+    for start, new in VARIANT.items():
+        old = text[text.index(start) :]
+        old = old[: len(start) if start.endswith("\n") else old.index("    }\n") + 6]
+        text = text.replace(old, new)
+    user.write_text(text, encoding="utf-8")
+    return served
+
+
+def test_a_java_loop_past_its_calls_timeout_is_interrupted_and_a_fault(registry, variant):
+    import jpype
+
+    descriptor = next(c for c in registry.descriptor().components if c.name == "Vent")
+    sources = variant / "java"
+    with Container("Test", clock=VirtualClock()) as test:
+        test.install_factory(java_factory(descriptor, "MixedGreenhouse", sources, timeout=0.2))
+        vent = test.create("Vent", "Vent")
+        with pytest.raises(ComponentError) as raised:
+            vent.call("report")
+        assert (
+            "Vent.report did not return within its call's timeout of 0.2 s: its Java thread was "
+            "interrupted, and it ended with java.lang.InterruptedException" in str(raised.value)
+        )
+        assert test.faults.counts["component"] == 1
+        assert [f.where for f in test.faults.recent] == ["Vent.report"]
+        # the thread's interrupt status is cleared, and the container answers the next call
+        assert not jpype.JClass("java.lang.Thread").currentThread().isInterrupted()
+        assert vent.call("lastNotice") == ""
+        assert test.faults.counts["component"] == 1
+
+
+def test_stream_items_cross_both_ways_through_stream_ports(registry, variant):
+    import dataclasses
+
+    from acordcs.descriptor.application import Port as PortDescription
+    from acordcs.runtime.component import ComponentFactory, CtxComponent
+    from acordcs.runtime.ports import stream_port
+
+    vent = next(c for c in registry.descriptor().components if c.name == "Vent")
+
+    def port(name: str, role: str) -> PortDescription:
+        return PortDescription(f"_Vent.{name}", name, f"Vent::{name}", "stream", role)
+
+    vent = dataclasses.replace(
+        vent, ports=(*vent.ports, port("Readings", "provided"), port("Feed", "required"))
+    )
+
+    class Station(CtxComponent):  # the Python end: consumes Readings, produces Feed
+        ports = (stream_port("Readings", "required"), stream_port("Feed", "provided"))
+        got: list
+
+        def on_Readings(self, item: object) -> None:
+            self.got = [*getattr(self, "got", []), item]
+
+    with Container("Test", clock=VirtualClock()) as test:
+        test.install_factory(java_factory(vent, "MixedGreenhouse", variant / "java"))
+        test.install_factory(ComponentFactory("Station", Station))
+        java = test.create("Vent", "Vent")
+        station = test.create("Station", "Station")
+        test.connect("Station.Readings", "Vent.Readings")  # Java -> Python
+        test.connect("Vent.Feed", "Station.Feed")  # Python -> Java
+        assert java.call("advise", 7.0) == 7.0
+        assert station.instance.got == [[1.5, "two"], 3]  # Java's List and Integer, as Python's
+        assert [type(v) for v in station.instance.got[0]] == [float, str]
+        station.instance.port("Feed").push({"t": 20.5})
+        assert java.call("lastNotice") == "Feed: {t=20.5}"  # Java's onMessage got a HashMap
+        assert not test.faults.recent
+
+
+def test_a_remote_callers_timeout_fault_and_the_container_answers_again(variant: Path):
+    served = variant
+    token = {"ACORDCS_TOKEN": "java-timeout-test-token"}
+    house = subprocess.Popen(
+        [sys.executable, "-m", f"{PACKAGE}.House", "--clock", "real", "--serve", "0",
+         "--host", "127.0.0.1", "--timeout", "0.3"],
+        cwd=served, env={**os.environ, "PYTHONPATH": str(served), **token},
+        stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+    )  # fmt: skip
+    try:
+        assert house.stdout is not None
+        uri = None
+        for line in house.stdout:  # readiness: the line its start script waits for
+            if line.startswith("House: serving at "):
+                uri = line.split(" at ", 1)[1].strip()
+                break
+        assert uri, house.stderr.read() if house.stderr else ""
+        for _ in range(2):  # the second call: the container answers after the first one's fault
+            shed = run(served, "Shed", "--remote", f"House={uri}", "--run", "Panel.show",
+                       "--duration", "0", "--timeout", "5", **token)  # fmt: skip
+            assert shed.returncode != 0, shed.stdout + shed.stderr
+            said = shed.stdout + shed.stderr
+            assert "Vent.report did not return within its call's timeout of 0.3 s: its Java " \
+                "thread was interrupted" in said, said  # fmt: skip
+    finally:
+        house.terminate()
+        rest, errors = house.communicate(timeout=30)
+    assert "faults: 2" in rest, rest + errors  # both counted by the serving container

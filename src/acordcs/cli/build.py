@@ -155,7 +155,7 @@ def build(
         click.echo(
             f"{out}: up to date ({', '.join(result.targets)}; model unchanged, nothing written)"
         )
-        raise click.exceptions.Exit(drifted)
+        raise click.exceptions.Exit(max(drifted, _java_classes(result, out, quiet)))
     plan = result.plan
     assert plan is not None
     if diff:
@@ -172,7 +172,7 @@ def build(
         else:
             summary = f"nothing changed ({len(plan.unchanged)} files up to date)"
         click.echo(f"{out}: {summary} (targets: {', '.join(result.targets)})")
-        raise click.exceptions.Exit(drifted)
+        raise click.exceptions.Exit(max(drifted, _java_classes(result, out, quiet)))
     if plan.changes:
         click.echo(
             f"{out}: not up to date: {writes} file{'s' if writes != 1 else ''} to write, "
@@ -182,6 +182,27 @@ def build(
     else:
         click.echo(f"{out}: up to date ({len(plan.unchanged)} files)")
     raise click.exceptions.Exit(1 if check and plan.changes else drifted)
+
+
+def _java_classes(result, out: str, quiet: bool) -> int:
+    """Say what the build's compile of the Java components' classes did; 1 when a class does
+    not compile (javac's file:line and message), else 0."""
+    java = result.java
+    if java is None or java.note:  # none, or no JDK: said among the notes
+        return 0
+    if java.error is not None:
+        click.echo(printable(str(java.error)), err=True)
+        for line in java.error.said.splitlines():  # each line escaped: none can forge another
+            click.echo(f"  {printable(line)}", err=True)
+        click.echo(
+            f"{out}: the generated files are in place; no Java classes were compiled for these "
+            "sources (a container hosting the component stops at start with the same error)",
+            err=True,
+        )
+        return 1
+    if java.compiled and not quiet:
+        click.echo(f"compiled {os.path.join(out, java.classes)}/ (javac)")
+    return 0
 
 
 _WOULD = {

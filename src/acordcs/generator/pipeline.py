@@ -36,6 +36,7 @@ from acordcs.generator.writer import FileChanges, apply, plan
 
 if TYPE_CHECKING:
     from acordcs.descriptor import Application
+    from acordcs.generator.java_classes import JavaBuild
 
 Progress = Callable[[str], None]
 
@@ -54,6 +55,8 @@ class BuildResult:
     messages: list[str] = field(default_factory=list)
     notes: list[str] = field(default_factory=list)
     drift: list = field(default_factory=list)  # acordcs.generator.drift.Drift: the user's code
+    application: Application | None = None  # the model described (None: up to date, not read)
+    java: JavaBuild | None = None  # the Java components' classes compiled (java target)
 
     @property
     def changed(self) -> bool:
@@ -190,6 +193,8 @@ def build(
         found = _build(source, out, chosen, result, write, force, check, progress)
         if drift and found.up_to_date and any(t.name == "python" for t in chosen):
             _find_drift(out, None, found)
+        if write and any(t.name == "java" for t in chosen):
+            _compile_java(out, found)
         return found
     except BuildError as err:
         err.notes = result.notes + result.messages
@@ -276,6 +281,7 @@ def _build(
         raise BuildError(
             err.message, file=err.file or source, line=err.line, hint=err.hint
         ) from None
+    result.application = app
     located = reading.uml.elements
     if any(t.name == "python" for t in chosen):
         _find_drift(out, app, result)
@@ -316,6 +322,36 @@ def write_out(result: BuildResult) -> None:
         result.written = True
 
 
+def _compile_java(out: Path, result: BuildResult) -> None:
+    """The Java components' classes, compiled into the output (:mod:`.java_classes`) once the
+    files are written: a note when no JDK is found, ``result.java.error`` when one does not
+    compile."""
+    from acordcs.generator.java_classes import compile_java_classes
+
+    manifest = read_manifest(out)
+    app = result.application or _built_application(out, manifest)
+    if manifest is None or app is None:
+        return
+    result.java = compile_java_classes(out, app, manifest)
+    if result.java is not None and result.java.note:
+        result.notes.append(result.java.note)
+
+
+def _built_application(out: Path, manifest: Manifest | None) -> Application | None:
+    """The application the output's Python package was last built from (its descriptor), or
+    None (no package, or a descriptor that does not read)."""
+    from acordcs.generator.drift import previous_application
+
+    package = _built_package(manifest)
+    return previous_application(out, package) if package else None
+
+
+def _built_package(manifest: Manifest | None) -> str | None:
+    """The Python package the manifest lists files of (None: none)."""
+    names = {rel.split("/", 1)[0] for rel in (manifest.files if manifest else ()) if "/" in rel}
+    return next((n for n in sorted(names) if n.endswith("_app")), None)
+
+
 def _find_drift(out: Path, app: Application | None, result: BuildResult) -> None:
     """The user's classes against the model (:mod:`acordcs.generator.drift`), and compiled as a
     container's start compiles them (G705), before anything is written: the package's descriptor on disk is still the previous build's. ``app`` None: the
@@ -331,16 +367,19 @@ def _find_drift(out: Path, app: Application | None, result: BuildResult) -> None
 
     if app is None:
         manifest = read_manifest(out)
-        names = {rel.split("/", 1)[0] for rel in (manifest.files if manifest else ()) if "/" in rel}
-        package = next((n for n in sorted(names) if n.endswith("_app")), None)
-        current = previous_application(out, package) if package else None
-        if current is None:
+        package = _built_package(manifest)
+        current = _built_application(out, manifest)
+        if current is None or package is None:
             return
         result.drift = find_drift(out, package, None, current)
         result.drift += not_compiling(out, package, current)
     else:
+        from acordcs.generator.java_drift import find_java_drift
+
         package = package_name(app.name)
-        result.drift = find_drift(out, package, previous_application(out, package), app)
+        previous = previous_application(out, package)
+        result.drift = find_drift(out, package, previous, app)
+        result.drift += find_java_drift(out, previous, app)
         result.drift += not_compiling(out, package, app)
     result.warnings += as_diagnostics(result.drift, out)
 

@@ -325,7 +325,8 @@ class Assembler:
         if comp.language == "java":
             from acordcs.runtime.jvm import java_factory  # here: only a Java component loads JPype
 
-            return java_factory(comp, self.app.name, self.java_sources)
+            # the call's timeout: what a caller in another process waits for the reply
+            return java_factory(comp, self.app.name, self.java_sources, timeout=self.remote_timeout)
         return ComponentFactory(comp.name, given or generic_component(comp))
 
     def component(

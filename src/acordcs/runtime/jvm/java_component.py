@@ -8,8 +8,11 @@ Java object's method. The container sees a :class:`~acordcs.runtime.component.Ct
 calls pass the interceptors, its properties are the container's (policies and monitors read and
 write them), its ports are connected by the same connectors (in process, Pyro5).
 
-The Java object gets a :class:`JavaHost` (the Java API's ``CtxComponent.Host``): its ports call,
-notify and push through the container, its setters set properties through it, and
+The Java object gets a :class:`JavaHost` (the Java API's ``CtxComponent.Host``): each of its
+ports gets a :class:`JavaPortLink` (``Port.Link``) through which it calls, notifies and pushes
+straight to the component's port (the crossing into Python is the costly part of a Java
+component's call: one per port call, with no port name or empty array to convert), its setters
+set properties through the host, and
 ``ruleEngine(policySet)`` gives the paper's four calls over a policy set's engine
 (:class:`JavaRules`). The container's properties are the truth: each change is written into the
 Java object's field (``setProperty``) before its ``onPropertyChanged`` runs, and every field is
@@ -24,9 +27,10 @@ from collections.abc import Callable
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, ClassVar, TypeVar, cast
 
+from acordcs.java_names import identifier, method, package
 from acordcs.runtime.component import ComponentFactory, CtxComponent
+from acordcs.runtime.jvm.deadlines import deadlines
 from acordcs.runtime.jvm.errors import JavaFault, JavaHostError
-from acordcs.runtime.jvm.java_names import identifier, method, package
 from acordcs.runtime.jvm.java_values import to_java, to_python
 from acordcs.runtime.jvm.javac_cache import compiled_classes
 from acordcs.runtime.jvm.machine import java_class, start_jvm
@@ -34,8 +38,11 @@ from acordcs.runtime.operations import generic_component
 
 if TYPE_CHECKING:
     from acordcs.descriptor.application import Component as ComponentDescription
+    from acordcs.runtime.ports import Port
 
 API = "org.acordcs.runtime"
+DEFAULT_TIMEOUT = 5.0
+"""Seconds a Java operation may run by default: what a remote caller waits by default."""
 T = TypeVar("T")
 _GLUE = ("jdk.internal.", "java.base/jdk.internal.", "org.jpype.", "java.lang.reflect.")
 
@@ -65,17 +72,35 @@ class JavaComponent(CtxComponent):
 
     java_class: ClassVar[Any]
     host_class: ClassVar[type[JavaHost]]  # JavaHost implementing the loaded CtxComponent.Host
+    link_class: ClassVar[type[JavaPortLink]]  # JavaPortLink implementing the loaded Port.Link
     rules_class: ClassVar[type[JavaRules]]  # JavaRules implementing the loaded RuleEngine
+    java_methods: ClassVar[tuple[str, ...]]  # the Java methods of the model's operations
+    call_timeout: ClassVar[float]  # seconds an operation may run before it is interrupted
     java: Any
+    methods: dict[str, Any]  # java_methods, bound to the Java object (looked up once)
 
     def __init__(self) -> None:
         import jpype
 
+        cls = type(self)
         try:
-            self.java = type(self).java_class()
+            self.java = cls.java_class()
         except jpype.JException as exc:
-            raise fault(exc, f"the constructor of {type(self).java_class.__name__}") from None
-        self.java.attachHost(type(self).host_class(self))
+            raise fault(exc, f"the constructor of {cls.java_class.__name__}") from None
+        self.java.attachHost(cls.host_class(self))
+        self.methods = {name: getattr(self.java, name) for name in cls.java_methods}
+
+    def timed_out(self, operation: str, exc: BaseException | None) -> JavaFault:
+        """The fault of ``operation``, interrupted at its call's timeout (``exc``: what it threw
+        then; None: it returned, too late)."""
+        # JPype raises an interrupted thread's status as an InterruptedException on the way
+        # back, so a loop that stopped at the interrupt ends with one too
+        ended = f"ended with {exc}" if exc is not None else "then returned, too late"
+        return JavaFault(
+            f"{self.name}.{operation} did not return within its call's timeout of "
+            f"{self.call_timeout:g} s: its Java thread was interrupted, and it {ended}",
+            java_stack(exc) if exc is not None else "",
+        )
 
     def _java(self, what: str, call: Callable[[], Any]) -> Any:
         import jpype
@@ -106,21 +131,14 @@ class JavaComponent(CtxComponent):
 
 class JavaHost:
     """What a hosted Java object calls (the Java API's ``CtxComponent.Host``, implemented for
-    each class loader by :func:`implementing`): each call goes to its component's ports and
-    container, with Python values."""
+    each class loader by :func:`implementing`): the links of its ports, its property writes and
+    its rule engines, with Python values."""
 
     def __init__(self, component: JavaComponent) -> None:
         self.component = component
 
-    def call(self, port: Any, operation: Any, args: Any) -> Any:
-        values = [to_python(a) for a in args] if args is not None else []
-        return to_java(self.component.port(str(port)).call(str(operation), *values))
-
-    def notify(self, port: Any, message: Any) -> None:
-        self.component.port(str(port)).notify(to_python(message))
-
-    def push(self, port: Any, item: Any) -> None:
-        self.component.port(str(port)).push(to_python(item))
+    def link(self, port: Any) -> Any:
+        return type(self.component).link_class(self.component, str(port))
 
     def set(self, prop: Any, value: Any) -> None:
         self.component.set(str(prop), to_python(value))
@@ -129,6 +147,38 @@ class JavaHost:
         container: Any = self.component.container
         engine = container.policy_set(str(policy_set)).engine
         return type(self.component).rules_class(engine, self.component.name)
+
+
+class JavaPortLink:
+    """The container's end of one port of a hosted Java object (the Java API's ``Port.Link``):
+    its calls, notifications and items go straight to the component's port. The Java object is
+    made, and asks for its links, before the container gives the component its ports: the port
+    is looked up at the first use."""
+
+    def __init__(self, component: JavaComponent, port: str) -> None:
+        self.component = component
+        self.name = port
+        self.port: Port | None = None
+
+    def resolve(self) -> Port:
+        self.port = self.component.port(self.name)
+        return self.port
+
+    def call0(self, operation: Any) -> Any:
+        return to_java((self.port or self.resolve()).call(str(operation)))
+
+    def call1(self, operation: Any, arg: Any) -> Any:
+        return to_java((self.port or self.resolve()).call(str(operation), to_python(arg)))
+
+    def call(self, operation: Any, args: Any) -> Any:
+        values = [to_python(a) for a in args] if args is not None else []
+        return to_java((self.port or self.resolve()).call(str(operation), *values))
+
+    def notify(self, message: Any) -> None:
+        (self.port or self.resolve()).notify(to_python(message))
+
+    def push(self, item: Any) -> None:
+        (self.port or self.resolve()).push(to_python(item))
 
 
 class JavaRules:
@@ -153,11 +203,16 @@ class JavaRules:
 
 
 def java_factory(
-    comp: ComponentDescription, application: str, sources: Path | None
+    comp: ComponentDescription,
+    application: str,
+    sources: Path | None,
+    *,
+    timeout: float = DEFAULT_TIMEOUT,
 ) -> ComponentFactory:
     """The factory of ``comp``, tagged ``language=java``, whose classes are in ``sources`` (the
     ``java`` target's output of application ``application``); JavaHostError when it cannot be
-    hosted (said with the component's name and what to do)."""
+    hosted (said with the component's name and what to do). ``timeout``: seconds each of its
+    operations may run before its Java thread is interrupted (:mod:`.deadlines`)."""
     who = f"component {comp.name!r} ({comp.qualified_name}, id {comp.id})"
     pkg, cls_name = package(application), identifier(comp.name)
     user = sources / pkg / f"{cls_name}.java" if sources is not None else None
@@ -183,7 +238,9 @@ def java_factory(
         "properties": model.properties,
         "ports": model.ports,
         "java_class": jcls,
+        "call_timeout": float(timeout),
         "host_class": implementing(JavaHost, java_class(classes, f"{API}.CtxComponent$Host", who)),
+        "link_class": implementing(JavaPortLink, java_class(classes, f"{API}.Port$Link", who)),
         "rules_class": implementing(JavaRules, java_class(classes, f"{API}.RuleEngine", who)),
         "__module__": __name__,
     }
@@ -197,6 +254,7 @@ def java_factory(
                 hint="rebuild the application (acordcs-gen build) and implement the method",
             )
         namespace[op.name] = _operation(op.name, name)
+    namespace["java_methods"] = tuple(method(op.name) for op in comp.operations)
     for port in comp.ports:
         receives = port.kind == "asynchronous" or (
             port.kind == "stream" and port.role == "required"
@@ -224,10 +282,18 @@ def _operation(operation: str, java_name: str) -> Callable[..., Any]:
     thrown = jpype.JException
 
     def call(self: JavaComponent, *args: Any) -> Any:
+        running = deadlines.enter(self.call_timeout)
         try:
-            result = getattr(self.java, java_name)(*args)
+            result = self.methods[java_name](*args)
         except thrown as exc:
+            if deadlines.leave(running):
+                raise self.timed_out(operation, exc) from None
             raise fault(exc, f"{self.name}.{operation}") from None
+        except BaseException:
+            deadlines.leave(running)
+            raise
+        if deadlines.leave(running):
+            raise self.timed_out(operation, None)
         return to_python(result)
 
     call.__name__ = call.__qualname__ = operation

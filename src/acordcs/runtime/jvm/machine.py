@@ -3,7 +3,10 @@
 :func:`start_jvm` starts it once per process, only when a container hosts a component tagged
 ``language=java`` (an application of Python components never loads JPype): with ``-Xrs`` and
 without JPype's interrupt handling, so that the launcher keeps its own SIGINT and SIGTERM
-handling (Ctrl-C and ``bin/<Container>-stop`` stop the container as they stop a Python one).
+handling (Ctrl-C and ``bin/<Container>-stop`` stop the container as they stop a Python one),
+and with JPype's ``convertStrings``: a Java ``String`` reaches Python as a ``str`` (one wrapper
+fewer at each crossing; the host converts with ``str()`` all the same, in case another library
+started the JVM without it).
 A JVM cannot start twice in one process, nor take a classpath after its start: each directory of
 compiled classes is loaded by a class loader of its own (:func:`java_class`), so two versions of
 an application's classes (a replacement) can live side by side.
@@ -16,8 +19,8 @@ import time
 from pathlib import Path
 from typing import Any
 
+from acordcs.javac import JDK_HINT
 from acordcs.runtime.jvm.errors import JavaHostError
-from acordcs.runtime.jvm.javac_cache import JDK_HINT
 
 JPYPE_HINT = (
     "install JPype, the bridge acordcs hosts Java components through: pip install "
@@ -53,7 +56,7 @@ def start_jvm(components: str) -> Any:
             ) from None
         began = time.perf_counter()
         try:
-            jpype.startJVM(path, "-Xrs", interrupt=False, convertStrings=False)
+            jpype.startJVM(path, "-Xrs", interrupt=False, convertStrings=True)
         except (OSError, RuntimeError) as err:
             raise JavaHostError(
                 f"{components} tagged language=java: the JVM at {path} did not start: {err}",

@@ -102,7 +102,7 @@ class PackageClasses:
         registry = sys.modules.get(f"{self.package}.registry")
         if registry is None or getattr(registry, "JAVA_SOURCES", None) is None:
             return {}
-        from acordcs.runtime.jvm.java_names import identifier, package
+        from acordcs.java_names import identifier, package
 
         app = registry.descriptor()
         where = f"java/{package(app.name)}"

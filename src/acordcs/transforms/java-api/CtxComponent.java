@@ -15,7 +15,8 @@ import java.util.Objects;
  * operations.
  *
  * <p>A component tagged {@code language=java} is hosted by its container (acordcs.runtime.jvm):
- * the container gives it a {@link Host}, through which its ports call, notify and push, its
+ * the container gives it a {@link Host}, through which its ports call, notify and push (each port
+ * through its own {@link Port.Link}), its
  * setters change its properties (so that policies and monitors see the change), and
  * {@link #ruleEngine} reaches a policy set's engine. The container keeps the property fields
  * current: a policy's write lands in the field, then {@link #onPropertyChanged} runs.
@@ -23,14 +24,11 @@ import java.util.Objects;
 public abstract class CtxComponent {
     /** What the container hosting a component gives it (implemented by the container). */
     public interface Host {
-        /** Calls {@code operation} through the synchronous required port {@code port}. */
-        Object call(String port, String operation, Object[] args);
-
-        /** Sends {@code message} through the asynchronous port {@code port}. */
-        void notify(String port, Object message);
-
-        /** Pushes {@code item} through the stream port {@code port}. */
-        void push(String port, Object item);
+        /**
+         * The container's end of port {@code port}: asked once for each port when the component
+         * is hosted, so that each call, notification or item goes straight to that port.
+         */
+        Port.Link link(String port);
 
         /** Sets property {@code property} through the container (policies and monitors see it). */
         void set(String property, Object value);
@@ -58,7 +56,6 @@ public abstract class CtxComponent {
         if (ports.putIfAbsent(port.name(), port) != null) {
             throw new IllegalArgumentException(name + " already has a port " + port.name());
         }
-        port.owner = this;
         return port;
     }
 
@@ -69,6 +66,9 @@ public abstract class CtxComponent {
             throw new IllegalStateException(name + " is already hosted");
         }
         this.host = host;
+        for (Port port : ports.values()) {
+            port.link = host.link(port.name());
+        }
     }
 
     /** The container's host, or null when the component is not hosted (constructed by hand). */

@@ -14,11 +14,33 @@ public final class Port {
     /** Whether the component offers the port's service or uses another's. */
     public enum Role { PROVIDED, REQUIRED }
 
+    /**
+     * The container's end of a port of a hosted component (implemented by the container, one per
+     * port): what {@link #call}, {@link #notify} and {@link #push} go through. A call without
+     * arguments or with one has a method of its own, so that no array crosses to the container.
+     */
+    public interface Link {
+        /** Calls {@code operation} without arguments through the port; its result, boxed. */
+        Object call0(String operation);
+
+        /** Calls {@code operation} with one argument through the port; its result, boxed. */
+        Object call1(String operation, Object arg);
+
+        /** Calls {@code operation} with {@code args} through the port; its result, boxed. */
+        Object call(String operation, Object[] args);
+
+        /** Sends {@code message} through the port. */
+        void notify(Object message);
+
+        /** Pushes {@code item} through the port. */
+        void push(Object item);
+    }
+
     private final String name;
     private final Kind kind;
     private final Role role;
     private Port peer;
-    CtxComponent owner; // set by CtxComponent.addPort
+    Link link; // set by CtxComponent.attachHost
 
     public Port(String name, Kind kind, Role role) {
         this.name = Objects.requireNonNull(name, "name");
@@ -75,26 +97,30 @@ public final class Port {
      * @throws IllegalStateException when the component is not hosted
      */
     public Object call(String operation, Object... args) {
-        return hosted("call").call(name, operation, args);
+        Link to = hosted("call");
+        switch (args.length) {
+            case 0: return to.call0(operation);
+            case 1: return to.call1(operation, args[0]);
+            default: return to.call(operation, args);
+        }
     }
 
     /** Sends {@code message} to every peer of this asynchronous port, through the container. */
     public void notify(Object message) {
-        hosted("notify").notify(name, message);
+        hosted("notify").notify(message);
     }
 
     /** Pushes {@code item} to the consumers of this stream port, through the container. */
     public void push(Object item) {
-        hosted("push").push(name, item);
+        hosted("push").push(item);
     }
 
-    private CtxComponent.Host hosted(String what) {
-        CtxComponent.Host host = owner == null ? null : owner.host();
-        if (host == null) {
+    private Link hosted(String what) {
+        if (link == null) {
             throw new IllegalStateException(
                     "port " + name + ": cannot " + what + ": its component is not hosted by a container");
         }
-        return host;
+        return link;
     }
 
     @Override
