@@ -9,6 +9,13 @@ more subscriptions, by default their callback) runs at most ``per_subscriber`` c
 and subscribers take turns: a subscriber whose callbacks block holds that many threads, and a new
 thread is made for any other subscriber that has waited a few milliseconds while every thread was
 stuck, so blocked callbacks of one subscriber never starve another.
+
+With ``quick_seconds`` (the MQTT provider's default), a subscription whose callbacks have returned
+within that time :data:`QUICK_RUNS` times in a row on the delivery threads is delivered in the
+receiving thread (paho's network thread) instead, without a thread hand-over, while its mailbox is
+empty; a callback that then takes longer sends it back to the threads at once, and it needs twice as
+many quick callbacks to return (at most :data:`MAX_QUICK_RUNS`; back to :data:`QUICK_RUNS` after
+that many quick ones inline, so that a rare overrun, e.g. a wait for the GIL, costs little).
 """
 
 from __future__ import annotations
@@ -24,9 +31,17 @@ from dataclasses import dataclass, field
 
 from lxml import etree
 
+from acordcs.runtime.context.sequences import every_power_of_two
+
 log = logging.getLogger("acordcs.runtime.context")
 
 _ids = itertools.count(1)
+
+QUICK_RUNS = 16
+"""Quick callbacks in a row, on the delivery threads, before a subscription is delivered inline."""
+MAX_QUICK_RUNS = 4096
+"""The most quick callbacks asked of a subscription sent back to the threads (doubling each time):
+one whose callbacks are slow now and then holds the receiving thread at most once in that many."""
 
 
 @dataclass(frozen=True, slots=True)
@@ -49,6 +64,8 @@ class SubscriptionStats:
     coalesced: int = 0  # max_rate: replaced by a newer one before delivery (latest wins)
     unchanged: int = 0  # on_change: suppressed because the selection was the same
     errors: int = 0  # the callback raised
+    inline: int = 0  # of ``delivered``, run in the receiving thread (a quick subscription)
+    demoted: int = 0  # times an inline callback overran ``quick_seconds`` (back to the threads)
     suspended: bool = False  # a fallback expression overran its time budget too often
     last_error: str | None = None
 
@@ -57,7 +74,16 @@ class Mailbox:
     """A subscription's pending notifications and delivery state, kept by the
     :class:`DeliveryDispatcher` under its lock."""
 
-    __slots__ = ("closed", "next_allowed", "pending", "running", "scheduled")
+    __slots__ = (
+        "closed",
+        "next_allowed",
+        "pending",
+        "quick",
+        "quick_needed",
+        "quick_runs",
+        "running",
+        "scheduled",
+    )
 
     def __init__(self) -> None:
         self.pending: deque[Notification] = deque()
@@ -65,6 +91,9 @@ class Mailbox:
         self.running = False  # a delivery thread is in its callback
         self.closed = False
         self.next_allowed = 0.0  # max_rate: monotonic time of the next delivery
+        self.quick = False  # delivered in the receiving thread (see DeliveryDispatcher)
+        self.quick_runs = 0  # quick callbacks in a row on the delivery threads
+        self.quick_needed = QUICK_RUNS  # how many make it quick
 
 
 def subscriber_of(callback: Callable[..., object]) -> Hashable:
@@ -143,6 +172,7 @@ class DeliveryDispatcher:
         stall_seconds: float = 0.01,
         idle_seconds: float = 5.0,
         per_subscriber: int = 2,
+        quick_seconds: float | None = None,
     ) -> None:
         if max_threads < 1:
             raise ValueError(f"max_threads must be at least 1, got {max_threads!r}")
@@ -166,17 +196,28 @@ class DeliveryDispatcher:
         self._wakeups = 0  # of those, how many were notified and have not woken yet
         self._closed = False
         self._count = itertools.count(1)
+        self._quick_seconds = quick_seconds
+        self._inline = threading.local()  # per receiving thread: [(subscription, notification)]
 
     @property
     def threads(self) -> int:
         with self._lock:
             return len(self._threads)
 
-    def offer(self, sub: Subscription, note: Notification) -> None:
-        """Queue ``note`` for ``sub``; never blocks on a callback."""
+    def offer(self, sub: Subscription, note: Notification, may_inline: bool = False) -> None:
+        """Queue ``note`` for ``sub``; never blocks on a callback. ``may_inline``: the caller is a
+        receiving thread that calls :meth:`flush` next, which delivers ``note`` there if ``sub``
+        is quick and has nothing pending (its notifications keep their order)."""
         with self._lock:
             box = sub.mailbox
             if box.closed or self._closed:
+                return
+            if may_inline and box.quick and not (box.pending or box.running or box.scheduled):
+                box.running = True  # offers meanwhile wait in the mailbox for the threads
+                queue = getattr(self._inline, "queue", None)
+                if queue is None:
+                    queue = self._inline.queue = []
+                queue.append((sub, note))
                 return
             mailbox = box.pending
             if sub.max_rate is not None and mailbox:
@@ -198,7 +239,30 @@ class DeliveryDispatcher:
                 self._schedule(sub, wake=True)
 
     def flush(self) -> None:
-        """Nothing to do: the threads deliver (see :class:`InlineDelivery`)."""
+        """Run, in this thread, the callbacks of the quick subscriptions that this thread's offers
+        since the last flush matched; a callback overrunning ``quick_seconds`` sends its
+        subscription back to the delivery threads."""
+        queue = getattr(self._inline, "queue", None)
+        if not queue:
+            return
+        self._inline.queue = None
+        for sub, note in queue:
+            box = sub.mailbox
+            started = time.monotonic()
+            if not (box.closed or self._closed):
+                _deliver(sub, note)
+                sub.stats.inline += 1
+            took = time.monotonic() - started
+            with self._lock:
+                box.running = False
+                if took > self._quick_seconds:
+                    self._demote(sub, took)
+                elif box.quick_runs < MAX_QUICK_RUNS:
+                    box.quick_runs += 1
+                else:  # quick for long: an overrun now is taken as rare
+                    box.quick_needed = QUICK_RUNS
+                if box.pending and not box.closed and not box.scheduled:
+                    self._schedule(sub, wake=True)
 
     def cancel(self, sub: Subscription) -> None:
         """No more deliveries to ``sub`` (a callback already running finishes)."""
@@ -219,6 +283,34 @@ class DeliveryDispatcher:
                 thread.join(max(0.0, deadline - time.monotonic()))
 
     # -- under the lock -------------------------------------------------------------------------------
+    def _observe(self, sub: Subscription, took: float) -> None:
+        """A callback of ``sub`` on a delivery thread took ``took`` s: quick ones in a row make it
+        quick (never with ``max_rate``, whose waits the threads keep)."""
+        box = sub.mailbox
+        if took > self._quick_seconds:
+            box.quick_runs = 0
+        elif not box.quick and sub.max_rate is None:
+            box.quick_runs += 1
+            if box.quick_runs >= box.quick_needed:
+                box.quick, box.quick_runs = True, 0
+
+    def _demote(self, sub: Subscription, took: float) -> None:
+        box = sub.mailbox
+        box.quick, box.quick_runs = False, 0
+        box.quick_needed = min(2 * box.quick_needed, MAX_QUICK_RUNS)
+        sub.stats.demoted += 1
+        if every_power_of_two(sub.stats.demoted):
+            log.warning(
+                "%r: a callback took %.1f ms in the receiving thread, over quick_seconds=%g s "
+                "(%d time(s)); its notifications go to the delivery threads again until %d "
+                "callbacks in a row are quick (deliver with threads only: inline=False)",
+                sub,
+                took * 1e3,
+                self._quick_seconds,
+                sub.stats.demoted,
+                box.quick_needed,
+            )
+
     def _schedule(self, sub: Subscription, wake: bool) -> None:
         box = sub.mailbox
         box.scheduled = True
@@ -341,7 +433,7 @@ class DeliveryDispatcher:
                         box.running = True
                         if sub.max_rate:
                             box.next_allowed = time.monotonic() + 1.0 / sub.max_rate
-                        self._in_callback[me] = time.monotonic()
+                        began = self._in_callback[me] = time.monotonic()
                         self._lock.release()
                         try:
                             _deliver(sub, note)
@@ -349,6 +441,8 @@ class DeliveryDispatcher:
                             self._lock.acquire()
                             del self._in_callback[me]
                             box.running = False
+                        if self._quick_seconds is not None:
+                            self._observe(sub, time.monotonic() - began)
                     self._finished(sub)
                     sub = None
                     if len(self._threads) > self._max:  # added for a blocked subscriber: done
@@ -430,7 +524,7 @@ class InlineDelivery:
     def __init__(self) -> None:
         self._pending = threading.local()  # per publishing thread: [(subscription, notification)]
 
-    def offer(self, sub: Subscription, note: Notification) -> None:
+    def offer(self, sub: Subscription, note: Notification, may_inline: bool = False) -> None:
         if sub.mailbox.closed:
             return
         queue = getattr(self._pending, "queue", None)
