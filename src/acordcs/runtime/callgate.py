@@ -33,7 +33,10 @@ class CallGate:
             self._running[me] -= 1
             if not self._running[me]:
                 del self._running[me]
-            self._cond.notify_all()
+            # only a replacement waits (in hold), or callers kept out while one is held: without
+            # a holder nobody is waiting, and a call need not pay for the notification
+            if self._holder is not None:
+                self._cond.notify_all()
 
     def hold(self, timeout: float) -> int:
         """Stop new calls from other threads and wait up to ``timeout`` seconds for the running
