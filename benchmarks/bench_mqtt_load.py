@@ -5,8 +5,9 @@ Over a mosquitto started here on loopback, QoS 1, retained, the publisher in ano
 1. Saturation throughput: ``--count`` documents published as fast as the publisher can, received
    by a subscriber in this process; our provider at both ends beside bare paho-mqtt at both ends
    (same payload, QoS, retain, in-flight window and TCP_NODELAY), in the same run.
-2. Latency at a fixed rate (``--rate``, 2,000 documents/s, for ``--seconds``): p50/p99 from publish
-   to the subscriber's callback, and loss (documents sent but not received).
+2. Latency at a fixed rate (``--rate``, 2,000 documents/s, for ``--seconds`` per kind, in
+   ``--slices`` slices, the kinds taking turns): p50/p99 from publish to the subscriber's callback,
+   and loss (documents sent but not received).
 
 ``ours`` is the provider as configured by default (a quick callback runs in paho's network thread
 once seen quick), ``ours-threads`` always delivers through the delivery threads (``inline=False``),
@@ -201,6 +202,7 @@ def main() -> None:
     parser.add_argument("--count", type=int, default=20_000, help="documents for saturation")
     parser.add_argument("--rate", type=int, default=2000, help="documents/s for the latency run")
     parser.add_argument("--seconds", type=float, default=10.0, help="length of the latency run")
+    parser.add_argument("--slices", type=int, default=5, help="turns of the latency run per kind")
     parser.add_argument("--repeat", type=int, default=1, help="runs of the whole comparison")
     args = parser.parse_args()
     if args.publisher:
@@ -248,18 +250,30 @@ def compare(port: int, args: argparse.Namespace) -> None:
             f"{kind} / bare paho (best of 2 each): {best[kind] / best['paho']:.2f} "
             f"({best[kind]:,.0f} vs {best['paho']:,.0f} documents/s)"
         )
-    count = int(args.rate * args.seconds)
-    print(f"== latency, QoS 1, {args.rate} documents/s for {args.seconds:g} s, load {load()} ==")
+    # in slices, the kinds taking turns: a host whose load changes by the second changes it for
+    # every kind alike (10 s of one kind after 10 s of another compared two different hosts)
+    count = max(1, int(args.rate * args.seconds / args.slices))
+    print(
+        f"== latency, QoS 1, {args.rate} documents/s for {args.seconds:g} s per kind, in "
+        f"{args.slices} slices taking turns, load {load()} =="
+    )
+    samples: dict[str, list[int]] = {kind: [] for kind in KINDS}
+    lost: dict[str, int] = dict.fromkeys(KINDS, 0)
+    for _ in range(args.slices):
+        for kind in KINDS:
+            clear_retained(port)
+            receiver, stats = run(kind, port, args.rate, count, publisher=kind[:4])
+            samples[kind] += receiver.latencies
+            lost[kind] += int(stats.get("lost", 0))
     figures: dict[str, tuple[float, float]] = {}
+    sent = count * args.slices
     for kind in KINDS:
-        clear_retained(port)
-        receiver, stats = run(kind, port, args.rate, count, publisher=kind[:4])
-        got = receiver.latencies
-        extra = f", lost (seq gaps) {stats['lost']}" if stats else ""
+        got = samples[kind]
+        extra = f", lost (seq gaps) {lost[kind]}" if kind != "paho" else ""
         if got:
             figures[kind] = (percentile(got, 0.5), percentile(got, 0.99))
         print(
-            f"{kind:>12}: sent {count}, received {len(got)} (missing {count - len(got)}{extra}); "
+            f"{kind:>12}: sent {sent}, received {len(got)} (missing {sent - len(got)}{extra}); "
             + (f"p50 {figures[kind][0]:.2f} ms, p99 {figures[kind][1]:.2f} ms" if got else "none")
         )
     if "paho" in figures:

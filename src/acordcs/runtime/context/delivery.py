@@ -301,9 +301,10 @@ class DeliveryDispatcher:
         sub.stats.demoted += 1
         if every_power_of_two(sub.stats.demoted):
             log.warning(
-                "%r: a callback took %.1f ms in the receiving thread, over quick_seconds=%g s "
-                "(%d time(s)); its notifications go to the delivery threads again until %d "
-                "callbacks in a row are quick (deliver with threads only: inline=False)",
+                "%r: a callback returned after %.1f ms in the receiving thread, over "
+                "quick_seconds=%g s (%d time(s)): the callback is slow, or the host too busy to "
+                "run it; its notifications go to the delivery threads until %d callbacks in a row "
+                "are quick (always the threads: inline=False)",
                 sub,
                 took * 1e3,
                 self._quick_seconds,
