@@ -141,7 +141,8 @@ def run(count: int, args: argparse.Namespace) -> None:
     print(
         f"{count:3d} containers: {published / args.seconds:,.0f} documents/s published, "
         f"{received / args.seconds:,.0f} notifications/s received; received {received:,} of "
-        f"{expected:,} expected ({expected - received:,} missing), lost (seq gaps) "
+        f"{expected:,} expected ({expected - received:,} not delivered when the processes "
+        f"closed), lost (seq gaps) "
         f"{sum(r['lost'] for r in reports)}, dropped {sum(r['dropped'] for r in reports)}, "
         f"unacknowledged at close {sum(r['unacknowledged'] for r in reports)}"
     )

@@ -11,14 +11,10 @@ from contextlib import contextmanager
 
 from lxml import etree
 
-from acordcs.runtime.context.delivery import (
-    DeliveryDispatcher,
-    InlineDelivery,
-    Notification,
-    Subscription,
-)
+from acordcs.runtime.context.delivery import DeliveryDispatcher, Notification, Subscription
 from acordcs.runtime.context.errors import ContextError, SubscriptionError
 from acordcs.runtime.context.index import SubscriptionIndex
+from acordcs.runtime.context.inlinedelivery import InlineDelivery
 from acordcs.runtime.context.xmlparse import Limits, parse_document, to_bytes
 from acordcs.runtime.context.xpathcost import check_cost
 from acordcs.runtime.context.xpathexpr import compile_expression, recognise

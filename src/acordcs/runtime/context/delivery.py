@@ -197,6 +197,7 @@ class DeliveryDispatcher:
         self._closed = False
         self._count = itertools.count(1)
         self._quick_seconds = quick_seconds
+        self._demotions = 0
         self._inline = threading.local()  # per receiving thread: [(subscription, notification)]
 
     @property
@@ -250,7 +251,7 @@ class DeliveryDispatcher:
             box = sub.mailbox
             started = time.monotonic()
             if not (box.closed or self._closed):
-                _deliver(sub, note)
+                deliver(sub, note)
                 sub.stats.inline += 1
             took = time.monotonic() - started
             with self._lock:
@@ -299,16 +300,17 @@ class DeliveryDispatcher:
         box.quick, box.quick_runs = False, 0
         box.quick_needed = min(2 * box.quick_needed, MAX_QUICK_RUNS)
         sub.stats.demoted += 1
-        if every_power_of_two(sub.stats.demoted):
+        self._demotions += 1  # counted for all subscriptions: thousands must not flood the log
+        if every_power_of_two(self._demotions):
             log.warning(
                 "%r: a callback returned after %.1f ms in the receiving thread, over "
-                "quick_seconds=%g s (%d time(s)): the callback is slow, or the host too busy to "
-                "run it; its notifications go to the delivery threads until %d callbacks in a row "
-                "are quick (always the threads: inline=False)",
+                "quick_seconds=%g s (%d time(s) for this provider's subscriptions): the callback "
+                "is slow, or the host too busy to run it; its notifications go to the delivery "
+                "threads until %d callbacks in a row are quick (always the threads: inline=False)",
                 sub,
                 took * 1e3,
                 self._quick_seconds,
-                sub.stats.demoted,
+                self._demotions,
                 box.quick_needed,
             )
 
@@ -437,7 +439,7 @@ class DeliveryDispatcher:
                         began = self._in_callback[me] = time.monotonic()
                         self._lock.release()
                         try:
-                            _deliver(sub, note)
+                            deliver(sub, note)
                         finally:
                             self._lock.acquire()
                             del self._in_callback[me]
@@ -495,7 +497,8 @@ class DeliveryDispatcher:
         return added
 
 
-def _deliver(sub: Subscription, note: Notification) -> None:
+def deliver(sub: Subscription, note: Notification) -> None:
+    """Run ``sub``'s callback on ``note``, counting it; a raising callback is counted and logged."""
     try:
         sub.callback(note)
         sub.stats.delivered += 1
@@ -509,41 +512,3 @@ def _deliver(sub: Subscription, note: Notification) -> None:
                 sub.stats.last_error,
                 sub.stats.errors,
             )
-
-
-class InlineDelivery:
-    """Delivers in the publishing thread instead of a pool: every notification, in the order
-    matched, once the provider has released its lock (:meth:`flush`, called by ``publish``).
-
-    For virtual-time runs: with delivery threads, when a monitor sees a document would depend on
-    the thread scheduler, and a run would not repeat for its seed. A slow callback here slows its
-    publisher (that is the price); a raising one is counted and logged as with threads.
-    """
-
-    threads = 0
-
-    def __init__(self) -> None:
-        self._pending = threading.local()  # per publishing thread: [(subscription, notification)]
-
-    def offer(self, sub: Subscription, note: Notification, may_inline: bool = False) -> None:
-        if sub.mailbox.closed:
-            return
-        queue = getattr(self._pending, "queue", None)
-        if queue is None:
-            queue = self._pending.queue = []
-        queue.append((sub, note))
-
-    def flush(self) -> None:
-        """Run the callbacks of what this thread's publish matched (a callback that publishes
-        flushes its own matches first: they are delivered in causal order)."""
-        queue = getattr(self._pending, "queue", None)
-        self._pending.queue = None
-        for sub, note in queue or ():
-            if not sub.mailbox.closed:
-                _deliver(sub, note)
-
-    def cancel(self, sub: Subscription) -> None:
-        sub.mailbox.closed = True
-
-    def close(self, timeout: float = 5.0) -> None:
-        self._pending = threading.local()
