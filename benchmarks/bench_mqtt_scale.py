@@ -4,8 +4,9 @@
 For each count N: one mosquitto started here, N container processes, each with one
 ``MqttContextProvider`` (QoS 1, ``mirror=False``); the processes together publish ``--monitors``
 monitors' readings at ``--hz`` (500 at 10 Hz: 5,000 documents/s in all, each process its share)
-and hold ``--subscriptions`` subscriptions (10,000: 20 per monitor, each process its share, on the
-monitors published by other processes). For ``--seconds``: end-to-end p50/p99 from publish to
+and hold ``--subscriptions`` subscriptions (10,000: 20 per monitor, going round the processes
+other than the monitor's, so that a document reaches up to 20 processes: the broker's fan-out
+grows with the count). For ``--seconds``: end-to-end p50/p99 from publish to
 callback (the stamp in each document, ``CLOCK_MONOTONIC`` being one clock for every process of
 the host), documents received against those expected (losses), the providers' ``lost`` counts,
 and each process's CPU (per second of the run) and resident memory; the broker's CPU too. The
@@ -45,6 +46,16 @@ def resident_mb(pid: int) -> float:
     return 0.0
 
 
+def holder(j: int, count: int, monitors: int) -> int:
+    """The process holding subscription ``j``, on monitor ``j % monitors`` (published by process
+    ``monitor % count``): the monitor's subscriptions go round the other processes, so a document
+    reaches min(subscriptions per monitor, count - 1) processes (one, with a single process)."""
+    if count == 1:
+        return 0
+    owner = (j % monitors) % count
+    return (owner + 1 + (j // monitors) % (count - 1)) % count
+
+
 # -- a container process --------------------------------------------------------------------------
 def container(index: int, count: int, port: int, args: argparse.Namespace) -> None:
     """Publish this process's monitors, subscribe its share of the subscriptions (each on a monitor
@@ -61,12 +72,11 @@ def container(index: int, count: int, port: int, args: argparse.Namespace) -> No
             latencies.append(now - stamp)
 
     subscribed: list[int] = []  # the monitor of each subscription here
-    for j in range(index, args.subscriptions, count):
-        monitor = (j // count) % args.monitors
-        if count > 1 and monitor % count == index:  # one of this process's own: the next one
-            monitor = (monitor + 1) % args.monitors
-        provider.subscribe(took, "/monitor/stamp", f"monitor{monitor}", subscriber=("s", j))
-        subscribed.append(monitor)
+    for j in range(args.subscriptions):
+        if holder(j, count, args.monitors) == index:
+            monitor = j % args.monitors
+            provider.subscribe(took, "/monitor/stamp", f"monitor{monitor}", subscriber=("s", j))
+            subscribed.append(monitor)
     print("READY", flush=True)
     sys.stdin.readline()  # every process has subscribed: go
     period = 1.0 / args.hz
@@ -179,6 +189,11 @@ def main() -> None:
         f"{args.hz:g} Hz, {args.subscriptions:,} subscriptions, {args.seconds:g} s per count, QoS 1"
     )
     for count in args.counts:
+        per_monitor = args.subscriptions // args.monitors
+        print(
+            f"-- {count} containers: each document to {min(per_monitor, max(count - 1, 1))} "
+            f"process(es), {per_monitor} subscriptions per monitor"
+        )
         run(count, args)
     print(f"load average at end: {load()}")
 
