@@ -78,6 +78,22 @@ def test_an_overrun_sends_it_back_to_the_threads_in_order(dispatcher) -> None:
     assert sub.mailbox.quick_needed == 2 * QUICK_RUNS
 
 
+def test_a_callback_busy_on_the_cpu_is_sent_back_too(dispatcher) -> None:
+    """Not only one that sleeps: one that computes for longer than quick_seconds (CPU time, so
+    the test does not depend on how busy the host is)."""
+    busy_at = QUICK_RUNS + 2
+
+    def compute(note: Notification) -> None:
+        if note.seq == busy_at:
+            end = time.thread_time() + 0.03
+            while time.thread_time() < end:
+                pass
+
+    sub = Subscription(compute, None, None)
+    receive(dispatcher, sub, 1, busy_at + 2)
+    assert sub.stats.demoted == 1 and not sub.mailbox.quick
+
+
 def test_documents_offered_during_an_inline_callback_wait_in_the_mailbox(dispatcher) -> None:
     """Offers while an inline delivery is pending (another receiving thread) queue behind it."""
     recorder = Recorder()

@@ -23,6 +23,7 @@ from __future__ import annotations
 import heapq
 import itertools
 import logging
+import resource
 import threading
 import time
 from collections import deque
@@ -36,6 +37,18 @@ from acordcs.runtime.context.sequences import every_power_of_two
 log = logging.getLogger("acordcs.runtime.context")
 
 _ids = itertools.count(1)
+
+_RUSAGE_THREAD = getattr(resource, "RUSAGE_THREAD", None)  # Linux: this thread's own figures
+
+
+def _thread_waits() -> tuple[int, float]:
+    """This thread's voluntary context switches (it slept, waited for I/O, a lock or the GIL) and
+    CPU seconds so far; (0, 0.0) where the system does not count them per thread."""
+    if _RUSAGE_THREAD is None:
+        return 0, 0.0
+    usage = resource.getrusage(_RUSAGE_THREAD)
+    return usage.ru_nvcsw, usage.ru_utime + usage.ru_stime
+
 
 QUICK_RUNS = 16
 """Quick callbacks in a row, on the delivery threads, before a subscription is delivered inline."""
@@ -249,14 +262,16 @@ class DeliveryDispatcher:
         self._inline.queue = None
         for sub, note in queue:
             box = sub.mailbox
+            waits = _thread_waits()
             started = time.monotonic()
             if not (box.closed or self._closed):
                 deliver(sub, note)
                 sub.stats.inline += 1
             took = time.monotonic() - started
+            slow = took > self._quick_seconds and self._held(waits)
             with self._lock:
                 box.running = False
-                if took > self._quick_seconds:
+                if slow:
                     self._demote(sub, took)
                 elif box.quick_runs < MAX_QUICK_RUNS:
                     box.quick_runs += 1
@@ -282,6 +297,16 @@ class DeliveryDispatcher:
         for thread in threads:
             if thread is not threading.current_thread():
                 thread.join(max(0.0, deadline - time.monotonic()))
+
+    def _held(self, before: tuple[int, float]) -> bool:
+        """Whether a callback that returned late held the thread itself: it waited (a voluntary
+        switch: sleep, I/O, a lock, the GIL) or used the CPU for longer than ``quick_seconds``;
+        not when the system only ran other work meanwhile (preempted: the thread's fate whatever
+        it ran). Where the system counts neither per thread, every late callback."""
+        if _RUSAGE_THREAD is None:
+            return True
+        switches, cpu = _thread_waits()
+        return switches > before[0] or cpu - before[1] > self._quick_seconds
 
     # -- under the lock -------------------------------------------------------------------------------
     def _observe(self, sub: Subscription, took: float) -> None:
