@@ -77,7 +77,8 @@ class MqttContextProvider(ProviderCore):
     to come back (at most 4,096, as long as it overruns again within 4,096 callbacks inline);
     ``Subscription.stats`` count ``inline`` and ``demoted``. The default, 10 ms, is twice the
     interpreter's switch interval: a quick callback kept waiting for the GIL by another thread is
-    not taken for slow.
+    not taken for slow; nor, on Linux, one the host only preempted (the callback must have waited
+    or computed that long, by its thread's ``getrusage``).
     ``inline=False``: always the delivery threads (callbacks that may block without warning, e.g.
     on a remote call, never hold the network thread); ``inline=True``: always the network thread,
     no threads at all (a slow callback holds up every subscription of this client and its
@@ -379,9 +380,11 @@ class MqttContextProvider(ProviderCore):
             self._count_rejected(publisher)
             log.warning("ignoring a refused document from the broker: %s", err)
             return
-        with self._receiving:
-            self._dispatch(publisher, seq, tree, latest=admitted == NEW, may_inline=True)
-        self._dispatcher.flush()  # quick subscriptions' callbacks run now, outside the locks
+        try:
+            with self._receiving:
+                self._dispatch(publisher, seq, tree, latest=admitted == NEW, may_inline=True)
+        finally:  # what was matched before a failure is delivered all the same
+            self._dispatcher.flush()  # quick subscriptions' callbacks run now, outside the locks
 
     # -- topics ---------------------------------------------------------------------------------------
     def _wanted(self) -> set[str]:
