@@ -328,10 +328,10 @@ class DeliveryDispatcher:
         self._demotions += 1  # counted for all subscriptions: thousands must not flood the log
         if every_power_of_two(self._demotions):
             log.warning(
-                "%r: a callback returned after %.1f ms in the receiving thread, over "
-                "quick_seconds=%g s (%d time(s) for this provider's subscriptions): the callback "
-                "is slow, or the host too busy to run it; its notifications go to the delivery "
-                "threads until %d callbacks in a row are quick (always the threads: inline=False)",
+                "%r: a callback held the receiving thread for %.1f ms (it waited or computed), "
+                "over quick_seconds=%g s (%d time(s) for this provider's subscriptions); its "
+                "notifications go to the delivery threads until %d callbacks in a row are quick "
+                "(always the threads: inline=False)",
                 sub,
                 took * 1e3,
                 self._quick_seconds,
