@@ -11,7 +11,8 @@ import pytest
 from lxml import etree
 
 from acordcs.runtime.context import MqttContextProvider, Notification
-from acordcs.runtime.context.delivery import QUICK_RUNS, DeliveryDispatcher, Subscription
+from acordcs.runtime.context.delivery import DeliveryDispatcher, Subscription
+from acordcs.runtime.context.quick import QUICK_RUNS
 from tests.support.services import Broker, wait_for
 
 DOCUMENT = etree.ElementTree(etree.fromstring(b"<r/>"))

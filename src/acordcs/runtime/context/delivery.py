@@ -11,11 +11,10 @@ thread is made for any other subscriber that has waited a few milliseconds while
 stuck, so blocked callbacks of one subscriber never starve another.
 
 With ``quick_seconds`` (the MQTT provider's default), a subscription whose callbacks have returned
-within that time :data:`QUICK_RUNS` times in a row on the delivery threads is delivered in the
-receiving thread (paho's network thread) instead, without a thread hand-over, while its mailbox is
-empty; a callback that then takes longer sends it back to the threads at once, and it needs twice as
-many quick callbacks to return (at most :data:`MAX_QUICK_RUNS`; back to :data:`QUICK_RUNS` after
-that many quick ones inline, so that a rare overrun, e.g. a wait for the GIL, costs little).
+within that time 16 times in a row on the delivery threads is delivered in the receiving thread
+(paho's network thread) instead, without a thread hand-over, while its mailbox is empty; a callback
+that then holds that thread longer sends it back to the threads at once (see
+:class:`~.quick.QuickJudge`).
 """
 
 from __future__ import annotations
@@ -23,7 +22,6 @@ from __future__ import annotations
 import heapq
 import itertools
 import logging
-import resource
 import threading
 import time
 from collections import deque
@@ -32,29 +30,11 @@ from dataclasses import dataclass, field
 
 from lxml import etree
 
-from acordcs.runtime.context.sequences import every_power_of_two
+from acordcs.runtime.context.quick import QUICK_RUNS, QuickJudge, thread_waits
 
 log = logging.getLogger("acordcs.runtime.context")
 
 _ids = itertools.count(1)
-
-_RUSAGE_THREAD = getattr(resource, "RUSAGE_THREAD", None)  # Linux: this thread's own figures
-
-
-def _thread_waits() -> tuple[int, float]:
-    """This thread's voluntary context switches (it slept, waited for I/O, a lock or the GIL) and
-    CPU seconds so far; (0, 0.0) where the system does not count them per thread."""
-    if _RUSAGE_THREAD is None:
-        return 0, 0.0
-    usage = resource.getrusage(_RUSAGE_THREAD)
-    return usage.ru_nvcsw, usage.ru_utime + usage.ru_stime
-
-
-QUICK_RUNS = 16
-"""Quick callbacks in a row, on the delivery threads, before a subscription is delivered inline."""
-MAX_QUICK_RUNS = 4096
-"""The most quick callbacks asked of a subscription sent back to the threads (doubling each time):
-one whose callbacks are slow now and then holds the receiving thread at most once in that many."""
 
 
 @dataclass(frozen=True, slots=True)
@@ -209,8 +189,7 @@ class DeliveryDispatcher:
         self._wakeups = 0  # of those, how many were notified and have not woken yet
         self._closed = False
         self._count = itertools.count(1)
-        self._quick_seconds = quick_seconds
-        self._demotions = 0
+        self._quick = QuickJudge(quick_seconds) if quick_seconds is not None else None
         self._inline = threading.local()  # per receiving thread: [(subscription, notification)]
 
     @property
@@ -257,26 +236,22 @@ class DeliveryDispatcher:
         since the last flush matched; a callback overrunning ``quick_seconds`` sends its
         subscription back to the delivery threads."""
         queue = getattr(self._inline, "queue", None)
-        if not queue:
+        if not queue or self._quick is None:
             return
         self._inline.queue = None
+        judge = self._quick
         for sub, note in queue:
             box = sub.mailbox
-            waits = _thread_waits()
+            waits = thread_waits()
             started = time.monotonic()
             if not (box.closed or self._closed):
                 deliver(sub, note)
                 sub.stats.inline += 1
             took = time.monotonic() - started
-            slow = took > self._quick_seconds and self._held(waits)
+            slow = judge.held(took, waits)
             with self._lock:
                 box.running = False
-                if slow:
-                    self._demote(sub, took)
-                elif box.quick_runs < MAX_QUICK_RUNS:
-                    box.quick_runs += 1
-                else:  # quick for long: an overrun now is taken as rare
-                    box.quick_needed = QUICK_RUNS
+                judge.inline_done(sub, took, slow)
                 if box.pending and not box.closed and not box.scheduled:
                     self._schedule(sub, wake=True)
 
@@ -298,47 +273,7 @@ class DeliveryDispatcher:
             if thread is not threading.current_thread():
                 thread.join(max(0.0, deadline - time.monotonic()))
 
-    def _held(self, before: tuple[int, float]) -> bool:
-        """Whether a callback that returned late held the thread itself: it waited (a voluntary
-        switch: sleep, I/O, a lock, the GIL) or used the CPU for longer than ``quick_seconds``;
-        not when the system only ran other work meanwhile (preempted: the thread's fate whatever
-        it ran). Where the system counts neither per thread, every late callback."""
-        if _RUSAGE_THREAD is None:
-            return True
-        switches, cpu = _thread_waits()
-        return switches > before[0] or cpu - before[1] > self._quick_seconds
-
     # -- under the lock -------------------------------------------------------------------------------
-    def _observe(self, sub: Subscription, took: float) -> None:
-        """A callback of ``sub`` on a delivery thread took ``took`` s: quick ones in a row make it
-        quick (never with ``max_rate``, whose waits the threads keep)."""
-        box = sub.mailbox
-        if took > self._quick_seconds:
-            box.quick_runs = 0
-        elif not box.quick and sub.max_rate is None:
-            box.quick_runs += 1
-            if box.quick_runs >= box.quick_needed:
-                box.quick, box.quick_runs = True, 0
-
-    def _demote(self, sub: Subscription, took: float) -> None:
-        box = sub.mailbox
-        box.quick, box.quick_runs = False, 0
-        box.quick_needed = min(2 * box.quick_needed, MAX_QUICK_RUNS)
-        sub.stats.demoted += 1
-        self._demotions += 1  # counted for all subscriptions: thousands must not flood the log
-        if every_power_of_two(self._demotions):
-            log.warning(
-                "%r: a callback held the receiving thread for %.1f ms (it waited or computed), "
-                "over quick_seconds=%g s (%d time(s) for this provider's subscriptions); its "
-                "notifications go to the delivery threads until %d callbacks in a row are quick "
-                "(always the threads: inline=False)",
-                sub,
-                took * 1e3,
-                self._quick_seconds,
-                self._demotions,
-                box.quick_needed,
-            )
-
     def _schedule(self, sub: Subscription, wake: bool) -> None:
         box = sub.mailbox
         box.scheduled = True
@@ -469,8 +404,8 @@ class DeliveryDispatcher:
                             self._lock.acquire()
                             del self._in_callback[me]
                             box.running = False
-                        if self._quick_seconds is not None:
-                            self._observe(sub, time.monotonic() - began)
+                        if self._quick is not None:
+                            self._quick.observe(sub, time.monotonic() - began)
                     self._finished(sub)
                     sub = None
                     if len(self._threads) > self._max:  # added for a blocked subscriber: done
