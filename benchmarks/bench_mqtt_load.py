@@ -5,11 +5,15 @@ Over a mosquitto started here on loopback, QoS 1, retained, the publisher in ano
 1. Saturation throughput: ``--count`` documents published as fast as the publisher can, received
    by a subscriber in this process; our provider at both ends beside bare paho-mqtt at both ends
    (same payload, QoS, retain, in-flight window and TCP_NODELAY), in the same run.
-2. Latency at a fixed rate (``--rate``, 5,000 documents/s, for ``--seconds``): p50/p99 from publish
-   to the subscriber's callback, and loss (documents sent but not received).
+2. Latency at a fixed rate (``--rate``, 2,000 documents/s, for ``--seconds`` per kind, in
+   ``--slices`` slices, the kinds taking turns): p50/p99 from publish to the subscriber's callback,
+   and loss (documents sent but not received).
 
-``ours`` delivers through the provider's delivery threads (the default), ``ours-inline`` in paho's
-network thread (``inline=True``); both publish with the provider. Bare paho sends the same bytes.
+``ours`` is the provider as configured by default (a quick callback runs in paho's network thread
+once seen quick), ``ours-threads`` always delivers through the delivery threads (``inline=False``),
+``ours-inline`` always in paho's network thread (``inline=True``); all publish with the provider.
+Bare paho sends the same bytes. Every figure is also printed as a ratio to paho's in the same run;
+``--repeat`` runs the whole comparison again (the load average is printed before each).
 """
 
 from __future__ import annotations
@@ -101,8 +105,7 @@ def publish(kind: str, port: int, rate: int, count: int) -> None:
             else header % (i + 1, time.monotonic_ns())
         )
     if kind == "ours":
-        time.sleep(5.0)  # the client's queue (up to 10,000 documents) empties
-        provider.close()
+        provider.close()  # flushes: waits for the broker's acknowledgements
     else:
         for info in infos[-1000:]:
             info.wait_for_publish(10)
@@ -117,6 +120,7 @@ class Receiver:
         self.latencies: list[int] = []
         self.first = self.last = 0.0
         self.done = threading.Event()
+        self.cpu = 0.0  # CPU seconds of this process (the subscriber's threads) during the run
 
     def took(self, stamp: int) -> None:
         now = time.monotonic_ns()
@@ -131,9 +135,8 @@ class Receiver:
 def subscribe(kind: str, port: int, receiver: Receiver):
     """A subscriber of ``kind`` feeding ``receiver``; returns its closer."""
     if kind.startswith("ours"):
-        provider = MqttContextProvider(
-            "127.0.0.1", port, qos=1, mirror=False, inline=kind == "ours-inline"
-        )
+        inline = {"ours": None, "ours-threads": False, "ours-inline": True}[kind]
+        provider = MqttContextProvider("127.0.0.1", port, qos=1, mirror=False, inline=inline)
         provider.subscribe(
             lambda note: receiver.took(int(note.nodes[0].text)),
             "/robot/stamp",
@@ -165,6 +168,7 @@ def run(
     """``count`` documents from a ``publisher`` (default: ``kind``) client to a ``kind`` one."""
     receiver = Receiver(count)
     close, stats = subscribe(kind, port, receiver)
+    cpu = time.process_time()
     try:
         child = subprocess.Popen(
             [sys.executable, __file__, "--publisher", publisher or kind, str(port), str(rate),
@@ -172,6 +176,7 @@ def run(
         )  # fmt: skip
         child.wait(timeout=600)
         receiver.done.wait(10)
+        receiver.cpu = time.process_time() - cpu
         return receiver, stats()
     finally:
         close()
@@ -195,8 +200,10 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--publisher", nargs=4, metavar=("KIND", "PORT", "RATE", "COUNT"))
     parser.add_argument("--count", type=int, default=20_000, help="documents for saturation")
-    parser.add_argument("--rate", type=int, default=5000, help="documents/s for the latency run")
-    parser.add_argument("--seconds", type=float, default=20.0, help="length of the latency run")
+    parser.add_argument("--rate", type=int, default=2000, help="documents/s for the latency run")
+    parser.add_argument("--seconds", type=float, default=10.0, help="length of the latency run")
+    parser.add_argument("--slices", type=int, default=5, help="turns of the latency run per kind")
+    parser.add_argument("--repeat", type=int, default=1, help="runs of the whole comparison")
     args = parser.parse_args()
     if args.publisher:
         kind, port, rate, count = args.publisher
@@ -207,39 +214,76 @@ def main() -> None:
         return
     print(f"cores: {os.cpu_count()}, load average at start: {os.getloadavg()[0]:.2f}")
     with loopback_broker.loopback_broker() as port:
-        print(f"== saturation, QoS 1, retained, {args.count} documents of {len(telemetry())} B ==")
-        rates = {}
-        kinds = ("paho", "ours", "ours-inline")
-        for kind in kinds + kinds:  # interleaved: the load may change
-            clear_retained(port)
-            receiver, _ = run(kind, port, 0, args.count, publisher=kind[:4])
-            got = len(receiver.latencies)
-            span = max(receiver.last - receiver.first, 1e-9)
-            rate = (got - 1) / span if got > 1 else 0.0
-            rates.setdefault(kind, []).append(rate)
-            print(f"{kind:>11}: received {got}/{args.count}, {rate:,.0f} documents/s")
-        best = {k: max(v) for k, v in rates.items()}
-        for kind in kinds[1:]:
-            print(
-                f"{kind} / bare paho (best of 2 each): {best[kind] / best['paho']:.2f} "
-                f"({best[kind]:,.0f} vs {best['paho']:,.0f} documents/s)"
-            )
-        count = int(args.rate * args.seconds)
-        print(f"== latency, QoS 1, {args.rate} documents/s for {args.seconds:g} s ==")
-        for kind in kinds:
+        for run_number in range(1, args.repeat + 1):
+            if args.repeat > 1:
+                print(f"#### run {run_number} of {args.repeat}, load average {load()}")
+            compare(port, args)
+    print(f"load average at end: {load()}")
+
+
+def load() -> str:
+    return "/".join(f"{figure:.2f}" for figure in os.getloadavg())
+
+
+KINDS = ("paho", "ours", "ours-threads", "ours-inline")
+
+
+def compare(port: int, args: argparse.Namespace) -> None:
+    """Saturation and latency of every kind, with their ratios to bare paho's."""
+    print(f"== saturation, QoS 1, retained, {args.count} documents of {len(telemetry())} B ==")
+    rates: dict[str, list[float]] = {}
+    for kind in KINDS + KINDS:  # interleaved: the load may change
+        clear_retained(port)
+        receiver, _ = run(kind, port, 0, args.count, publisher=kind[:4])
+        got = len(receiver.latencies)
+        span = max(receiver.last - receiver.first, 1e-9)
+        rate = (got - 1) / span if got > 1 else 0.0
+        rates.setdefault(kind, []).append(rate)
+        cpu = receiver.cpu / max(got, 1) * 1e6
+        print(
+            f"{kind:>12}: received {got}/{args.count}, {rate:,.0f} documents/s, "
+            f"subscriber's CPU {cpu:.0f} us/document"
+        )
+    best = {k: max(v) for k, v in rates.items()}
+    for kind in KINDS[1:]:
+        print(
+            f"{kind} / bare paho (best of 2 each): {best[kind] / best['paho']:.2f} "
+            f"({best[kind]:,.0f} vs {best['paho']:,.0f} documents/s)"
+        )
+    # in slices, the kinds taking turns: a host whose load changes by the second changes it for
+    # every kind alike (10 s of one kind after 10 s of another compared two different hosts)
+    count = max(1, int(args.rate * args.seconds / args.slices))
+    print(
+        f"== latency, QoS 1, {args.rate} documents/s for {args.seconds:g} s per kind, in "
+        f"{args.slices} slices taking turns, load {load()} =="
+    )
+    samples: dict[str, list[int]] = {kind: [] for kind in KINDS}
+    lost: dict[str, int] = dict.fromkeys(KINDS, 0)
+    for _ in range(args.slices):
+        for kind in KINDS:
             clear_retained(port)
             receiver, stats = run(kind, port, args.rate, count, publisher=kind[:4])
-            got = receiver.latencies
-            extra = f", lost (seq gaps) {stats['lost']}" if stats else ""
-            print(
-                f"{kind:>11}: sent {count}, received {len(got)} (missing {count - len(got)}{extra}); "
-                + (
-                    f"p50 {percentile(got, 0.5):.2f} ms, p99 {percentile(got, 0.99):.2f} ms"
-                    if got
-                    else "no samples"
+            samples[kind] += receiver.latencies
+            lost[kind] += int(stats.get("lost", 0))
+    figures: dict[str, tuple[float, float]] = {}
+    sent = count * args.slices
+    for kind in KINDS:
+        got = samples[kind]
+        extra = f", lost (seq gaps) {lost[kind]}" if kind != "paho" else ""
+        if got:
+            figures[kind] = (percentile(got, 0.5), percentile(got, 0.99))
+        print(
+            f"{kind:>12}: sent {sent}, received {len(got)} (missing {sent - len(got)}{extra}); "
+            + (f"p50 {figures[kind][0]:.2f} ms, p99 {figures[kind][1]:.2f} ms" if got else "none")
+        )
+    if "paho" in figures:
+        paho50, paho99 = figures["paho"]
+        for kind in KINDS[1:]:
+            if kind in figures:
+                p50, p99 = figures[kind]
+                print(
+                    f"{kind} / bare paho, same run: p50 {p50 / paho50:.2f}, p99 {p99 / paho99:.2f}"
                 )
-            )
-    print(f"load average at end: {os.getloadavg()[0]:.2f}")
 
 
 if __name__ == "__main__":

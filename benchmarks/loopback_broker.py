@@ -14,6 +14,8 @@ from collections.abc import Iterator
 from pathlib import Path
 
 MOSQUITTO = "/usr/sbin/mosquitto"
+PIDS: dict[int, int] = {}
+"""port -> process id of each broker running (for benchmarks that measure its CPU)."""
 
 CONF = """\
 listener {port} 127.0.0.1
@@ -43,6 +45,7 @@ def loopback_broker() -> Iterator[int]:
     broker = subprocess.Popen(
         [MOSQUITTO, "-c", str(conf)], stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL
     )
+    PIDS[port] = broker.pid
     try:
         for _ in range(200):
             try:
@@ -52,6 +55,7 @@ def loopback_broker() -> Iterator[int]:
                 time.sleep(0.02)
         yield port
     finally:
+        PIDS.pop(port, None)
         broker.terminate()
         broker.wait(timeout=5)
         conf.unlink()

@@ -11,29 +11,34 @@ from __future__ import annotations
 
 import threading
 import time
-from collections import Counter
 
 
 class CallGate:
     def __init__(self) -> None:
-        self._cond = threading.Condition()
-        self._running: Counter[int] = Counter()  # thread ident -> calls running in it
+        # a plain lock (never taken twice by one thread here): cheaper than the default RLock
+        self._cond = threading.Condition(threading.Lock())
+        self._running: dict[int, int] = {}  # thread ident -> calls running in it
         self._holder: int | None = None
 
     def enter(self) -> None:
         me = threading.get_ident()
         with self._cond:
-            while self._holder not in (None, me) and not self._running[me]:
+            while self._holder not in (None, me) and not self._running.get(me):
                 self._cond.wait()
-            self._running[me] += 1
+            self._running[me] = self._running.get(me, 0) + 1
 
     def leave(self) -> None:
         me = threading.get_ident()
         with self._cond:
-            self._running[me] -= 1
-            if not self._running[me]:
+            left = self._running[me] - 1
+            if left:
+                self._running[me] = left
+            else:
                 del self._running[me]
-            self._cond.notify_all()
+            # only a replacement waits (in hold), or callers kept out while one is held: without
+            # a holder nobody is waiting, and a call need not pay for the notification
+            if self._holder is not None:
+                self._cond.notify_all()
 
     def hold(self, timeout: float) -> int:
         """Stop new calls from other threads and wait up to ``timeout`` seconds for the running

@@ -127,6 +127,18 @@ class OperationCalls:
         self.stats["calls"] += 1
         type_name = instance.factory.type_name
         entries = [e for e in self._interceptors if e.matches(name, type_name, operation, port)]
+        if not entries and not self._events.wants(ev.OPERATION_CALLED):
+            # nobody intercepts or watches this call: no Invocation to make (the remote
+            # endpoint's calls mostly take this path), the same fault record and error
+            try:
+                return getattr(instance, operation)(*args, **kwargs)
+            except Exception as exc:
+                self.faults.record(
+                    "component", f"{name}.{operation}", exc, self.clock.now(), args=args
+                )
+                if isinstance(exc, RuntimeFailure):
+                    raise  # already says what and where (see _failure)
+                raise self._failure(name, operation, exc) from exc
         call = Invocation(
             self.name,
             name,
@@ -174,14 +186,19 @@ class OperationCalls:
         if call.error is not None:
             err = call.error
             if isinstance(err, RuntimeFailure):
-                # Already says what and where (a port not connected, a remote timeout): pass it on.
                 raise err
-            raise ComponentError(
-                f"component {name!r} raised {type(err).__name__} in {operation}(): {err}",
-                where=self._where,
-                hint="the fault is recorded in container.faults; the container goes on",
-            ) from err
+            raise self._failure(name, operation, err) from err
         return call.result
+
+    def _failure(self, name: str, operation: str, err: Exception) -> ComponentError:
+        """What a call that raised ``err`` raises to its caller, unless ``err`` is a
+        ``RuntimeFailure``: that already says what and where (a port not connected, a remote
+        timeout) and is passed on as it is."""
+        return ComponentError(
+            f"component {name!r} raised {type(err).__name__} in {operation}(): {err}",
+            where=self._where,
+            hint="the fault is recorded in container.faults; the container goes on",
+        )
 
     # ------------------------------------------------------------------------- interceptors
     def add_interceptor(

@@ -224,7 +224,9 @@ class RemoteConnector(Connector):
         args: tuple[Any, ...],
         kwargs: dict[str, Any],
     ) -> Any:
-        return self._invoke(conn, target, "call", operation, list(args), kwargs)
+        if kwargs:
+            return self._invoke(conn, target, "call", operation, list(args), kwargs)
+        return self._invoke(conn, target, "call", operation, list(args))
 
     def notify(self, conn: Connection, target: object, message: Any, size: int | None) -> None:
         self._invoke(conn, target, "deliver", message)
@@ -299,6 +301,18 @@ class ContainerEndpoint:
 
     def __init__(self, container: ServedContainer) -> None:
         self._container = container
+        # (component, port) -> (the port, its component's operations, what it exposes): computed
+        # again when the container has another port or operations there (a replaced component)
+        self._exposed: dict[tuple[str, str], tuple[Port, frozenset[str], frozenset[str]]] = {}
+
+    def _exposed_by(self, component: str, target: Port) -> frozenset[str]:
+        operations = self._container.operations_of(component)
+        known = self._exposed.get((component, target.name))
+        if known is not None and known[0] is target and known[1] is operations:
+            return known[2]
+        exposed = remote_operations(target, operations)
+        self._exposed[(component, target.name)] = (target, operations, exposed)
+        return exposed
 
     @serpent_only
     def ping(self) -> str:
@@ -310,16 +324,22 @@ class ContainerEndpoint:
 
     @serpent_only
     def call(
-        self, component: str, port: str, operation: str, args: list[Any], kwargs: dict[str, Any]
+        self,
+        component: str,
+        port: str,
+        operation: str,
+        args: list[Any],
+        kwargs: dict[str, Any] | None = None,
     ) -> Any:
+        """``kwargs`` is left out by callers that have none (one value less to serialise)."""
         c = self._container
         args = [bytes_back(a) for a in args]
-        kwargs = {k: bytes_back(v) for k, v in kwargs.items()}
+        kwargs = {k: bytes_back(v) for k, v in kwargs.items()} if kwargs else {}
         try:
             target = c.port_of(component, port)
-            # the operations the container recorded when it made (or replaced) the component:
-            # not the class's dir() again at every call
-            exposed = remote_operations(target, c.operations_of(component))
+            # the operations the container recorded when it made (or replaced) the component,
+            # and what the port exposes of them: not computed again at every call
+            exposed = self._exposed_by(component, target)
             if (
                 target.kind == "synchronous"
                 and operation not in exposed

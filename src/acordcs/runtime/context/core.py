@@ -11,14 +11,10 @@ from contextlib import contextmanager
 
 from lxml import etree
 
-from acordcs.runtime.context.delivery import (
-    DeliveryDispatcher,
-    InlineDelivery,
-    Notification,
-    Subscription,
-)
+from acordcs.runtime.context.delivery import DeliveryDispatcher, Notification, Subscription
 from acordcs.runtime.context.errors import ContextError, SubscriptionError
 from acordcs.runtime.context.index import SubscriptionIndex
+from acordcs.runtime.context.inlinedelivery import InlineDelivery
 from acordcs.runtime.context.xmlparse import Limits, parse_document, to_bytes
 from acordcs.runtime.context.xpathcost import check_cost
 from acordcs.runtime.context.xpathexpr import compile_expression, recognise
@@ -59,7 +55,9 @@ class ProviderCore:
     ``delivery_threads``: the pool of threads that run callbacks (slow ones each hold a thread);
     ``threads_per_subscriber``: how many callbacks of one subscriber may run at once (more are
     made beyond ``delivery_threads`` for subscribers kept waiting by others' blocked callbacks);
-    ``inline``: no threads, callbacks run in the publishing thread (:class:`InlineDelivery`)."""
+    ``inline``: no threads, callbacks run in the publishing thread (:class:`InlineDelivery`);
+    ``quick_seconds``: subscriptions whose callbacks are that quick are delivered in the receiving
+    thread (see :class:`DeliveryDispatcher`; the MQTT engine's default)."""
 
     def __init__(
         self,
@@ -68,6 +66,7 @@ class ProviderCore:
         *,
         inline: bool = False,
         threads_per_subscriber: int = 2,
+        quick_seconds: float | None = None,
     ) -> None:
         self.limits = limits or Limits()
         self.inline = inline
@@ -75,7 +74,9 @@ class ProviderCore:
             InlineDelivery()
             if inline
             else DeliveryDispatcher(
-                max_threads=delivery_threads, per_subscriber=threads_per_subscriber
+                max_threads=delivery_threads,
+                per_subscriber=threads_per_subscriber,
+                quick_seconds=quick_seconds,
             )
         )
         self._lock = threading.RLock()
@@ -278,11 +279,18 @@ class ProviderCore:
                     del self._publisher_locks[publisher]
 
     def _dispatch(
-        self, publisher: str, seq: int, tree: etree._ElementTree, *, latest: bool = True
+        self,
+        publisher: str,
+        seq: int,
+        tree: etree._ElementTree,
+        *,
+        latest: bool = True,
+        may_inline: bool = False,
     ) -> int:
         """Match and hand notifications to the subscribers' mailboxes. Returns how many were queued.
         ``latest=False``: a document that came late (older than the publisher's latest, which it
-        does not replace).
+        does not replace). ``may_inline``: the caller flushes the dispatcher next, in this thread
+        (quick subscriptions are delivered there).
 
         The caller is inside :meth:`_publishing` (documents of one publisher in order)."""
         with self._lock:
@@ -303,12 +311,16 @@ class ProviderCore:
                         if changing.get(sub) == fp:
                             sub.stats.unchanged += 1
                             continue
-                    self._dispatcher.offer(sub, Notification(publisher, seq, tree, nodes, value))
+                    self._dispatcher.offer(
+                        sub, Notification(publisher, seq, tree, nodes, value), may_inline
+                    )
                     queued += 1
             if changing or matched_changing:
                 # on_change subscribers whose selection just became empty are told so once
                 for sub in changing.keys() - matched_changing.keys():
-                    self._dispatcher.offer(sub, Notification(publisher, seq, tree, [], None))
+                    self._dispatcher.offer(
+                        sub, Notification(publisher, seq, tree, [], None), may_inline
+                    )
                     queued += 1
                 self._changing[publisher] = matched_changing
             return queued

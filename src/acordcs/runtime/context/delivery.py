@@ -9,6 +9,12 @@ more subscriptions, by default their callback) runs at most ``per_subscriber`` c
 and subscribers take turns: a subscriber whose callbacks block holds that many threads, and a new
 thread is made for any other subscriber that has waited a few milliseconds while every thread was
 stuck, so blocked callbacks of one subscriber never starve another.
+
+With ``quick_seconds`` (the MQTT provider's default), a subscription whose callbacks have returned
+within that time 16 times in a row on the delivery threads is delivered in the receiving thread
+(paho's network thread) instead, without a thread hand-over, while its mailbox is empty; a callback
+that then holds that thread longer sends it back to the threads at once (see
+:class:`~.quick.QuickJudge`).
 """
 
 from __future__ import annotations
@@ -23,6 +29,8 @@ from collections.abc import Callable, Hashable
 from dataclasses import dataclass, field
 
 from lxml import etree
+
+from acordcs.runtime.context.quick import QUICK_RUNS, QuickJudge, thread_waits
 
 log = logging.getLogger("acordcs.runtime.context")
 
@@ -49,6 +57,8 @@ class SubscriptionStats:
     coalesced: int = 0  # max_rate: replaced by a newer one before delivery (latest wins)
     unchanged: int = 0  # on_change: suppressed because the selection was the same
     errors: int = 0  # the callback raised
+    inline: int = 0  # of ``delivered``, run in the receiving thread (a quick subscription)
+    demoted: int = 0  # times an inline callback overran ``quick_seconds`` (back to the threads)
     suspended: bool = False  # a fallback expression overran its time budget too often
     last_error: str | None = None
 
@@ -57,7 +67,16 @@ class Mailbox:
     """A subscription's pending notifications and delivery state, kept by the
     :class:`DeliveryDispatcher` under its lock."""
 
-    __slots__ = ("closed", "next_allowed", "pending", "running", "scheduled")
+    __slots__ = (
+        "closed",
+        "next_allowed",
+        "pending",
+        "quick",
+        "quick_needed",
+        "quick_runs",
+        "running",
+        "scheduled",
+    )
 
     def __init__(self) -> None:
         self.pending: deque[Notification] = deque()
@@ -65,6 +84,9 @@ class Mailbox:
         self.running = False  # a delivery thread is in its callback
         self.closed = False
         self.next_allowed = 0.0  # max_rate: monotonic time of the next delivery
+        self.quick = False  # delivered in the receiving thread (see DeliveryDispatcher)
+        self.quick_runs = 0  # quick callbacks in a row on the delivery threads
+        self.quick_needed = QUICK_RUNS  # how many make it quick
 
 
 def subscriber_of(callback: Callable[..., object]) -> Hashable:
@@ -143,6 +165,7 @@ class DeliveryDispatcher:
         stall_seconds: float = 0.01,
         idle_seconds: float = 5.0,
         per_subscriber: int = 2,
+        quick_seconds: float | None = None,
     ) -> None:
         if max_threads < 1:
             raise ValueError(f"max_threads must be at least 1, got {max_threads!r}")
@@ -166,17 +189,28 @@ class DeliveryDispatcher:
         self._wakeups = 0  # of those, how many were notified and have not woken yet
         self._closed = False
         self._count = itertools.count(1)
+        self._quick = QuickJudge(quick_seconds) if quick_seconds is not None else None
+        self._inline = threading.local()  # per receiving thread: [(subscription, notification)]
 
     @property
     def threads(self) -> int:
         with self._lock:
             return len(self._threads)
 
-    def offer(self, sub: Subscription, note: Notification) -> None:
-        """Queue ``note`` for ``sub``; never blocks on a callback."""
+    def offer(self, sub: Subscription, note: Notification, may_inline: bool = False) -> None:
+        """Queue ``note`` for ``sub``; never blocks on a callback. ``may_inline``: the caller is a
+        receiving thread that calls :meth:`flush` next, which delivers ``note`` there if ``sub``
+        is quick and has nothing pending (its notifications keep their order)."""
         with self._lock:
             box = sub.mailbox
             if box.closed or self._closed:
+                return
+            if may_inline and box.quick and not (box.pending or box.running or box.scheduled):
+                box.running = True  # offers meanwhile wait in the mailbox for the threads
+                queue = getattr(self._inline, "queue", None)
+                if queue is None:
+                    queue = self._inline.queue = []
+                queue.append((sub, note))
                 return
             mailbox = box.pending
             if sub.max_rate is not None and mailbox:
@@ -198,7 +232,28 @@ class DeliveryDispatcher:
                 self._schedule(sub, wake=True)
 
     def flush(self) -> None:
-        """Nothing to do: the threads deliver (see :class:`InlineDelivery`)."""
+        """Run, in this thread, the callbacks of the quick subscriptions that this thread's offers
+        since the last flush matched; a callback overrunning ``quick_seconds`` sends its
+        subscription back to the delivery threads."""
+        queue = getattr(self._inline, "queue", None)
+        if not queue or self._quick is None:
+            return
+        self._inline.queue = None
+        judge = self._quick
+        for sub, note in queue:
+            box = sub.mailbox
+            waits = thread_waits()
+            started = time.monotonic()
+            if not (box.closed or self._closed):
+                deliver(sub, note)
+                sub.stats.inline += 1
+            took = time.monotonic() - started
+            slow = judge.held(took, waits)
+            with self._lock:
+                box.running = False
+                judge.inline_done(sub, took, slow)
+                if box.pending and not box.closed and not box.scheduled:
+                    self._schedule(sub, wake=True)
 
     def cancel(self, sub: Subscription) -> None:
         """No more deliveries to ``sub`` (a callback already running finishes)."""
@@ -341,14 +396,16 @@ class DeliveryDispatcher:
                         box.running = True
                         if sub.max_rate:
                             box.next_allowed = time.monotonic() + 1.0 / sub.max_rate
-                        self._in_callback[me] = time.monotonic()
+                        began = self._in_callback[me] = time.monotonic()
                         self._lock.release()
                         try:
-                            _deliver(sub, note)
+                            deliver(sub, note)
                         finally:
                             self._lock.acquire()
                             del self._in_callback[me]
                             box.running = False
+                        if self._quick is not None:
+                            self._quick.observe(sub, time.monotonic() - began)
                     self._finished(sub)
                     sub = None
                     if len(self._threads) > self._max:  # added for a blocked subscriber: done
@@ -400,7 +457,8 @@ class DeliveryDispatcher:
         return added
 
 
-def _deliver(sub: Subscription, note: Notification) -> None:
+def deliver(sub: Subscription, note: Notification) -> None:
+    """Run ``sub``'s callback on ``note``, counting it; a raising callback is counted and logged."""
     try:
         sub.callback(note)
         sub.stats.delivered += 1
@@ -414,41 +472,3 @@ def _deliver(sub: Subscription, note: Notification) -> None:
                 sub.stats.last_error,
                 sub.stats.errors,
             )
-
-
-class InlineDelivery:
-    """Delivers in the publishing thread instead of a pool: every notification, in the order
-    matched, once the provider has released its lock (:meth:`flush`, called by ``publish``).
-
-    For virtual-time runs: with delivery threads, when a monitor sees a document would depend on
-    the thread scheduler, and a run would not repeat for its seed. A slow callback here slows its
-    publisher (that is the price); a raising one is counted and logged as with threads.
-    """
-
-    threads = 0
-
-    def __init__(self) -> None:
-        self._pending = threading.local()  # per publishing thread: [(subscription, notification)]
-
-    def offer(self, sub: Subscription, note: Notification) -> None:
-        if sub.mailbox.closed:
-            return
-        queue = getattr(self._pending, "queue", None)
-        if queue is None:
-            queue = self._pending.queue = []
-        queue.append((sub, note))
-
-    def flush(self) -> None:
-        """Run the callbacks of what this thread's publish matched (a callback that publishes
-        flushes its own matches first: they are delivered in causal order)."""
-        queue = getattr(self._pending, "queue", None)
-        self._pending.queue = None
-        for sub, note in queue or ():
-            if not sub.mailbox.closed:
-                _deliver(sub, note)
-
-    def cancel(self, sub: Subscription) -> None:
-        sub.mailbox.closed = True
-
-    def close(self, timeout: float = 5.0) -> None:
-        self._pending = threading.local()

@@ -67,10 +67,22 @@ class MqttContextProvider(ProviderCore):
     documents sent and accept only documents signed with it. ``max_publishers``: the publishers
     whose documents this client keeps (others are ignored, counted in ``stats()["refused_publishers"]``).
     ``max_seq_jump``: a larger jump in a publisher's sequence numbers is taken for a forgery.
-    ``inline=True``: callbacks run in paho's network thread, without the hand-over to a delivery
-    thread (about half the latency at 5,000 documents/s on 2 cores, see
-    ``benchmarks/bench_mqtt_load.py``); a slow callback then holds up every subscription of this
-    client and its acknowledgements to the broker.
+    Delivery (``inline``): by default (``None``) a subscription starts on the delivery threads,
+    and once its callbacks have returned within ``quick_seconds`` 16 times in a row they run in
+    paho's network thread, without the hand-over to a delivery thread (which costs a thread
+    wake-up per document and, on a busy host, most of the latency: see ``docs/benchmarks.md``).
+    A slow subscriber does not stall the network thread: a callback there that takes longer than
+    ``quick_seconds`` sends its subscription back to the delivery threads at once (so it held the
+    thread for that one callback), and each time it needs twice as many quick callbacks in a row
+    to come back (at most 4,096, as long as it overruns again within 4,096 callbacks inline);
+    ``Subscription.stats`` count ``inline`` and ``demoted``. The default, 10 ms, is twice the
+    interpreter's switch interval: a quick callback kept waiting for the GIL by another thread is
+    not taken for slow; nor, on Linux, one the host only preempted (the callback must have waited
+    or computed that long, by its thread's ``getrusage``).
+    ``inline=False``: always the delivery threads (callbacks that may block without warning, e.g.
+    on a remote call, never hold the network thread); ``inline=True``: always the network thread,
+    no threads at all (a slow callback holds up every subscription of this client and its
+    acknowledgements to the broker).
 
     ``flush_timeout``: how long :meth:`close` waits for the broker to acknowledge the QoS 1/2
     documents already accepted by :meth:`publish` (queued in the client or in flight); what is
@@ -101,13 +113,24 @@ class MqttContextProvider(ProviderCore):
         payload_key: bytes | str | None = None,
         max_publishers: int = 1000,
         max_seq_jump: int = 1_000_000,
-        inline: bool = False,
+        inline: bool | None = None,
         threads_per_subscriber: int = 2,
         flush_timeout: float = 10.0,
         clean_session: bool = True,
+        quick_seconds: float = 0.01,
     ) -> None:
+        if not (isinstance(quick_seconds, int | float) and 0 < quick_seconds <= 10):
+            raise ContextError(
+                f"quick_seconds must be a number of seconds in (0, 10], got {quick_seconds!r}",
+                element="MqttContextProvider",
+                hint="e.g. 0.01; inline=False to deliver on the delivery threads only",
+            )
         super().__init__(
-            limits, delivery_threads, inline=inline, threads_per_subscriber=threads_per_subscriber
+            limits,
+            delivery_threads,
+            inline=inline is True,
+            threads_per_subscriber=threads_per_subscriber,
+            quick_seconds=quick_seconds if inline is None else None,
         )
         if max_publishers < 1 or max_seq_jump < 1:
             raise ContextError(
@@ -143,6 +166,10 @@ class MqttContextProvider(ProviderCore):
         self.reconnects = 0
         self.forged = 0  # payloads without a valid signature (with a payload_key)
         self.sequences = SequenceBook(max_publishers, max_seq_jump, self._where)
+        # paho's network thread is the only one receiving; the lock keeps documents in order
+        # should another ever call _receive (one lock for all: no lock made per document)
+        self._receiving = threading.Lock()
+        self._publisher_of: dict[str, str] = {}  # topic -> publisher (unquoted once per topic)
         self._epoch = os.urandom(8).hex().encode()
         self._seq: dict[str, int] = {}
         self._topics: set[str] = set()  # what the broker should send us
@@ -291,9 +318,14 @@ class MqttContextProvider(ProviderCore):
 
     def _receive(self, message: mqtt.MQTTMessage) -> None:
         topic = message.topic
-        if not topic.startswith(self.prefix + "/"):
-            return
-        publisher = unquote(topic[len(self.prefix) + 1 :])
+        publisher = self._publisher_of.get(topic)
+        if publisher is None:
+            if not topic.startswith(self.prefix + "/"):
+                return
+            publisher = unquote(topic[len(self.prefix) + 1 :])
+            if len(self._publisher_of) >= 2 * self.sequences.max_publishers:
+                self._publisher_of.clear()  # hostile topics cannot grow it without bound
+            self._publisher_of[topic] = publisher
         payload = message.payload
         if not payload:  # an empty retained message: the publisher was retired (see ``retire``)
             with self._lock:
@@ -348,9 +380,11 @@ class MqttContextProvider(ProviderCore):
             self._count_rejected(publisher)
             log.warning("ignoring a refused document from the broker: %s", err)
             return
-        with self._publishing(publisher):
-            self._dispatch(publisher, seq, tree, latest=admitted == NEW)
-        self._dispatcher.flush()  # inline delivery: the callbacks run now, outside the lock
+        try:
+            with self._receiving:
+                self._dispatch(publisher, seq, tree, latest=admitted == NEW, may_inline=True)
+        finally:  # what was matched before a failure is delivered all the same
+            self._dispatcher.flush()  # quick subscriptions' callbacks run now, outside the locks
 
     # -- topics ---------------------------------------------------------------------------------------
     def _wanted(self) -> set[str]:
