@@ -84,8 +84,9 @@ def refused(setting: BrokerSetting) -> tuple[str, float]:
 
 
 def test_a_broker_refusing_the_login_is_said_with_the_user_to_give(
-    guarded_broker: int, monkeypatch: pytest.MonkeyPatch
+    guarded_broker: int, monkeypatch: pytest.MonkeyPatch, caplog: pytest.LogCaptureFixture
 ) -> None:
+    caplog.set_level("WARNING")
     monkeypatch.setenv("ACORDCS_MQTT_PASSWORD", "wrong")
     for setting in (BrokerSetting("127.0.0.1", guarded_broker, "lab"),
                     BrokerSetting("127.0.0.1", guarded_broker)):  # fmt: skip
@@ -96,6 +97,8 @@ def test_a_broker_refusing_the_login_is_said_with_the_user_to_give(
         ), message
         assert "its password in $ACORDCS_MQTT_PASSWORD" in message
         assert took < BOUND + 2
+    # the refused connection closes, and nothing reconnects: no warning says it does
+    assert not [r for r in caplog.records if "reconnecting" in r.getMessage()], caplog.text
     monkeypatch.setenv("ACORDCS_MQTT_PASSWORD", "right")
     open_broker(BrokerSetting("127.0.0.1", guarded_broker, "lab"), "WebLabSide", token=None,
                 timeout=BOUND).close()  # fmt: skip

@@ -265,7 +265,9 @@ class MqttContextProvider(ProviderCore):
         self._connected.set()
 
     def _on_disconnect(self, client, _userdata, _flags, reason_code, properties) -> None:
-        if not self._closed:
+        # a connection the broker refused (_on_connect's error) closes too: the start reports it,
+        # and nothing reconnects
+        if not self._closed and self._connect_error is None:
             log.warning(
                 "lost the MQTT broker at %s:%d (%s); reconnecting",
                 self.host,
