@@ -37,6 +37,7 @@ import secrets
 import subprocess
 import sys
 import threading
+from collections.abc import Callable, Sequence
 from importlib import resources
 from pathlib import Path
 from typing import Any
@@ -45,6 +46,8 @@ from acordcs.console import app_commands
 from acordcs.console.attaching import Application, AttachError, Watcher
 from acordcs.console.fanout import EVENT, ConsoleHub
 from acordcs.console.page_model import page_model
+from acordcs.console.panels import ConsolePanel, PanelContext, PanelSession
+from acordcs.console.viewer_messages import Command, read_object
 from acordcs.console.web_app import ConsoleSite
 from acordcs.runtime.errors import RuntimeFailure
 from acordcs.runtime.live.observer import plain
@@ -64,23 +67,42 @@ OUTPUT_KEPT = 20000
 class LiveSession:
     """The console over the running application ``app``; ``token``: the console's (its link
     carries it); ``model``: the model file ``plan`` and ``apply`` build (None: no update from the
-    page; needs ``app.app_dir``). :meth:`attached` attaches to the application built in a
-    directory and started by its scripts."""
+    page; needs ``app.app_dir``); ``panels``: what the application adds to the page
+    (:mod:`.panels`), each given this application and token; ``admits``: who decides whether a
+    viewer's token is the console's (default: compared with ``token``). :meth:`attached` attaches to the
+    application built in a directory and started by its scripts."""
 
     def __init__(
-        self, hub: ConsoleHub, token: str, app: Application, *, model: Path | None = None
+        self,
+        hub: ConsoleHub,
+        token: str,
+        app: Application,
+        *,
+        model: Path | None = None,
+        panels: Sequence[ConsolePanel] = (),
+        admits: Callable[[str], bool] | None = None,
     ) -> None:
         self.hub = hub
         self.token = token
         self.app = app
         self.model = model
+        self.admits = admits
         self.lock = threading.Lock()  # one update at a time
         self.answering: set[str] = set()  # the containers watched and answering (watchers' threads)
         self.page = page_model(self.app.descriptor)
         self.page["model"] = str(model) if model is not None else None
         hub.publish("application", self.page)
+        self.panels = list(panels)
+        context = PanelContext(hub, token, app)
+        self.panel_sessions: dict[str, PanelSession] = {
+            p.name: p.attach(context) for p in self.panels
+        }
+        watched: dict[str, list[str]] = {name: [] for name in self.app.places}
+        for panel in self.panel_sessions.values():
+            for container, calls in _optional(panel, "calls", dict)().items():
+                watched[container].extend(c for c in calls if c not in watched[container])
         self.watchers = {
-            name: Watcher(self.app, name, [], self._deliver) for name in self.app.places
+            name: Watcher(self.app, name, watched[name], self._deliver) for name in self.app.places
         }
         self.closing = threading.Event()
         self.holds_thread = threading.Thread(
@@ -109,6 +131,8 @@ class LiveSession:
             for watcher in self.watchers.values():
                 watcher.start_watching()
                 started.append(watcher)
+            for panel in self.panel_sessions.values():
+                _optional(panel, "begin")()
         except AttachError:
             for watcher in started:
                 watcher.stop()
@@ -120,21 +144,47 @@ class LiveSession:
         """The console's site: the library's page, subprotocol ``acordcs``, the commands of
         :mod:`.app_commands` over this application's operations and properties."""
         operations, properties = self.page["operations"], self.page["properties"]
+        by_command = {c: p for p in self.panels if p.parse is not None for c in p.commands}
+
+        def parse(text: str | bytes) -> Command:
+            panel = by_command.get(read_object(text).get("cmd"))  # type: ignore[arg-type]
+            if panel is not None and panel.parse is not None:
+                return panel.parse(text)
+            return app_commands.parse(text, operations, properties)
+
         return ConsoleSite(
             name=SITE_NAME,
             static=resources.files("acordcs.console") / "static",
             protocol="acordcs",
-            parse=lambda text: app_commands.parse(text, operations, properties),
+            parse=parse,
+            binary_channels={k: v for p in self.panels for k, v in p.binary_channels.items()},
+            paced={k: v for p in self.panels for k, v in p.paced.items()},
+            panels={p.name: p.static for p in self.panels},
         )
 
     def describe(self) -> dict[str, Any]:
-        return {"mode": MODE, "application": self.app.name, "containers": list(self.app.places)}
+        return {"mode": MODE, "application": self.app.name, "containers": list(self.app.places),
+                "panels": [p.shown() for p in self.panels],
+                "panel_state": {name: _described(panel)
+                                for name, panel in self.panel_sessions.items()}}  # fmt: skip
+
+    def handler(self, command: str) -> Callable[..., Any]:
+        """What carries out ``command`` (as the site's parser read it): a panel's, or this
+        session's own."""
+        for panel in self.panels:
+            if command in panel.commands:
+                return getattr(self.panel_sessions[panel.name], command)
+        return getattr(self, command)
 
     def authorize(self, token: str) -> bool:
+        if self.admits is not None:
+            return self.admits(token)
         return secrets.compare_digest(token.encode(), self.token.encode())
 
     def close(self) -> None:
         self.closing.set()
+        for panel in self.panel_sessions.values():
+            _optional(panel, "close")()
         for watcher in self.watchers.values():
             watcher.stop()
         if self.holds_thread.ident is not None:
@@ -164,7 +214,10 @@ class LiveSession:
 
     # ------------------------------------------------------------------------------ watching
     def _deliver(self, kind: str, container: str, data: Any) -> None:
-        """What a watcher got, published (see the module docstring); from its thread."""
+        """What a watcher got, published (see the module docstring), and given to the panels;
+        from its thread."""
+        for panel in self.panel_sessions.values():
+            _optional(panel, "deliver")(kind, container, data)
         publish = self.hub.publish
         if kind == "snapshot":
             publish(f"snapshot:{container}", data)
@@ -241,6 +294,17 @@ class LiveSession:
         output = (done.stdout + done.stderr)[-OUTPUT_KEPT:]
         return {"code": done.returncode, "output": output,
                 "command": "acordcs-gen " + " ".join(argv[3:])}  # fmt: skip
+
+
+def _described(panel: PanelSession) -> Any:
+    """What a panel session tells a viewer first (its ``describe``, if it has one)."""
+    return _optional(panel, "describe", lambda: None)()
+
+
+def _optional(panel: PanelSession, method: str, default: Callable[[], Any] | None = None) -> Any:
+    """A panel session's ``method``, or ``default`` (does nothing) when it has none: every
+    method of :class:`~.panels.PanelSession` is optional."""
+    return getattr(panel, method, None) or default or (lambda *args: None)
 
 
 def _shown(container: str, event: dict[str, Any]) -> dict[str, Any] | None:

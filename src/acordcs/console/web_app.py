@@ -94,6 +94,9 @@ class ConsoleSite:
     paced: Mapping[str, int] = field(default_factory=dict)
     subject: str = "the application"
     logger: str = "acordcs.console"
+    panels: Mapping[str, Traversable] = field(default_factory=dict)
+    """Panel name -> its static directory, served under ``/panels/<name>/``
+    (:mod:`acordcs.console.panels`)."""
 
     @property
     def token_protocol(self) -> str:
@@ -294,6 +297,10 @@ def create_app(
             Route("/status", status),
             WebSocketRoute("/ws", socket),
             Mount("/static", StaticFiles(directory=str(static)), name="static"),
+            *(
+                Mount(f"/panels/{name}", StaticFiles(directory=str(files)))
+                for name, files in site.panels.items()
+            ),
         ],
         middleware=[
             Middleware(SiteGuard, allowed_hosts=frozenset(allowed_hosts), refusals=refused)
@@ -476,7 +483,10 @@ def _command(
     pace = site.paced.get(command.name)
     if pace is not None and not viewer.within(command.name, pace):
         return None  # over the rate: dropped quietly, the next one carries the newest values
-    action: Callable[..., Any] = getattr(session, command.name)
+    handler = getattr(session, "handler", None)  # a session with panels finds their commands
+    action: Callable[..., Any] = (
+        handler(command.name) if handler is not None else getattr(session, command.name)
+    )
     try:
         result = action(**command.args)
     except Exception as err:  # the session's refusal or failure: told, not fatal

@@ -23,6 +23,11 @@ function takeToken() {
 }
 
 const token = takeToken();
+// The application's panels (acordcs.console.panels): each an ES module of the console's origin,
+// mounted once in a section of its own; what they listen to, by message type, and binary messages.
+// A panel's message that came before its module loaded is kept (the newest of each type) and
+// given to it when it listens.
+const panels = { mounted: false, handlers: new Map(), binary: [], last: new Map() };
 const state = { socket: null, app: null, series: new Map(), firings: new Map(), now: 0, ref: 0, pending: new Map(), plan: null, drawn: false };
 
 function say(text, kind = "") {
@@ -42,6 +47,7 @@ function connect() {
   const protocols = ["acordcs"];
   if (token && TOKEN_SHAPE.test(token)) protocols.push(`acordcs.token.${token}`);
   const socket = new WebSocket(`${location.protocol === "https:" ? "wss" : "ws"}://${location.host}/ws`, protocols);
+  socket.binaryType = "arraybuffer";
   state.socket = socket;
   socket.onopen = () => {
     $("connection").textContent = "live";
@@ -51,9 +57,14 @@ function connect() {
   socket.onclose = (event) => {
     $("connection").textContent = event.code === 1013 ? "full" : event.code === 1008 ? "refused" : "disconnected";
     $("connection").className = "badge off";
+    (panels.handlers.get("disconnected") || []).forEach((fn) => fn());
     if (event.code !== 1013 && event.code !== 1008) setTimeout(connect, 2000);
   };
   socket.onmessage = (event) => {
+    if (event.data instanceof ArrayBuffer) {
+      const bytes = new Uint8Array(event.data);
+      return panels.binary.forEach((fn) => fn(bytes));
+    }
     let message;
     try { message = JSON.parse(event.data); } catch { return; }
     if (Array.isArray(message)) message.forEach(handle);
@@ -65,6 +76,8 @@ function handle(message) {
   const then = message.ref !== undefined ? state.pending.get(message.ref) : undefined;
   if (then) { state.pending.delete(message.ref); return then(message); }
   switch (message.type) {
+    case "hello": return mountPanels(message);
+    case "done": return say(`${message.cmd}: done`, "ok");
     case "application": return showApplication(message.data);
     case "event": return showEvent(message.data);
     case "refused": return say(`refused: ${message.why}${message.todo ? ` (${message.todo})` : ""}`, "refused");
@@ -72,6 +85,45 @@ function handle(message) {
     case "error": return say(`${message.cmd}: ${message.why}`, "refused");
     default:
       if (message.type && message.type.startsWith("snapshot:")) return showSnapshot(message.data);
+      panels.last.set(message.type, message.data);
+      (panels.handlers.get(message.type) || []).forEach((fn) => fn(message.data));
+  }
+}
+
+async function mountPanels(hello) {
+  if (panels.mounted) return;
+  panels.mounted = true;
+  const api = {
+    hello,
+    send: (command, then) => send(command, then),
+    say,
+    on: (type, fn) => {
+      panels.handlers.set(type, [...(panels.handlers.get(type) || []), fn]);
+      if (panels.last.has(type)) fn(panels.last.get(type));
+    },
+    onBinary: (fn) => panels.binary.push(fn),
+  };
+  for (const panel of hello.panels || []) {
+    const section = document.createElement("section");
+    section.className = "panel wide app-panel";
+    section.id = `panel-${panel.name}`;
+    const h = document.createElement("h2");
+    h.textContent = panel.title;
+    section.append(h);
+    document.querySelector("main").prepend(section);
+    if (panel.style) {
+      const link = document.createElement("link");
+      link.rel = "stylesheet";
+      link.href = panel.style;
+      document.head.append(link);
+    }
+    try {
+      const module = await import(panel.script);
+      module.mount(section, api);
+      section.dataset.mounted = "true";
+    } catch (err) {
+      section.append(waiting(`this panel could not be loaded: ${err}`));
+    }
   }
 }
 
@@ -331,6 +383,8 @@ function showEvent(e) {
       return log("events", `${e.container}: ${e.component} released (its callers go on)`, "hold");
     case "dropped":
       return log("events", `${e.container}: ${e.count} events missed (the console fell behind)`, "fault");
+    case "panel":  // what an application's panel tells (the WebLab's recoveries, the finish...)
+      return log("events", `t=${Number(e.time).toFixed(2)} ${e.panel}: ${e.text}`, e.what);
   }
 }
 
