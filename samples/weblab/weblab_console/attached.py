@@ -91,7 +91,9 @@ class AttachedPanel:
         self.app = context.app
         self.lab = self.app.host_of.get("Locomotion")
         if self.lab is None or "Vision" not in self.app.host_of:
-            raise AttachError(f"{self.app.name}: not the WebLab application (no Locomotion or Vision)")
+            raise AttachError(
+                f"{self.app.name}: not the WebLab application (no Locomotion or Vision)"
+            )
         self.show = Showing(self.hub, PROFILE, 0)
         self.hub.publish("path", pictures.path())
         self.closing = threading.Event()

@@ -57,7 +57,9 @@ class InProcess:
         self.containers: Mapping[str, Any] = {}
         self.run_on: Callable[[Callable[[], Any]], Any] | None = None
 
-    def running(self, containers: Mapping[str, Any], run_on: Callable[[Callable[[], Any]], Any]) -> None:
+    def running(
+        self, containers: Mapping[str, Any], run_on: Callable[[Callable[[], Any]], Any]
+    ) -> None:
         """A run started with ``containers``; ``run_on(fn)`` runs ``fn`` on its thread."""
         lab = tuple(experiment.POLICY_SETS)
         observers = {
@@ -90,7 +92,9 @@ class InProcess:
             return observer.snapshot() if observer is not None else _empty(container)
         watch = int(args[0])
         if watch // WATCHES_PER_RUN != run:
-            raise RuntimeFailure("the experiment it watched ended: watching the next one", where=container)
+            raise RuntimeFailure(
+                "the experiment it watched ended: watching the next one", where=container
+            )
         if method == "unwatch":
             return observer.unwatch(watch % WATCHES_PER_RUN) if observer is not None else True
         if observer is None:  # between runs: wait for one to start
@@ -120,7 +124,8 @@ class InProcess:
     def call(self, component: str, port: str, operation: str, *args: Any) -> Any:
         container = self.host_of[component]
         return self._on_run(
-            container, lambda: self.containers[container].find(component).port(port).call(operation, *args)
+            container,
+            lambda: self.containers[container].find(component).port(port).call(operation, *args),
         )
 
     def describe(self) -> str:

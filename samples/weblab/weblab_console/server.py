@@ -50,9 +50,10 @@ def weblab_panel(attach: Callable[[PanelContext], Any], profiles: tuple[str, ...
         name=PANEL,
         title="WebLab: cameras, navigation map, teleoperation",
         static=resources.files("weblab_console") / "panel_static",
-        applies=lambda d: {"Locomotion", "Vision"} <= {
-            component for c in d.containers for component in c.hosted("component")
-        },
+        applies=lambda d: (
+            {"Locomotion", "Vision"}
+            <= {component for c in d.containers for component in c.hosted("component")}
+        ),
         attach=attach,
         parse=functools.partial(parse, profiles=profiles),
         commands=COMMANDS,

@@ -119,4 +119,3 @@ class Showing:
                 text = TEXTS[kind]
                 self.event(t, kind, text + (f" (×{count - seen})" if count - seen > 1 else ""))
             self.counts[kind] = count
-
