@@ -22,7 +22,7 @@ function takeToken() {
   return sessionStorage.getItem(TOKEN_KEY);
 }
 
-const token = takeToken();
+let token = takeToken();
 // The application's panels (acordcs.console.panels): each an ES module of the console's origin,
 // mounted once in a section of its own; what they listen to, by message type, and binary messages.
 // A panel's message that came before its module loaded is kept (the newest of each type) and
@@ -55,6 +55,7 @@ function connect() {
     if (!token) say("watching only: open the link the console printed to use its hands", "refused");
   };
   socket.onclose = (event) => {
+    if (socket !== state.socket) return;  // replaced (a new token): the new one is connecting
     $("connection").textContent = event.code === 1013 ? "full" : event.code === 1008 ? "refused" : "disconnected";
     $("connection").className = "badge off";
     (panels.handlers.get("disconnected") || []).forEach((fn) => fn());
@@ -470,3 +471,13 @@ $("plan").addEventListener("click", plan);
 $("apply").addEventListener("click", apply);
 setInterval(drawPlots, 250);
 connect();
+// A link opened in a tab that shows the console already changes only the fragment: take its
+// token and connect again with it.
+window.addEventListener("hashchange", () => {
+  if (!new URLSearchParams(location.hash.slice(1)).has("token")) return;
+  token = takeToken();
+  const old = state.socket;
+  (panels.handlers.get("disconnected") || []).forEach((fn) => fn());
+  connect();
+  if (old) old.close();
+});
