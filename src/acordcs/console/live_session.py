@@ -147,7 +147,8 @@ class LiveSession:
         by_command = {c: p for p in self.panels if p.parse is not None for c in p.commands}
 
         def parse(text: str | bytes) -> Command:
-            panel = by_command.get(read_object(text).get("cmd"))  # type: ignore[arg-type]
+            name = read_object(text).get("cmd")
+            panel = by_command.get(name) if isinstance(name, str) else None
             if panel is not None and panel.parse is not None:
                 return panel.parse(text)
             return app_commands.parse(text, operations, properties)

@@ -67,7 +67,7 @@ def test_the_page_shows_a_running_experiment_in_every_panel(console, browser):
 
     url, _session = console
     browser.get(f"{url}/#token={TOKEN}")
-    until(browser, lambda d: "you hold the session" in text(d, "message"), "the token accepted")
+    until(browser, lambda d: "the hands are yours" in text(d, "message"), "the token accepted")
     # the token left the address bar and the history entry: the link's fragment is gone
     assert browser.current_url == f"{url}/"
     entries = browser.execute_cdp_cmd("Page.getNavigationHistory", {})["entries"]
