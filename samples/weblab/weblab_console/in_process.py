@@ -6,8 +6,8 @@ it: each container of the running experiment gets an observer
 run lasts, and the console's watches poll it directly instead of over Pyro5.
 
 Between two runs no container runs: a watch then gets an empty snapshot and polls that wait;
-a watch of a run that ended is told so (a :class:`RuntimeFailure`), and watches again: the
-console shows the container stopping and answering again. Calls and property changes run on
+the first poll in a new run watches its observer and answers with its snapshot, so that the
+console sees every event of the run from its start. Calls and property changes run on
 the experiment's thread (``run_on``, the session's), as everything touching it does; there are no
 holds and no updates (no application directory).
 """
@@ -25,9 +25,6 @@ from acordcs.descriptor import from_xml
 from acordcs.runtime.errors import RuntimeFailure
 from acordcs.runtime.live.observer import Observer
 from acordcs.runtime.live.property_setting import model_property, typed
-
-WATCHES_PER_RUN = 1_000_000
-"""A watch's number is its run's times this, plus the observer's own."""
 
 HOW_TO_START = "press Start in the WebLab panel (or start the console with --start PROFILE)"
 
@@ -54,6 +51,7 @@ class InProcess:
         self.changed = threading.Condition(self.lock)
         self.run = 0  # the run's number: 0 before the first
         self.observers: dict[str, Observer] = {}
+        self.watches: dict[str, tuple[int, int, list[str]]] = {}  # container: run, watch, calls
         self.containers: Mapping[str, Any] = {}
         self.run_on: Callable[[Callable[[], Any]], Any] | None = None
 
@@ -81,28 +79,35 @@ class InProcess:
 
     # ------------------------------------------------------------ as attaching.Application
     def observe(self, container: str, method: str, *args: Any) -> Any:
+        """The console's watch of ``container`` (one per container: its number is the
+        container's place), carried from run to run: the first poll in a new run watches its
+        observer and answers with its snapshot."""
         with self.lock:
             run, observer = self.run, self.observers.get(container)
-        if method == "watch":
-            if observer is None:
-                return {"watch": run * WATCHES_PER_RUN, "after": 0, "snapshot": _empty(container)}
-            reply = observer.watch(*args)
-            return {**reply, "watch": run * WATCHES_PER_RUN + reply["watch"]}
         if method == "snapshot":
             return observer.snapshot() if observer is not None else _empty(container)
-        watch = int(args[0])
-        if watch // WATCHES_PER_RUN != run:
-            raise RuntimeFailure(
-                "the experiment it watched ended: watching the next one", where=container
-            )
+        if method == "watch":
+            self.watches[container] = (-1, 0, list(args[0]))  # watched on the first poll
+            return {"watch": list(self.places).index(container), "after": 0,
+                    "snapshot": _empty(container)}  # fmt: skip
+        watched, inner, calls = self.watches.get(container, (-1, 0, []))
         if method == "unwatch":
-            return observer.unwatch(watch % WATCHES_PER_RUN) if observer is not None else True
+            self.watches.pop(container, None)
+            if observer is not None and watched == run:
+                observer.unwatch(inner)
+            return True
         if observer is None:  # between runs: wait for one to start
             with self.changed:
                 self.changed.wait_for(lambda: self.run != run, timeout=float(args[2]))
             return {"events": [], "after": 0, "dropped": 0, "more": False, "faults": [],
                     "time": 0.0}  # fmt: skip
-        return observer.poll(watch % WATCHES_PER_RUN, *args[1:])
+        if watched != run:  # a new run: watch it, from its snapshot
+            reply = observer.watch(calls, True)
+            self.watches[container] = (run, reply["watch"], calls)
+            return {"events": [], "after": reply["after"], "dropped": 0, "more": False,
+                    "faults": [], "time": reply["snapshot"]["time"],
+                    "snapshot": reply["snapshot"]}  # fmt: skip
+        return observer.poll(inner, *args[1:])
 
     def manage(self, container: str, method: str, *args: Any) -> Any:
         if method == "status":
