@@ -33,9 +33,12 @@ environment, so that the console has no second implementation of it).
 from __future__ import annotations
 
 import hashlib
+import os
 import secrets
+import shutil
 import subprocess
 import sys
+import tempfile
 import threading
 from collections.abc import Callable, Sequence
 from importlib import resources
@@ -86,6 +89,7 @@ class LiveSession:
         self.token = token
         self.app = app
         self.model = model
+        self.uploads: Path | None = None  # the directory of the models sent from the page
         self.admits = admits
         self.lock = threading.Lock()  # one update at a time
         self.answering: set[str] = set()  # the containers watched and answering (watchers' threads)
@@ -190,6 +194,8 @@ class LiveSession:
             watcher.stop()
         if self.holds_thread.ident is not None:
             self.holds_thread.join(HOLDS_EVERY + 10.0)
+        if self.uploads is not None:
+            shutil.rmtree(self.uploads, ignore_errors=True)
         self.app.close()
 
     def _watch_holds(self) -> None:
@@ -260,6 +266,29 @@ class LiveSession:
         except RuntimeFailure as err:
             raise RuntimeError(err.message) from None
 
+    def upload(self, name: str, data: bytes) -> dict[str, Any]:
+        """A changed model sent from the page (``name``: its file's, ``data``: its bytes, as the
+        server took them), written to a directory of the console's own (mode 700) and planned
+        as :meth:`plan` plans: ``acordcs-gen update`` reads it (the project's hardened reader:
+        its errors say file:line:col) and the page's next ``apply`` applies it."""
+        if self.app.app_dir is None:
+            raise RuntimeError(
+                "the console has no application directory to update (a single-process run): "
+                "update with acordcs-gen update"
+            )
+        with self.lock:
+            if self.uploads is None:
+                self.uploads = Path(tempfile.mkdtemp(prefix="acordcs-console-"))
+            for old in self.uploads.iterdir():
+                old.unlink()
+            path = self.uploads / name
+            fd = os.open(path, os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o600)
+            with os.fdopen(fd, "wb") as out:
+                out.write(data)
+            self.model = path
+        self.hub.publish("model", {"model": name})
+        return {**self.plan(), "model": name}
+
     def plan(self) -> dict[str, Any]:
         """What ``acordcs-gen update MODEL -o APPDIR --dry-run`` prints: the plan, nothing changed."""
         done = self._update("--dry-run")
@@ -281,8 +310,8 @@ class LiveSession:
     def _update(self, *options: str) -> dict[str, Any]:
         if self.model is None or self.app.app_dir is None:
             raise RuntimeError(
-                "the console was started without --model FILE (or without the application's "
-                "directory): it has no model to update from"
+                "the console has no model to update from: send one from the page (Plan a "
+                "changed model), or start the console with --model FILE"
             )
         argv = [sys.executable, "-c", RUN_UPDATE, "update", str(self.model),
                 "-o", str(self.app.app_dir), *options]  # fmt: skip
@@ -292,9 +321,13 @@ class LiveSession:
             )
         except (OSError, subprocess.TimeoutExpired) as err:
             raise RuntimeError(f"acordcs-gen update did not run to its end: {err}") from None
-        output = (done.stdout + done.stderr)[-OUTPUT_KEPT:]
+        output = done.stdout + done.stderr
+        if self.uploads is not None:  # a model from the page: its name, not our directory
+            output = output.replace(f"{self.uploads}{os.sep}", "")
+        output = output[-OUTPUT_KEPT:]
         return {"code": done.returncode, "output": output,
-                "command": "acordcs-gen " + " ".join(argv[3:])}  # fmt: skip
+                "command": "acordcs-gen " + " ".join(argv[3:]).replace(
+                    f"{self.uploads}{os.sep}" if self.uploads else "\0", "")}  # fmt: skip
 
 
 def _described(panel: PanelSession) -> Any:

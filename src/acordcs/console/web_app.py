@@ -55,11 +55,13 @@ from typing import Any, Protocol
 
 from starlette.applications import Starlette
 from starlette.middleware import Middleware
+from starlette.requests import Request
 from starlette.responses import FileResponse, JSONResponse
 from starlette.routing import Mount, Route, WebSocketRoute
 from starlette.staticfiles import StaticFiles
 from starlette.websockets import WebSocket, WebSocketDisconnect
 
+from acordcs.console import model_upload
 from acordcs.console.fanout import ConsoleHub
 from acordcs.console.site_guard import LOOPBACK_NAMES, SiteGuard
 from acordcs.console.viewer_messages import Command, CommandError, valid_token
@@ -237,6 +239,9 @@ def create_app(
     async def status(request) -> JSONResponse:
         return JSONResponse({**session.describe(), **hub.stats(), "refused": refused.counts()})
 
+    async def model(request: Request) -> JSONResponse:
+        return await model_upload.receive(request, session, refused)
+
     encode = _Encoded(site.binary_channels)  # shared by the senders, all on the server's loop
     waker = _Waker()
 
@@ -295,6 +300,7 @@ def create_app(
         routes=[
             Route("/", page),
             Route("/status", status),
+            *([Route("/model", model, methods=["POST"])] if hasattr(session, "upload") else []),
             WebSocketRoute("/ws", socket),
             Mount("/static", StaticFiles(directory=str(static)), name="static"),
             *(

@@ -198,7 +198,7 @@ function showApplication(app) {
     props.append(option);
   });
   $("set").disabled = props.disabled = !app.properties.length;
-  $("update-model").textContent = app.model ? `model file: ${app.model}` : "started without --model FILE: no update from the page";
+  $("update-model").textContent = app.model ? `model file: ${app.model}` : "started without --model FILE: send a changed model below";
   $("plan").disabled = !app.model;
 }
 
@@ -467,6 +467,33 @@ function apply() {
 $("operation").addEventListener("change", showParameters);
 $("call-form").addEventListener("submit", callOperation);
 $("set-form").addEventListener("submit", setProperty);
+// A changed model from the page: sent over HTTP (a model is larger than a WebSocket message may
+// be), with the token in a header; the server plans it as "Plan the update" does.
+const MAX_MODEL = 2 * 1024 * 1024;
+$("model-file").addEventListener("change", () => {
+  const file = $("model-file").files[0];
+  if (file) $("model-name").value = file.name;
+});
+async function planUpload() {
+  const file = $("model-file").files[0];
+  const body = file ? await file.arrayBuffer() : new TextEncoder().encode($("model-text").value);
+  $("plan-text").hidden = false;
+  $("apply").disabled = true;
+  if (body.byteLength > MAX_MODEL) { $("plan-text").textContent = `refused: a model of more than ${MAX_MODEL} bytes`; return; }
+  $("plan-text").textContent = `planning ${$("model-name").value} (acordcs-gen update --dry-run)…`;
+  let reply;
+  try {
+    const response = await fetch("/model", { method: "POST", body, headers: { "X-Acordcs-Token": token || "", "X-Acordcs-Model-Name": $("model-name").value } });
+    reply = await response.json();
+  } catch (err) { $("plan-text").textContent = `the console did not answer: ${err}`; return; }
+  if (reply.type === "refused") { $("plan-text").textContent = `refused: ${reply.why} (${reply.todo})`; return; }
+  state.plan = reply.plan;
+  $("update-model").textContent = `model: ${reply.model} (sent from this page)`;
+  $("plan").disabled = false;
+  $("plan-text").textContent = `$ ${reply.command}\n${reply.output}\n(exit ${reply.code})`;
+  $("apply").disabled = !reply.plan;
+}
+$("plan-upload").addEventListener("click", planUpload);
 $("plan").addEventListener("click", plan);
 $("apply").addEventListener("click", apply);
 setInterval(drawPlots, 250);
