@@ -9,7 +9,7 @@ Between two runs no container runs: a watch then gets an empty snapshot and poll
 the first poll in a new run watches its observer and answers with its snapshot, so that the
 console sees every event of the run from its start. Calls and property changes run on
 the experiment's thread (``run_on``, the session's), as everything touching it does; there are no
-holds and no updates (no application directory).
+holds (no management interface) and no updates (no application directory).
 """
 
 from __future__ import annotations
@@ -110,8 +110,6 @@ class InProcess:
         return observer.poll(inner, *args[1:])
 
     def manage(self, container: str, method: str, *args: Any) -> Any:
-        if method == "status":
-            return {"holds": []}
         if method != "set_property":
             raise RuntimeFailure(f"the experiment in this process has no {method}", where=container)
         element, attribute, value = args

@@ -17,8 +17,8 @@ oldest):
 - ``fault``: what a container recorded; ``down`` and ``up``: a container that stopped answering,
   and answers again;
 - ``hold`` and ``released``: a component whose callers from other processes are held (the
-  management interface's ``hold``: a console driving, a debugger), read from each container's
-  ``status`` every :data:`HOLDS_EVERY` seconds.
+  management interface's ``hold``: a console driving, a debugger), as the container's
+  management side tells its watchers when a hold starts and ends (released, or expired).
 
 and each container's snapshot on the latest channel ``snapshot:<container>``.
 
@@ -57,8 +57,6 @@ from acordcs.runtime.live.observer import plain
 
 MODE = "attached"
 SITE_NAME = "acordcs console"
-HOLDS_EVERY = 1.0
-"""Seconds between two looks at a container's holds (its management interface's ``status``)."""
 UPDATE_SECONDS = 300.0
 """Seconds ``acordcs-gen update`` may take (a build, then each container's apply)."""
 RUN_UPDATE = "import sys; from acordcs.cli import main; sys.exit(main(sys.argv[1:]))"
@@ -108,10 +106,6 @@ class LiveSession:
         self.watchers = {
             name: Watcher(self.app, name, watched[name], self._deliver) for name in self.app.places
         }
-        self.closing = threading.Event()
-        self.holds_thread = threading.Thread(
-            target=self._watch_holds, name="acordcs-console-holds", daemon=True
-        )
 
     @classmethod
     def attached(
@@ -141,7 +135,6 @@ class LiveSession:
             for watcher in started:
                 watcher.stop()
             raise
-        self.holds_thread.start()
         return f"{self.app.name}: {self.app.describe()}"
 
     def site(self) -> ConsoleSite:
@@ -187,37 +180,13 @@ class LiveSession:
         return secrets.compare_digest(token.encode(), self.token.encode())
 
     def close(self) -> None:
-        self.closing.set()
         for panel in self.panel_sessions.values():
             _optional(panel, "close")()
         for watcher in self.watchers.values():
             watcher.stop()
-        if self.holds_thread.ident is not None:
-            self.holds_thread.join(HOLDS_EVERY + 10.0)
         if self.uploads is not None:
             shutil.rmtree(self.uploads, ignore_errors=True)
         self.app.close()
-
-    def _watch_holds(self) -> None:
-        """Publish each hold as it starts and ends (see the module docstring); a container that
-        does not answer, or that says no holds (an acordcs before them), has none."""
-        held: dict[str, set[str]] = {name: set() for name in self.app.places}
-        while not self.closing.wait(HOLDS_EVERY):
-            for container in self.app.places:
-                try:
-                    holds = self.app.manage(container, "status").get("holds", [])
-                except RuntimeFailure:
-                    continue
-                now = {h["component"]: h for h in holds if isinstance(h, dict)}
-                for component in sorted(now.keys() - held[container]):
-                    h = now[component]
-                    self.hub.publish(EVENT, {"kind": "hold", "container": container,
-                                             "component": component, "left": h.get("left"),
-                                             "waiting": h.get("waiting")})  # fmt: skip
-                for component in sorted(held[container] - now.keys()):
-                    self.hub.publish(EVENT, {"kind": "released", "container": container,
-                                             "component": component})  # fmt: skip
-                held[container] = set(now)
 
     # ------------------------------------------------------------------------------ watching
     def _deliver(self, kind: str, container: str, data: Any) -> None:
@@ -356,4 +325,11 @@ def _shown(container: str, event: dict[str, Any]) -> dict[str, Any] | None:
                 "origin": event.get("origin")}  # fmt: skip
     if kind == "model.updated":
         return {"kind": "model.updated", **common, "line": str(event.get("value"))[:500]}
+    data = event.get("data") or {}
+    if kind == "component.held":
+        return {"kind": "hold", **common, "component": event.get("element"),
+                "left": event.get("value"), "waiting": data.get("waiting")}  # fmt: skip
+    if kind == "component.released":
+        return {"kind": "released", **common, "component": event.get("element"),
+                "why": event.get("value")}  # fmt: skip
     return None

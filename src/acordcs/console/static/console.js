@@ -381,7 +381,7 @@ function showEvent(e) {
     case "hold":
       return log("events", `${e.container}: hold on ${e.component} (${Number(e.left).toFixed(1)} s left, ${e.waiting} call(s) waiting)`, "hold");
     case "released":
-      return log("events", `${e.container}: ${e.component} released (its callers go on)`, "hold");
+      return log("events", `${e.container}: ${e.component} released${e.why === "expired" ? " (the hold expired)" : ""} (its callers go on)`, "hold");
     case "dropped":
       return log("events", `${e.container}: ${e.count} events missed (the console fell behind)`, "fault");
     case "panel":  // what an application's panel tells (the WebLab's recoveries, the finish...)
