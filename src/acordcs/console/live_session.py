@@ -49,9 +49,10 @@ from acordcs.console import app_commands
 from acordcs.console.attaching import Application, AttachError, Watcher
 from acordcs.console.fanout import EVENT, ConsoleHub
 from acordcs.console.page_model import page_model
-from acordcs.console.panels import ConsolePanel, PanelContext, PanelSession
+from acordcs.console.panels import ConsolePanel, PanelContext, PanelSession, panels_for
 from acordcs.console.viewer_messages import Command, read_object
 from acordcs.console.web_app import ConsoleSite
+from acordcs.plugins import PluginTable
 from acordcs.runtime.errors import RuntimeFailure
 from acordcs.runtime.live.observer import plain
 
@@ -116,10 +117,14 @@ class LiveSession:
         *,
         model: Path | None = None,
         timeout: float = 5.0,
+        panels: PluginTable[ConsolePanel] | None = None,
     ) -> LiveSession:
         """The console over the application built in ``app_dir`` and started by its scripts
-        (AttachError when it cannot be found); ``timeout``: seconds a container may take."""
-        return cls(hub, token, Application.built_in(Path(app_dir), timeout), model=model)
+        (AttachError when it cannot be found); ``timeout``: seconds a container may take;
+        ``panels``: the table whose panels that apply to it go on its page."""
+        app = Application.built_in(Path(app_dir), timeout)
+        found = panels_for(app.descriptor, panels) if panels is not None else []
+        return cls(hub, token, app, model=model, panels=found)
 
     # ---------------------------------------------------------------------------- the session
     def attach(self) -> str:
