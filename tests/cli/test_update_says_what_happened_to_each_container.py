@@ -11,8 +11,9 @@ from types import SimpleNamespace
 
 import pytest
 
-from acordcs.cli.running import Settings, reach
+from acordcs.cli.running import reach
 from acordcs.cli.update import show_plans
+from acordcs.runtime.live.app_settings import Settings
 from tests.support.managed_container import served_house
 
 TOKEN = "token-of-the-house"

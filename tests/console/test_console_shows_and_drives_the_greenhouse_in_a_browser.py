@@ -169,6 +169,56 @@ def test_an_update_from_the_page_is_planned_then_applied_and_the_next_firing_fol
     )
 
 
+def test_a_model_sent_from_the_page_is_planned_with_its_errors_and_then_applied(
+    greenhouse, browser
+):
+    # After the test above the running rule says "half": the tutorial's own text says "wide".
+    text = (SAMPLES / "tutorial" / "greenhouse.acord").read_text(encoding="utf-8")
+    plan = lambda d: d.find_element("id", "plan-text").text  # noqa: E731
+    browser.execute_script("document.getElementById('model-upload').open = true")
+
+    def send(name: str, body: str) -> None:
+        browser.execute_script(
+            "document.getElementById('model-name').value = arguments[0];"
+            "document.getElementById('model-text').value = arguments[1];",
+            name,
+            body,
+        )
+        browser.find_element("id", "plan-upload").click()
+
+    broken = text.replace("hot: if temperature is hot", "hot: if temperature is", 1)
+    send("greenhouse.acord", broken)
+    until(browser, lambda d: "(exit" in plan(d) or "refused" in plan(d), "the model's plan", 60)
+    assert "(exit 1)" in plan(browser), plan(browser)  # the model has errors: nothing built
+    assert re.search(r"^greenhouse\.acord:\d+:\d+: ", plan(browser), re.M), plan(browser)
+    assert not browser.find_element("id", "apply").is_enabled()
+    send("greenhouse.acord", text)
+    until(browser, lambda d: "(exit 0)" in plan(d), "the plan of the model sent", timeout=60)
+    assert "dry run: nothing changed" in plan(browser) and "wide" in plan(browser), plan(browser)
+    browser.find_element("id", "apply").click()
+    until(browser, lambda d: "applying" not in plan(d) and "(exit" in plan(d), "the update", 60)
+    assert "(exit 0)" in plan(browser), plan(browser)
+    output = '.policy-set[data-set="Ventilation"] tr.output td'
+    until(browser, lambda d: read(d, output) != "50", "a firing following the rule sent (wide)")
+
+
+def test_a_model_without_the_token_or_too_large_is_refused_before_it_is_read(greenhouse):
+    where = urlsplit(greenhouse.url)
+    named = {"X-Acordcs-Model-Name": "m.acord", "Content-Type": "text/plain"}
+    for headers, body, status in (
+        (named, b"application X {}", 403),
+        ({**named, "X-Acordcs-Token": "not-the-token"}, b"application X {}", 403),
+        ({**named, "X-Acordcs-Token": TOKEN, "X-Acordcs-Model-Name": "../m.acord"}, b"", 400),
+        ({**named, "X-Acordcs-Token": TOKEN}, b"x" * (2 * 1024 * 1024 + 1), 413),
+        ({**named, "X-Acordcs-Token": TOKEN, "Origin": "http://evil.example"}, b"", 403),
+    ):
+        connection = http.client.HTTPConnection(where.hostname, where.port, timeout=10)
+        connection.request("POST", "/model", body=body, headers=headers)
+        reply = connection.getresponse()
+        assert reply.status == status, (headers, reply.read()[:200])
+        connection.close()
+
+
 # ------------------------------------------------------------------------------------ refused
 class _Foreign(BaseHTTPRequestHandler):
     """Another site's page, which tries to open the console's live stream."""

@@ -135,3 +135,23 @@ def test_what_cannot_be_held_is_refused_with_the_reason(served, args, says):
     with pytest.raises(RemoteCallError) as refused:
         ask(manage_uri, "hold", *args)
     assert says in str(refused.value)
+
+
+def test_a_hold_starting_and_ending_is_told_to_the_watchers_at_once(served):
+    _run, management, _uri, _endpoint = served
+    observer = management.observer
+    watch = observer.watch([], False)
+
+    def told() -> list[tuple[str, object]]:
+        events = observer.poll(watch["watch"], watch["after"], 0.0)["events"]
+        return [(e["kind"], e["value"]) for e in events if e["kind"].startswith("component.")]
+
+    management.hold("Camera", 5.0)
+    management.hold("Camera", 5.0)  # a renewal while it lasts: no new hold
+    management.release("Camera")
+    management.hold("Camera", 0.2)  # nobody renews it: it expires
+    assert wait_for(lambda: ("component.released", "expired") in told(), timeout=5.0), told()
+    kinds = told()
+    assert [k for k, _ in kinds] == ["component.held", "component.released"] * 2, kinds
+    assert kinds[1] == ("component.released", "released")
+    assert 4.0 < float(kinds[0][1]) <= 5.0  # the seconds the hold had left when it started

@@ -19,12 +19,19 @@ import signal
 import sys
 from pathlib import Path
 
-from acordcs.console.attaching import AttachError
+from acordcs.console.attaching import Application, AttachError
 from acordcs.console.fanout import ConsoleHub
 from acordcs.console.in_thread import AnnouncingServer, free_port, server_config
+from acordcs.console.live_session import LiveSession
 from acordcs.console.site_guard import allowed_names, host_name, is_loopback
-from weblab_console.attached import AttachedSession
-from weblab_console.server import console_refusals, create_app, quiet_uvicorn
+from weblab_console.attached import HOW_TO_START, TIMEOUT
+from weblab_console.server import (
+    console_refusals,
+    create_app,
+    live_console,
+    quiet_uvicorn,
+    simulation_console,
+)
 from weblab_console.session import ConsoleSession
 
 
@@ -93,15 +100,18 @@ def main(argv: list[str] | None = None) -> int:
         print(exposure_warning(args.host), file=sys.stderr, flush=True)
     token = secrets.token_urlsafe(16)
     hub = ConsoleHub(max_viewers=args.viewers, max_watchers=args.watchers)
-    session: ConsoleSession | AttachedSession
+    simulation: ConsoleSession | None = None
+    console: LiveSession
     if args.attach is not None:
         try:
-            session = AttachedSession(hub, token, args.attach)
+            app = Application.built_in(args.attach, TIMEOUT, HOW_TO_START)
+            console = live_console(hub, token, app)
         except AttachError as err:
             print(f"weblab_console: cannot attach to {args.attach}: {err}", file=sys.stderr)
             return 2
     else:
-        session = ConsoleSession(hub, token, speed=args.speed)
+        simulation = ConsoleSession(hub, token, speed=args.speed)
+        console = simulation_console(hub, simulation)
     port = args.port or free_port(args.host)
     shown = host_name(args.allow_host[0]) if everywhere else args.host.strip("[]")
     shown = f"[{shown}]" if ":" in shown else shown
@@ -110,28 +120,29 @@ def main(argv: list[str] | None = None) -> int:
         "(the link carries the session's token: whoever has it may drive; Ctrl-C stops)"
     )
     try:  # Ctrl-C at any moment, also before the server runs, stops cleanly
-        if isinstance(session, AttachedSession):
+        try:
+            attached = console.attach()
+        except AttachError as err:
+            print(f"weblab_console: cannot attach to {args.attach}: {err}", file=sys.stderr)
+            return 2
+        if simulation is None:
+            print(f"WebLab console: attached to {attached}", flush=True)
+        elif args.start:
             try:
-                print(f"WebLab console: attached to {session.attach()}", flush=True)
-            except AttachError as err:
-                print(f"weblab_console: cannot attach to {args.attach}: {err}", file=sys.stderr)
-                return 2
-        if args.start:
-            try:
-                session.start(args.start, args.seed)
+                simulation.start(args.start, args.seed)
             except Exception as err:
                 print(f"weblab_console: cannot start the experiment: {err}", file=sys.stderr)
                 return 2
         refusals = console_refusals()
         config = server_config(
-            create_app(hub, session, allowed_hosts=allowed, refusals=refusals), args.host, port
+            create_app(hub, console, allowed_hosts=allowed, refusals=refusals), args.host, port
         )
         with quiet_uvicorn(refusals):
             AnnouncingServer(config, lambda: print(link, flush=True)).run()
     except KeyboardInterrupt:  # uvicorn shut down cleanly, then passes Ctrl-C on
         pass
     finally:
-        session.close()
+        console.close()
     print("WebLab console stopped", flush=True)
     return 0
 

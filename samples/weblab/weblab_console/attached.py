@@ -1,11 +1,12 @@
-"""The console attached to the two-process WebLab application (``make live-console``): it watches
-the running containers over the remote connector and shows what the simulation session shows;
-viewers holding the token drive the robot (implements :class:`weblab_console.server.Session`).
+"""The WebLab's panel over the two-process application (``make live-console``), on the console of
+:mod:`acordcs.console.live_session`, which attaches to the running containers and watches them
+(the architecture, context, policies, faults and hands are its page's); this panel shows the
+cameras, the map and the robot's state, and lets viewers holding the token drive the robot (a
+:class:`acordcs.console.panels.PanelSession`).
 
-Nothing runs in this process but the console. Each container is watched through its observer
-interface (:mod:`acordcs.runtime.live.observer`, with the application's token): the monitors' values,
-the properties the policies set, each policy set's firings with its rules' degrees, the changes
-of the model applied while it runs, the faults, and the calls of a few operations: the frames
+Nothing runs in this process but the console. The console's watches give this panel what the
+containers' observers say (:mod:`acordcs.runtime.live.observer`, with the application's token):
+the properties the policies set, and the calls of a few operations it asks for: the frames
 ``Vision.grab`` returns to the Navigator (the on-board camera, with the stripe the console's
 detector finds in it, as the Navigator's does), ``Recovery.recover`` and ``askUser`` (recoveries and
 user requests), the Navigator's ``Locomotion.move`` and ``stop`` (a stop after a move is a stripe
@@ -33,25 +34,21 @@ from __future__ import annotations
 
 import functools
 import json
-import logging
 import math
 import threading
 import time
 from collections import deque
-from pathlib import Path
 from typing import Any
 
 from weblab_sim import detector, floor, world
 from weblab_sim.robot import Robot
 
-from acordcs.console.attaching import Application, AttachError, Watcher
-from acordcs.console.fanout import ConsoleHub
+from acordcs.console.attaching import AttachError
+from acordcs.console.panels import PanelContext
 from acordcs.runtime.connectors.remote import bytes_back
 from acordcs.runtime.errors import RuntimeFailure
 from weblab_console import pictures
-from weblab_console.showing import FRAME_HZ, PUBLISH_HZ, SERIES_PERIOD, Showing
-
-log = logging.getLogger("weblab.console")
+from weblab_console.showing import FRAME_HZ, PUBLISH_HZ, Showing
 
 MODE = "attached"
 PROFILE = "two processes"
@@ -64,6 +61,7 @@ CALLS = [
     "Locomotion.stop",
 ]
 TIMEOUT = 30.0  # seconds a call may take: a stop answered by a recovery takes several
+JOIN = 35.0  # seconds the panel's threads may take to stop (a call in flight: TIMEOUT)
 HOLD_SECONDS = 6.0  # a hold lasts this long unless renewed
 HOLD_RENEW = 0.5  # seconds between renewals while a viewer drives (each says what waits)
 MANUAL_RESEND = 1.0  # seconds between repeats of a manual forward move (a control cycle)
@@ -80,30 +78,33 @@ class SessionError(RuntimeError):
     """A request the session cannot carry out; ``str()`` says why and what to do."""
 
 
-class AttachedSession:
-    """The console over the application built in ``app_dir`` and started by its scripts; ``token``
-    is the console's (the one its URL carries)."""
+class AttachedPanel:
+    """The WebLab's panel over the application the console attached to (``context``: its hub,
+    the console's token, the application)."""
 
     mode = MODE
     profiles: tuple[str, ...] = (PROFILE,)
 
-    def __init__(self, hub: ConsoleHub, token: str, app_dir: Path, *, timeout: float = TIMEOUT):
-        self.hub = hub
-        self.token = token
-        self.app = Application.built_in(Path(app_dir), timeout, HOW_TO_START)
+    def __init__(self, context: PanelContext) -> None:
+        self.hub = context.hub
+        self.token = context.token
+        self.app = context.app
         self.lab = self.app.host_of.get("Locomotion")
         if self.lab is None or "Vision" not in self.app.host_of:
-            raise AttachError(f"{app_dir}: not the WebLab application (no Locomotion or Vision)")
-        self.show = Showing(hub, PROFILE, 0)
-        hub.publish("path", pictures.path())
+            raise AttachError(
+                f"{self.app.name}: not the WebLab application (no Locomotion or Vision)"
+            )
+        self.show = Showing(self.hub, PROFILE, 0)
+        self.hub.publish("path", pictures.path())
         self.closing = threading.Event()
         self.wake = threading.Event()  # the loop's
         self.steer = threading.Event()  # the driver's: a viewer's command
         self.inbox: deque[tuple[str, str, Any]] = deque()
         self.mirror: dict[str, dict[str, Any]] = {}
-        self.firings: dict[str, dict[str, Any]] = {}
-        self.counts = {"recovery": 0, "user_request": 0, "stripe_loss": 0, "fault": 0}
+        self.counts = {"recovery": 0, "user_request": 0, "stripe_loss": 0}
+        self.faults = self.faults_shown = 0
         self.last_fault = "fault"
+        self.reachable = False  # the lab's container, as its watch last said
         self.clock = (0.0, time.monotonic())  # the lab's clock time, when it was read
         self.pose: dict[str, Any] | None = None
         self.read_at = 0.0  # time.monotonic() of the last odometry
@@ -118,29 +119,22 @@ class AttachedSession:
         self.held = 0  # calls of the Navigator waiting at the held Vision component
         self.held_at = 0.0  # time.monotonic() of the last hold (0: not held)
         self.sonar = Robot(0.0, 0.0, 0.0)  # a model of the robot among the room's walls
-        self.next_sample = 0.0
-        self.watchers = {
-            name: Watcher(self.app, name, CALLS if name == self.lab else [], self._deliver)
-            for name in self.app.places
-        }
         self.threads: list[threading.Thread] = []
 
-    # ------------------------------------------------------------------------------ attaching
-    def attach(self) -> str:
-        """Watch every container and reserve the console's user (AttachError: a container does
-        not answer); what the console is attached to, in words."""
-        for watcher in self.watchers.values():
-            watcher.start_watching()
+    # ------------------------------------------------------------------------ the panel
+    def calls(self) -> dict[str, list[str]]:
+        return {self.lab: list(CALLS)}
+
+    def begin(self) -> None:
+        """Reserve the console's user (AttachError: the Access component refuses) and run."""
         try:
             self.app.call("Access", "AccessPort", "reserve", CONSOLE_USER, self.token)
         except RuntimeFailure as err:
             raise AttachError(f"the Access component refused the console: {err.message}") from None
-        lab = self.app.places[self.lab]
         self._take()  # the snapshots: the lab's clock and seed
         self.show.event(
             self.sim_time, "start", f"attached to {self.app.name}: {self.app.describe()}"
         )
-        self.next_sample = self.sim_time
         self.threads = [
             threading.Thread(target=self._loop, name="weblab-console-attached", daemon=True),
             threading.Thread(target=self._reader, name="weblab-console-odometry", daemon=True),
@@ -148,24 +142,10 @@ class AttachedSession:
         ]
         for thread in self.threads:
             thread.start()
-        return f"{self.app.name}'s {len(self.app.places)} containers ({self.app.describe()}; the robot in {lab.name})"
 
-    # ---------------------------------------------------------------- server.Session
     def describe(self) -> dict[str, Any]:
-        """What a viewer is told first and the console's ``/status`` shows."""
+        """What a viewer is told first (the page's ``hello``)."""
         return {"profiles": list(self.profiles), "mode": self.mode}
-
-    def authorize(self, token: str) -> bool:
-        """What the Access component says of ``token`` for the console's user, reserved again
-        first: a WebLab process started again since the console attached has forgotten it."""
-        try:
-            self.app.call("Access", "AccessPort", "reserve", CONSOLE_USER, self.token)
-            return (
-                self.app.call("Access", "AccessPort", "authenticate", CONSOLE_USER, token) is True
-            )
-        except RuntimeFailure as err:
-            log.warning("the Access component did not answer: %s", err.message)
-            return False
 
     def start(self, profile: str, seed: int) -> None:
         raise SessionError(
@@ -177,7 +157,7 @@ class AttachedSession:
         self.start("", 0)
 
     def drive(self, speed: float, turn: float) -> None:
-        if not self.watchers[self.lab].reachable:
+        if not self.reachable:
             raise SessionError(f"container {self.lab} does not answer: the robot cannot be driven")
         self.manual = (float(speed), float(turn))
         self.steer.set()
@@ -187,10 +167,6 @@ class AttachedSession:
         self.manual = None
         self.steer.set()
         self.wake.set()
-
-    @property
-    def running(self) -> bool:
-        return not self.closing.is_set() and self.watchers[self.lab].reachable
 
     @property
     def sim_time(self) -> float:
@@ -203,15 +179,12 @@ class AttachedSession:
         self.wake.set()
         self.steer.set()
         for thread in self.threads:
-            thread.join(TIMEOUT)
-        for watcher in self.watchers.values():
-            watcher.stopping.set()
-        for watcher in self.watchers.values():
-            watcher.stop()
-        self.app.close()
+            thread.join(JOIN)
 
     # -------------------------------------------------------------- what the containers say
-    def _deliver(self, kind: str, container: str, data: Any) -> None:  # watchers' threads
+    def deliver(self, kind: str, container: str, data: Any) -> None:  # watchers' threads
+        if container == self.lab:
+            self.reachable = kind != "down"
         self.inbox.append((kind, container, data))
 
     def _take(self) -> None:
@@ -220,24 +193,17 @@ class AttachedSession:
             if kind == "snapshot":
                 for element, values in data["elements"].items():
                     self.mirror[element] = dict(values)
-                for name, firing in data["policy_sets"].items():
-                    if firing is not None:
-                        self.firings[name] = firing
                 if container == self.lab:
                     self.clock = (data["time"], time.monotonic())
                     self.show.seed = data["seed"]
                 self.look_ahead = float(
                     self.mirror.get("Navigator", {}).get("lookAhead", self.look_ahead)
                 )
-            elif kind == "down":
-                self._fault(f"container {container} does not answer: {data}")
-            else:
+            elif kind == "events":
                 if container == self.lab:
                     self.clock = (data["time"], time.monotonic())
                 for event in data["events"]:
                     self._event(event)
-                for fault in data["faults"]:
-                    self._fault(f"fault: {container}: {fault['where']}: {fault['error']}")
 
     def _event(self, event: dict[str, Any]) -> None:
         kind, element, attribute = event["kind"], event["element"], event["attribute"]
@@ -245,10 +211,6 @@ class AttachedSession:
             self.mirror.setdefault(element, {})[attribute] = event["value"]
         elif kind == "monitor.updated":
             self.mirror.setdefault(element, {}).update(event["values"])
-        elif kind == "policy.fired" and "firing" in event:
-            self.firings[element] = event["firing"]
-        elif kind == "model.updated":
-            self.show.event(event["time"], "model.updated", str(event["value"]))
         elif kind == "operation.called":
             self._call(element, attribute, event)
 
@@ -270,7 +232,7 @@ class AttachedSession:
                 self.counts["stripe_loss"] += 1
 
     def _fault(self, text: str) -> None:
-        self.counts["fault"] += 1
+        self.faults += 1
         self.last_fault = text
 
     # -------------------------------------------------------------------------- the loop
@@ -295,10 +257,6 @@ class AttachedSession:
                 show.sent("frame:panoramic", min(float(fps), FRAME_HZ))
                 x, y, heading = self._xyh()
                 self.hub.publish("frame:panoramic", pictures.panoramic(x, y, heading, show.trail))
-            while self.next_sample <= now:
-                speed_limit = self.mirror.get("Locomotion", {}).get("maxSpeed")
-                show.sample(self.next_sample, speed_limit, fps)
-                self.next_sample += SERIES_PERIOD
             self._hold()
             self.wake.wait(TICK)
             self.wake.clear()
@@ -316,7 +274,7 @@ class AttachedSession:
         takes seconds), and the console's loop must go on meanwhile."""
         while not self.closing.is_set():
             began = time.monotonic()
-            if self.watchers[self.lab].reachable:
+            if self.reachable:
                 try:
                     pose = json.loads(self.app.call("Locomotion", "LocomotionPort", "odometry"))
                     now = time.monotonic()
@@ -329,7 +287,7 @@ class AttachedSession:
             self.closing.wait(max(0.0, began + 1.0 / PUBLISH_HZ - time.monotonic()))
 
     def _publish_state(self, now: float) -> None:
-        show, lab = self.show, self.watchers[self.lab]
+        show = self.show
         if self.pose is not None:
             x, y, heading = self._xyh()
             self.sonar.place(0.0, x, y, heading)
@@ -345,19 +303,16 @@ class AttachedSession:
                 speed=self.speed,
                 fps=int(fps) if isinstance(fps, int | float) else 0,
                 driver="manual" if self.manual is not None else "navigator",
-                running=lab.reachable,
+                running=self.reachable,
                 progress=float(self.pose.get("progress", 0.0)) / path_length() * 100.0,
                 mode=MODE,
                 held=self.held,
             )
-        show.context(lambda element, attribute: self.mirror.get(element, {}).get(attribute))
-        firings, self.firings = self.firings, {}
-        for name, f in sorted(firings.items()):
-            show.policy(
-                name, f["engine"], f["time"], f["fires"], f["rules"], f["inputs"], f["outputs"]
-            )
-        show.counted(now, self.counts, lambda: self.last_fault)
-        show.plots()
+        show.counted(now, self.counts)
+        if self.faults > self.faults_shown:  # the panel's own: odometry, driving, holding
+            more = self.faults - self.faults_shown
+            self.faults_shown = self.faults
+            show.event(now, "fault", self.last_fault + (f" (×{more})" if more > 1 else ""))
 
     # ------------------------------------------------------------------------ driving
     def _hold(self) -> None:

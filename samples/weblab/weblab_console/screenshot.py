@@ -15,8 +15,11 @@ import sys
 import time
 from pathlib import Path
 
+from acordcs.console.attaching import Application
 from acordcs.console.fanout import ConsoleHub
-from weblab_console.attached import AttachedSession
+from acordcs.console.live_session import LiveSession
+from weblab_console.attached import HOW_TO_START, TIMEOUT
+from weblab_console.server import live_console
 from weblab_console.serving import serving
 from weblab_console.session import ConsoleSession
 
@@ -39,21 +42,20 @@ def main(argv: list[str] | None = None) -> int:
 
     options = webdriver.ChromeOptions()
     options.binary_location = args.chromium
-    for arg in ("--headless=new", "--no-sandbox", "--disable-gpu", "--window-size=1400,900"):
+    for arg in ("--headless=new", "--no-sandbox", "--disable-gpu", "--window-size=1400,1300"):
         options.add_argument(arg)
     hub = ConsoleHub()
-    session: ConsoleSession | AttachedSession
-    if args.attach is not None:
-        session = AttachedSession(hub, TOKEN, args.attach)
-        session.attach()
+    session: ConsoleSession | LiveSession
+    if args.attach is not None:  # serving() attaches it
+        session = live_console(hub, TOKEN, Application.built_in(args.attach, TIMEOUT, HOW_TO_START))
     else:
         session = ConsoleSession(hub, TOKEN, speed=args.speed)
     browser = webdriver.Chrome(options=options, service=webdriver.ChromeService(args.chromedriver))
     try:
-        # The page's viewport is 1400 x 900 (the window would be that size with its frame).
+        # The page's viewport is 1400 x 1300 (the window would be that size with its frame).
         browser.execute_cdp_cmd(
             "Emulation.setDeviceMetricsOverride",
-            {"width": 1400, "height": 900, "deviceScaleFactor": 1, "mobile": False},
+            {"width": 1400, "height": 1300, "deviceScaleFactor": 1, "mobile": False},
         )
         with serving(hub, session) as url:
             browser.get(f"{url}/#token={TOKEN}")

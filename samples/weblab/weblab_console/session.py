@@ -1,15 +1,15 @@
-"""The console's session: one WebLab experiment at a time, run in a background thread and shown
-through the hub (implements :class:`weblab_console.server.Session`; what it publishes is made by
-:mod:`weblab_console.showing`, as for the console attached to the two-process application).
+"""The WebLab's panel over the experiment run in this process (``make console``): one experiment at
+a time, run in a background thread and shown through the hub (a
+:class:`acordcs.console.panels.PanelSession`; what it publishes is made by
+:mod:`weblab_console.showing`, as for the panel over the two-process application). The console's
+page around it watches the running experiment's containers through :mod:`.in_process`.
 
 The experiment is :func:`weblab_sim.experiment.rig`: the generated application assembled in one
 process on a :class:`~acordcs.runtime.clock.VirtualClock`. A pacing timer on that clock (every
 :data:`PACE` simulated seconds) keeps it to ``speed`` times real time (``speed=0``: as fast as
 it runs), serves the requests of viewers (everything that touches the application runs on the
 experiment's thread) and publishes, at most :data:`PUBLISH_HZ` times per wall second: the robot's
-state, the monitored context, each policy set's last firing, the series of the speed limit and
-the frame rate, and events (recoveries, user requests, stripe losses, faults, the finish, and the
-changes of the model applied while it runs: ``model.updated``); the
+state and the WebLab's events (recoveries, user requests, stripe losses, the finish); the
 Navigator's last on-board frame with the detected stripe drawn, and a panoramic picture for each
 frame the panoramic camera sends (so at the rate the bandwidth policy sets).
 
@@ -18,17 +18,16 @@ turn go to Locomotion through the Navigator's own port, so the Control monitor a
 see them as they see the Navigator's (a speed of 0 is a stop, which the Recovering policy answers
 as it answers the Navigator's). :meth:`release` hands control back.
 
-Who may drive is the application's decision: at each start the session reserves the user
-``console`` in the Access component with the token given to it, and :meth:`authorize` asks
-``Access.authenticate("console", token)``.
+Who may drive: a viewer holding the console's token (the console checks it; the page's
+commands that change the experiment need it).
 """
 
 from __future__ import annotations
 
 import concurrent.futures
-import contextlib
 import logging
 import math
+import secrets
 import threading
 import time
 from collections import deque
@@ -39,9 +38,9 @@ from weblab_sim import experiment, world
 from weblab_sim.network import PROFILES
 
 from acordcs.console.fanout import ConsoleHub
-from acordcs.runtime import events as ev
 from weblab_console import pictures
-from weblab_console.showing import FRAME_HZ, PUBLISH_HZ, SERIES_PERIOD, Showing
+from weblab_console.in_process import InProcess, weblab_descriptor
+from weblab_console.showing import FRAME_HZ, PUBLISH_HZ, Showing
 
 log = logging.getLogger("weblab.console")
 
@@ -50,7 +49,6 @@ MANUAL_PERIOD = 0.2  # simulated seconds the Navigator waits between looks while
 MANUAL_RESEND = 1.0  # simulated seconds between repeats of a manual forward move
 TIME_CAP = 900.0  # simulated seconds before a run is ended (the finish is usually at 100-250)
 REQUEST_TIMEOUT = 5.0  # wall seconds a viewer's request may wait for the experiment's thread
-CONSOLE_USER = "console"
 
 
 class SessionError(RuntimeError):
@@ -58,7 +56,8 @@ class SessionError(RuntimeError):
 
 
 class ConsoleSession:
-    """Runs experiments for the console; ``token`` is the one the console's URL carries."""
+    """Runs experiments for the console, whose page watches them through ``in_process``;
+    ``token`` is the one the console's link carries."""
 
     mode = "simulation"
     profiles: tuple[str, ...] = tuple(PROFILES)
@@ -70,12 +69,12 @@ class ConsoleSession:
             raise ValueError(f"speed must be a finite factor >= 0 (0: unthrottled), not {speed}")
         self.hub = hub
         self.token = token
+        self.in_process = InProcess(weblab_descriptor())
         self.speed = float(speed)
         self.time_cap = time_cap
         self._lock = threading.Lock()
         self._thread: threading.Thread | None = None
         self._run: _Run | None = None
-        self._idle: tuple[contextlib.ExitStack, Any] | None = None
         hub.publish("path", pictures.path())
 
     # ------------------------------------------------------------------ server.Session
@@ -84,36 +83,22 @@ class ConsoleSession:
         return {"profiles": list(self.profiles), "mode": self.mode}
 
     def authorize(self, token: str) -> bool:
-        """Whether the application's Access component authenticates the console with ``token``:
-        through the running experiment's, or a fresh one when none runs."""
-        run = self._current()
-        if run is not None:
-            try:
-                return bool(run.request(lambda: run.authenticate(token)))
-            except SessionError:
-                pass  # it ended meanwhile: ask a fresh application
-        with self._lock:  # no run starts while the idle application is used
-            if self._idle is None:
-                # No experiment runs: an application assembled but not run answers (kept until
-                # the next start; assembling one takes about a second).
-                stack = contextlib.ExitStack()
-                idle = stack.enter_context(experiment.rig("LAN", 0, time_cap=1.0))
-                idle.weblab.find("Access").instance.reserve(CONSOLE_USER, self.token)
-                self._idle = (stack, idle)
-            access = self._idle[1].weblab.find("Access")
-            return bool(access.authenticate(CONSOLE_USER, token))
+        return secrets.compare_digest(token.encode(), self.token.encode())
 
-    def _close_idle(self) -> None:
-        if self._idle is not None:
-            self._idle[0].close()
-            self._idle = None
+    def calls(self) -> dict[str, list[str]]:
+        return {}  # what it shows it reads from the experiment itself
+
+    def begin(self) -> None:
+        pass
+
+    def deliver(self, kind: str, container: str, data: Any) -> None:
+        pass  # the console's page shows what the watches say
 
     def start(self, profile: str, seed: int) -> None:
         if profile not in self.profiles:
             raise SessionError(f"no network profile {profile!r}: one of {', '.join(self.profiles)}")
         self.stop()
         with self._lock:
-            self._close_idle()
             run = _Run(self, profile, int(seed))
             self._run = run
             self._thread = threading.Thread(target=run.main, name="weblab-experiment", daemon=True)
@@ -171,8 +156,6 @@ class ConsoleSession:
 
     def close(self) -> None:
         self.stop()
-        with self._lock:
-            self._close_idle()
 
     # -------------------------------------------------------------------------- internals
     def _current(self) -> _Run | None:
@@ -204,7 +187,6 @@ class _Run:
         self.sent_at = 0.0
         self.requests: deque[tuple[Callable[[], Any], concurrent.futures.Future]] = deque()
         self.rig: Any = None
-        self.firings: set[str] = set()  # policy sets that fired since they were last shown
         self.frames_shown = -1
         self.panorama_shown = 0
         self.sim0 = self.wall0 = 0.0
@@ -222,9 +204,6 @@ class _Run:
         except concurrent.futures.TimeoutError:
             raise SessionError("the experiment did not answer in time; try again") from None
 
-    def authenticate(self, token: str) -> bool:
-        return bool(self.rig.weblab.find("Access").authenticate(CONSOLE_USER, token))
-
     def anchor(self) -> None:
         """Pace from now on: the current simulated time matches the current wall time."""
         self.wall0 = time.perf_counter()
@@ -235,19 +214,18 @@ class _Run:
         try:
             with experiment.rig(self.profile, self.seed, time_cap=self.session.time_cap) as r:
                 self.rig = r
-                r.weblab.find("Access").instance.reserve(CONSOLE_USER, self.session.token)
-                for name in experiment.POLICY_SETS:
-                    r.weblab.policy_set(name).trace_rules = True
-                r.weblab.subscribe(ev.POLICY_FIRED, self._fired, name="console")
-                for box in (r.user, r.weblab):  # a change of the model applied while it runs
-                    box.subscribe(ev.MODEL_UPDATED, self._updated, name="console")
-                r.clock.call_every(PACE, self._pace, start=0.0)
-                r.clock.call_every(SERIES_PERIOD, self._sample, start=0.0)
-                self.anchor()
-                self._event("start", f"{self.profile} network, seed {self.seed}")
-                self.ready.set()
-                self._drive(r)
-                self._publish(force=True)
+                self.session.in_process.running(r.app.containers, self.request)
+                try:
+                    r.clock.call_every(PACE, self._pace, start=0.0)
+                    self.anchor()
+                    self._event("start", f"{self.profile} network, seed {self.seed}")
+                    self.ready.set()
+                    self._drive(r)
+                    self._publish(force=True)
+                finally:
+                    self.ended = True
+                    self._fail_requests()
+                    self.session.in_process.ended()
                 lab = r.lab
                 if lab.finish_time is not None:
                     self._event("finish", f"finish line crossed at {lab.finish_time:.1f} s")
@@ -326,20 +304,6 @@ class _Run:
             _fn, future = self.requests.popleft()
             future.set_exception(SessionError("the experiment has ended"))
 
-    def _fired(self, event: ev.Event) -> None:
-        self.firings.add(event.element)  # shown at the next publish, as its last firing then
-
-    def _updated(self, event: ev.Event) -> None:
-        self._event(ev.MODEL_UPDATED, str(event.value))
-
-    def _sample(self) -> None:
-        weblab = self.rig.weblab
-        self.show.sample(
-            self.rig.clock.now(),
-            weblab.get_property("Locomotion", "maxSpeed"),
-            weblab.get_property("PanoramicCamera", "fps"),
-        )
-
     # ---------------------------------------------------------------------- publishing
     def _publish(self, *, force: bool = False) -> None:
         show = self.show
@@ -366,28 +330,7 @@ class _Run:
             running=not self.ended,
             progress=lab.progress / lab.path.length * 100.0,
         )
-        show.context(r.weblab.get_property)
-        self._publish_policies()
         self._publish_events()
-        show.plots(force=force)
-
-    def _publish_policies(self) -> None:
-        weblab = self.rig.weblab
-        fired, self.firings = self.firings, set()
-        for name in sorted(fired):
-            policy_set = weblab.policy_set(name)
-            firing = policy_set.last_firing
-            if firing is None:
-                continue
-            self.show.policy(
-                name,
-                policy_set.engine_kind,
-                firing.time,
-                policy_set.fires,
-                ((policy, label, degree) for (policy, label), degree in firing.rules.items()),
-                firing.inputs,
-                firing.outputs,
-            )
 
     def _publish_events(self) -> None:
         r = self.rig
@@ -396,14 +339,8 @@ class _Run:
             "recovery": int(recovery.actions),
             "user_request": int(recovery.user_requests),
             "stripe_loss": int(nav.losses),
-            "fault": sum(c.faults.counts["total"] for c in r.app.containers.values()),
         }
-
-        def fault() -> str:
-            last = [f for c in r.app.containers.values() for f in c.faults.recent][-1:]
-            return f"fault: {last[0].where}: {last[0].error}" if last else "fault"
-
-        self.show.counted(r.clock.now(), counts, fault)
+        self.show.counted(r.clock.now(), counts)
 
     def _event(self, kind: str, text: str) -> None:
         self.show.event(self.rig.clock.now() if self.rig is not None else 0.0, kind, text)

@@ -1,45 +1,29 @@
-"""What the console shows of a run, and how often, the same whether the experiment runs in this
-process (:mod:`.session`) or the console is attached to the two-process application
-(:mod:`.attached`): the payloads of the hub's channels (the robot's state with its trajectory, the
-context values, a policy set's last firing, an event of the timeline, the series of the speed
-limit and the frame rate) and the rates at which they go out.
+"""What the WebLab's panel shows of a run, and how often, the same whether the experiment runs in
+this process (:mod:`.session`) or the console is attached to the two-process application
+(:mod:`.attached`): the robot's state with its trajectory, the WebLab's events (recoveries, user
+requests, stripe losses, manual control, the finish) and the rates at which they go out. The
+context, the policies' firings, the faults and the architecture are the console's page's
+(:mod:`acordcs.console`), from the containers' observers.
 
-Channels (see :mod:`.hub`): ``state``, ``context``, ``policy:<set>``, ``series``, ``stats``,
-``frame:onboard`` and ``frame:panoramic`` keep their newest payload; ``event`` is queued.
+Channels (see :mod:`acordcs.console.fanout`): ``state``, ``path``, ``frame:onboard`` and
+``frame:panoramic`` keep their newest payload; ``event`` is queued.
 """
 
 from __future__ import annotations
 
 import math
 import time
-from collections import deque
-from collections.abc import Callable, Iterable, Mapping
+from collections.abc import Iterable, Mapping
 from typing import Any
 
 from acordcs.console.fanout import EVENT, ConsoleHub
 
-PUBLISH_HZ = 10.0  # state, context and policies per wall second, at most
+PANEL = "weblab"
+PUBLISH_HZ = 10.0  # the robot's state per wall second, at most
 FRAME_HZ = 15.0  # camera pictures per wall second and camera, at most (policies set <= 15 fps)
-SERIES_PERIOD = 0.5  # seconds of the run's clock between points of the live plots
-SERIES_HZ = 2.0  # the plots and the viewer statistics per wall second, at most
-SERIES_KEPT = 600
 TRAIL_STEP_MM = 20.0  # trajectory points closer than this to the last one are not sent
 TRAIL_KEPT = 2000
 EVENT_TEXT_MAX = 300
-
-CONTEXT = (
-    ("cycle rate (cycles/s)", "Control", "cycleRate"),
-    ("trajectory angle (°)", "Control", "angle"),
-    ("speed set (mm/s)", "Control", "speed"),
-    ("users", "Usage", "numUsers"),
-    ("battery (V)", "Telemetry", "batteryVoltage"),
-    ("nearest sonar (mm)", "Telemetry", "sonarRange"),
-    ("speed limit (mm/s)", "Locomotion", "maxSpeed"),
-    ("panoramic fps", "PanoramicCamera", "fps"),
-    ("recovery retries", "Recovery", "retries"),
-    ("recoveries", "Recovery", "recoveries"),
-)
-"""The context panel's rows: label, element, attribute."""
 
 TEXTS = {
     "recovery": "recovery: backed up and turned towards the stripe",
@@ -58,9 +42,6 @@ class Showing:
         self.profile = profile
         self.seed = seed
         self.trail: list[list[float]] = []
-        self.series: dict[str, deque] = {
-            k: deque(maxlen=SERIES_KEPT) for k in ("t", "max_speed", "fps")
-        }
         self.counts: dict[str, int] = {}
         self.last_state: dict[str, Any] | None = None
         self._next: dict[str, float] = {}  # when each channel may go out again (wall clock)
@@ -123,77 +104,18 @@ class Showing:
         last.update(extra)
         self.hub.publish("state", last)
 
-    def context(self, read: Callable[[str, str], object]) -> None:
-        """Publish the context panel's values, ``read(element, attribute)`` each (a value that is
-        not a number, or one that cannot be read, shows as a dash)."""
-        values: dict[str, object] = {}
-        for label, element, attribute in CONTEXT:
-            try:
-                value = read(element, attribute)
-            except Exception:  # a monitor without a value yet, an element gone
-                value = None
-            values[label] = value if isinstance(value, int | float) else "–"
-        self.hub.publish("context", values)
-
-    def policy(
-        self,
-        name: str,
-        engine: str,
-        t: float,
-        fires: int,
-        rules: Iterable[tuple[str, str, float]],
-        inputs: Mapping[str, object],
-        outputs: Mapping[str, object],
-    ) -> None:
-        """Publish a policy set's last firing (``rules``: policy, rule label, degree)."""
-        self.hub.publish(
-            f"policy:{name}",
-            {
-                "set": name,
-                "engine": engine,
-                "t": round(t, 2),
-                "fires": fires,
-                "rules": [
-                    {"label": label, "policy": policy, "degree": round(float(degree), 3)}
-                    for policy, label, degree in rules
-                ],
-                "inputs": {k: plain(v) for k, v in inputs.items()},
-                "outputs": {k: plain(v) for k, v in outputs.items()},
-            },
-        )
-
-    def sample(self, t: float, max_speed: object, fps: object) -> None:
-        """A point of the live plots (the speed limit and the frame rate at ``t``)."""
-        if not isinstance(max_speed, int | float) or not isinstance(fps, int | float):
-            return
-        self.series["t"].append(round(t, 2))
-        self.series["max_speed"].append(round(float(max_speed), 1))
-        self.series["fps"].append(float(fps))
-
-    def plots(self, *, force: bool = False) -> None:
-        """Publish the series and the viewer statistics, at most :data:`SERIES_HZ` a second."""
-        if self.due("series", force=force):
-            self.sent("series", SERIES_HZ)
-            self.hub.publish("series", {k: list(v) for k, v in self.series.items()})
-            self.hub.publish("stats", self.hub.stats())
-
     def event(self, t: float, kind: str, text: str) -> None:
-        self.hub.publish(EVENT, {"t": round(t, 2), "kind": kind, "text": text[:EVENT_TEXT_MAX]})
+        """An event of the WebLab's (``kind``: ``start``, ``recovery``, ``driver``...) on the
+        console's event channel, as a panel's (the page logs it with the containers')."""
+        self.hub.publish(EVENT, {"kind": "panel", "panel": PANEL, "what": kind,
+                                 "time": round(t, 2), "text": text[:EVENT_TEXT_MAX]})  # fmt: skip
 
-    def counted(self, t: float, counts: Mapping[str, int], fault: Callable[[], str]) -> None:
-        """Timeline events for the counts that grew since the last call (``recovery``,
-        ``user_request``, ``stripe_loss``, ``fault``: its text from ``fault()``)."""
+    def counted(self, t: float, counts: Mapping[str, int]) -> None:
+        """Events for the counts that grew since the last call (``recovery``, ``user_request``,
+        ``stripe_loss``; the containers' faults are the console's events already)."""
         for kind, count in counts.items():
             seen = self.counts.get(kind, 0)
             if count > seen:
-                text = fault() if kind == "fault" else TEXTS[kind]
+                text = TEXTS[kind]
                 self.event(t, kind, text + (f" (×{count - seen})" if count - seen > 1 else ""))
             self.counts[kind] = count
-
-
-def plain(value: object) -> object:
-    """A value as the page shows it: numbers (floats to 3 decimals), text, booleans, None;
-    anything else as text."""
-    if isinstance(value, float):
-        return round(value, 3)
-    return value if isinstance(value, int | str | bool) or value is None else str(value)

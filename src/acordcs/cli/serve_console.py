@@ -85,6 +85,7 @@ def console(
     from acordcs.console.fanout import ConsoleHub
     from acordcs.console.in_thread import AnnouncingServer, free_port, server_config
     from acordcs.console.live_session import LiveSession
+    from acordcs.console.panels import panel_table
     from acordcs.console.site_guard import allowed_names, host_name, is_loopback
     from acordcs.console.web_app import console_refusals, create_app, quiet_uvicorn
     from acordcs.runtime.connectors.pyrogate import is_loopback as loopback_host
@@ -103,12 +104,15 @@ def console(
     logging.basicConfig(level=logging.WARNING, format="%(levelname)s %(name)s: %(message)s")
     token = secrets.token_urlsafe(16)
     hub = ConsoleHub(max_viewers=viewers, max_watchers=8)
+    panels = panel_table()  # what installed packages add to the page (acordcs.console_panels)
     try:
         session = LiveSession.attached(
-            hub, token, app, model=Path(model) if model else None, timeout=timeout
+            hub, token, app, model=Path(model) if model else None, timeout=timeout, panels=panels
         )
     except AttachError as err:
         _fail(f"cannot attach to {shown}: {printable(str(err))}", 2)
+    for problem in panels.take_problems():  # a broken plug-in never stops the console
+        click.echo(f"acordcs-gen console: warning: {printable(problem)}", err=True)
     if watchers is None:
         open_app = not session.app.token and all(
             loopback_host(p.host) for p in session.app.places.values()

@@ -87,7 +87,8 @@ def update(
       acordcs-gen update samples/weblab/weblab.xmi -o samples/weblab/app --dry-run
       ACORDCS_RUN_DIR=/tmp/run acordcs-gen update model.xmi -o app
     """
-    from acordcs.cli.running import NotFound, reach, settings
+    from acordcs.cli.running import reach
+    from acordcs.runtime.live.app_settings import NotFound, settings
 
     app = Path(output)
     out = printable(click.format_filename(output))

@@ -1,5 +1,5 @@
 """A running application as an attached console reaches it: where each container serves, found as
-its generated scripts find it (:func:`acordcs.cli.running.settings` sources ``bin/env.sh``: the run
+its generated scripts find it (:func:`acordcs.runtime.live.app_settings.settings` sources ``bin/env.sh``: the run
 directory, the application's token, each container's host and port), its descriptor (which
 container hosts which component, and all the rest the console shows), and the calls the console
 makes, each presenting the application's token: an operation through a component's provided port
@@ -21,10 +21,10 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
-from acordcs.cli.running import NotFound, settings
 from acordcs.descriptor import DescriptorError, from_xml
 from acordcs.runtime.connectors.remote import RemoteConnector, bytes_back, container_uri
 from acordcs.runtime.errors import RuntimeFailure
+from acordcs.runtime.live.app_settings import NotFound, settings
 from acordcs.runtime.live.management import MANAGE_OBJECT
 from acordcs.runtime.live.observer import OBSERVE_OBJECT
 

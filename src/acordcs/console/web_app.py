@@ -55,11 +55,13 @@ from typing import Any, Protocol
 
 from starlette.applications import Starlette
 from starlette.middleware import Middleware
+from starlette.requests import Request
 from starlette.responses import FileResponse, JSONResponse
 from starlette.routing import Mount, Route, WebSocketRoute
 from starlette.staticfiles import StaticFiles
 from starlette.websockets import WebSocket, WebSocketDisconnect
 
+from acordcs.console import model_upload
 from acordcs.console.fanout import ConsoleHub
 from acordcs.console.site_guard import LOOPBACK_NAMES, SiteGuard
 from acordcs.console.viewer_messages import Command, CommandError, valid_token
@@ -94,6 +96,9 @@ class ConsoleSite:
     paced: Mapping[str, int] = field(default_factory=dict)
     subject: str = "the application"
     logger: str = "acordcs.console"
+    panels: Mapping[str, Traversable] = field(default_factory=dict)
+    """Panel name -> its static directory, served under ``/panels/<name>/``
+    (:mod:`acordcs.console.panels`)."""
 
     @property
     def token_protocol(self) -> str:
@@ -234,6 +239,9 @@ def create_app(
     async def status(request) -> JSONResponse:
         return JSONResponse({**session.describe(), **hub.stats(), "refused": refused.counts()})
 
+    async def model(request: Request) -> JSONResponse:
+        return await model_upload.receive(request, session, refused)
+
     encode = _Encoded(site.binary_channels)  # shared by the senders, all on the server's loop
     waker = _Waker()
 
@@ -292,8 +300,13 @@ def create_app(
         routes=[
             Route("/", page),
             Route("/status", status),
+            *([Route("/model", model, methods=["POST"])] if hasattr(session, "upload") else []),
             WebSocketRoute("/ws", socket),
             Mount("/static", StaticFiles(directory=str(static)), name="static"),
+            *(
+                Mount(f"/panels/{name}", StaticFiles(directory=str(files)))
+                for name, files in site.panels.items()
+            ),
         ],
         middleware=[
             Middleware(SiteGuard, allowed_hosts=frozenset(allowed_hosts), refusals=refused)
@@ -476,7 +489,10 @@ def _command(
     pace = site.paced.get(command.name)
     if pace is not None and not viewer.within(command.name, pace):
         return None  # over the rate: dropped quietly, the next one carries the newest values
-    action: Callable[..., Any] = getattr(session, command.name)
+    handler = getattr(session, "handler", None)  # a session with panels finds their commands
+    action: Callable[..., Any] = (
+        handler(command.name) if handler is not None else getattr(session, command.name)
+    )
     try:
         result = action(**command.args)
     except Exception as err:  # the session's refusal or failure: told, not fatal

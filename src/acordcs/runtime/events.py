@@ -26,6 +26,12 @@ POLICY_FIRED = "policy.fired"  # element: the policy set; its last_firing says w
 # A change of the model applied to the running container (acordcs-gen update): element, the
 # element changed; value, the plan line; data: the descriptor's digest before and after.
 MODEL_UPDATED = "model.updated"
+# A hold on a component's calls from other processes (the management interface's hold) started
+# (value: its seconds left; data: the calls waiting, each call's patience) and ended (value:
+# "released" or "expired"): told to the container's watchers by its management side
+# (Observer.notice), not dispatched to the container's subscribers.
+COMPONENT_HELD = "component.held"
+COMPONENT_RELEASED = "component.released"
 
 EVENT_KINDS = frozenset(
     {
@@ -39,6 +45,8 @@ EVENT_KINDS = frozenset(
         FACTORY_CHANGED,
         POLICY_FIRED,
         MODEL_UPDATED,
+        COMPONENT_HELD,
+        COMPONENT_RELEASED,
     }
 )
 

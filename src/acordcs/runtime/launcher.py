@@ -438,16 +438,15 @@ class Launcher:
     def _console(
         self, app: RunningApplication, server: ContainerServer, port: int
     ) -> Callable[[], None] | None:
-        """Serve this container's browser console (:mod:`acordcs.console.single_process`); what
-        stops it, or None when it could not start (said)."""
-        from acordcs.console.attaching import AttachError
-        from acordcs.console.single_process import serve_beside
+        """Serve this container's browser console (:mod:`.console_hook`); what stops it, or None
+        when it could not start (said)."""
+        from acordcs.runtime.console_hook import console_server
 
         token = os.environ.get("ACORDCS_TOKEN") if server.token_required else None
         try:
-            return serve_beside(app.descriptor, self.container, (server.host, server.port), token,
-                                port, lambda line: print(line, flush=True))  # fmt: skip
-        except (AttachError, OSError, RuntimeError) as err:
+            return console_server()(app.descriptor, self.container, (server.host, server.port),
+                                    token, port, lambda line: print(line, flush=True))  # fmt: skip
+        except (OSError, RuntimeError) as err:  # the console's AttachError is a RuntimeError
             self._say(f"the console did not start: {err}")
             return None
 

@@ -13,7 +13,7 @@
     bin/start-all, bin/stop-all
     bin/start-host HOST, bin/stop-host HOST   the containers of one host (shell-hosts.xsl)
     bin/console            the browser console attached to the running application
-                           (python -m acordcs.console: acordcs-gen console)
+                           (python -m acordcs.cli console: acordcs-gen console)
 
   Every model string that reaches shell code goes through sh:quote; comments go through
   sh:comment (line breaks and other control characters escaped, so a model string cannot start a
@@ -375,11 +375,11 @@ status=0
     <xsl:text>#!/bin/sh&#10;</xsl:text>
     <xsl:value-of select="sh:header('application ''' || $app/@name || '''',
         'Serves the browser console of the running application on 127.0.0.1 (acordcs-gen console, run by $PYTHON: '
-        || 'python -m acordcs.console), found as these scripts find it; prints its link, runs until Ctrl-C. '
+        || 'python -m acordcs.cli console), found as these scripts find it; prints its link, runs until Ctrl-C. '
         || 'Arguments go to it (--model FILE, --port N: acordcs-gen console --help). '
         || 'Exit: 0 stopped by Ctrl-C, 2 a container does not answer or a setting refused.')"/>
     <xsl:call-template name="prologue"/>
-    <xsl:text><![CDATA[exec "$PYTHON" -m acordcs.console "$ACORDCS_HOME" "$@"
+    <xsl:text><![CDATA[exec "$PYTHON" -m acordcs.cli console "$ACORDCS_HOME" "$@"
 ]]></xsl:text>
   </xsl:template>
 </xsl:stylesheet>

@@ -142,7 +142,7 @@ def test_every_message_kind_with_hostile_values_is_answered_and_counted(caplog):
         for holder in (False, True):
             for start in range(0, len(messages), STRIKES // 2):
                 batch = messages[start : start + STRIKES // 2]
-                protocols = HOLDER if holder else ["weblab"]
+                protocols = HOLDER if holder else ["acordcs"]
                 with client.websocket_connect(WS, subprotocols=protocols) as ws:
                     ws.send_text('{"cmd": "ping"}')
                     answers(ws)  # hello (and authorized), then pong
@@ -215,8 +215,8 @@ def test_a_fault_of_the_consoles_own_is_a_refusal_and_a_strike_never_an_escape(m
     hub, session = ConsoleHub(), Session()
     with TestClient(create_app(hub, session), base_url=BASE) as client:
         with client.websocket_connect(WS) as ws:
-            for _ in range(STRIKES):
-                ws.send_text('{"cmd": "ping"}')
+            for _ in range(STRIKES):  # a command of the WebLab panel's: its parser reads it
+                ws.send_text('{"cmd": "drive", "speed": 1, "turn": 0}')
                 message = ws.receive()
                 while message.get("text") is None or '"refused"' not in message["text"]:
                     message = ws.receive()

@@ -58,7 +58,7 @@ def test_the_consoles_own_origin_and_clients_without_one_are_let_in(console, ori
     client, _, _ = console
     headers = {"origin": origin} if origin else {}
     with client.websocket_connect(WS, headers=headers) as ws:
-        assert receive_until(ws, "hello")["profiles"]
+        assert receive_until(ws, "hello")["panel_state"]["weblab"]["profiles"]
 
 
 @pytest.mark.parametrize(
@@ -74,7 +74,7 @@ def test_the_origins_scheme_and_host_compare_case_insensitively(console, url, or
     # RFC 3986: scheme and host are case-insensitive; a client may send either case
     client, _, _ = console
     with client.websocket_connect(url, headers={"origin": origin}) as ws:
-        assert receive_until(ws, "hello")["profiles"]
+        assert receive_until(ws, "hello")["panel_state"]["weblab"]["profiles"]
 
 
 @pytest.mark.parametrize(
@@ -121,7 +121,7 @@ def test_refusals_are_counted_in_the_status_and_logged_with_the_peer(console, ca
             pass
     refused = client.get("/status").json()["refused"]
     assert (refused["host"], refused["origin"]) == (5, 3)
-    said = [r.getMessage() for r in caplog.records if "WebLab console: refused" in r.getMessage()]
+    said = [r.getMessage() for r in caplog.records if "acordcs console: refused" in r.getMessage()]
     # the 1st, 2nd and 4th of the 5 requests, the 1st and 2nd of the 3 WebSockets
     assert len(said) == 5, said
     assert all("from testclient:50000" in s for s in said), said
@@ -178,7 +178,7 @@ def test_idle_connections_without_the_token_never_lock_out_the_token_holder(cons
             assert "maximum of 3 viewers without the token" in refused["why"]
             assert extra.receive()["code"] == 1013
         with client.websocket_connect(WS, subprotocols=HOLDER) as holder:
-            assert holder.accepted_subprotocol == "weblab"
+            assert holder.accepted_subprotocol == "acordcs"
             receive_until(holder, "authorized")
             holder.send_text(json.dumps({"cmd": "stop"}))
             assert receive_until(holder, "done")["cmd"] == "stop"
@@ -190,7 +190,7 @@ def test_idle_connections_without_the_token_never_lock_out_the_token_holder(cons
 
 def test_a_wrong_token_at_the_handshake_watches_only_and_is_told(console):
     client, hub, session = console
-    with client.websocket_connect(WS, subprotocols=["weblab", "weblab.token.guess"]) as ws:
+    with client.websocket_connect(WS, subprotocols=["acordcs", "acordcs.token.guess"]) as ws:
         assert "does not know this token" in receive_until(ws, "refused")["why"]
         ws.send_text(json.dumps({"cmd": "stop"}))
         assert "needs the session's token" in receive_until(ws, "refused")["why"]

@@ -124,13 +124,17 @@ def test_the_page_and_its_module_are_served(console):
         page.status_code == 200 and '<script type="module" src="/static/console.js">' in page.text
     )
     assert client.get("/static/console.js").status_code == 200
-    assert client.get("/status").json()["profiles"] == list(PROFILES)
+    status = client.get("/status").json()
+    assert status["panel_state"]["weblab"]["profiles"] == list(PROFILES)
+    (panel,) = status["panels"]  # the WebLab's, on the console's page
+    assert client.get(panel["script"]).status_code == 200
+    assert client.get(panel["style"]).status_code == 200
 
 
 def test_control_without_the_token_is_refused_and_with_it_reaches_the_experiment(console):
     client, _, session = console
     with client.websocket_connect(WS) as ws:
-        assert receive_until(ws, "hello")["profiles"] == list(PROFILES)
+        assert receive_until(ws, "hello")["panel_state"]["weblab"]["profiles"] == list(PROFILES)
         ws.send_text(json.dumps({"cmd": "start", "profile": "lan", "seed": 1}))
         refused = receive_until(ws, "refused")
         assert "needs the session's token" in refused["why"]
@@ -172,7 +176,7 @@ def test_a_viewer_sending_garbage_is_closed_after_its_strikes(console):
     assert wait_for(lambda: hub.viewers == 0)
 
 
-HOLDER = ["weblab", "weblab.token.s3cret"]  # how the page presents the token
+HOLDER = ["acordcs", "acordcs.token.s3cret"]  # how the page presents the token
 
 
 def test_the_viewer_cap_turns_the_next_connection_away(console):

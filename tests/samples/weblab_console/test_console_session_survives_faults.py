@@ -63,7 +63,7 @@ def seen_all(ws, *conditions) -> list[dict]:
 
 
 def event(kind: str):
-    return lambda m: m["type"] == "event" and m["data"]["kind"] == kind
+    return lambda m: m["type"] == "event" and m["data"].get("what", m["data"]["kind"]) == kind
 
 
 @contextlib.contextmanager
@@ -149,7 +149,7 @@ def test_a_viewer_opening_100_connections_gets_the_cap_and_a_refusal_for_the_res
         assert hub.viewers == 8
         # the connections without the token never take the token holder's place
         holder = stack.enter_context(
-            websockets_sync.connect(url, subprotocols=["weblab", f"weblab.token.{TOKEN}"])
+            websockets_sync.connect(url, subprotocols=["acordcs", f"acordcs.token.{TOKEN}"])
         )
         assert messages(holder, lambda m: m["type"] in ("authorized", "refused"))[-1] == {
             "type": "authorized"
@@ -189,9 +189,16 @@ def test_manual_control_overrides_the_navigator_through_its_port(console):
             ),
         )
         assert states[-1]["data"]["running"]
-        # The Control monitor saw the console's command: the angle is the manual turn.
+        # The Control monitor saw the console's command: the angle is the manual turn (the
+        # console's page has it from the container's observer).
         context = messages(
-            ws, lambda m: m["type"] == "context" and m["data"]["trajectory angle (°)"] == 30.0
+            ws,
+            lambda m: (
+                m["type"] == "event"
+                and m["data"]["kind"] == "monitor"
+                and m["data"]["element"] == "Control"
+                and m["data"]["values"].get("angle") == 30.0
+            ),
         )
         assert context
         ws.send(json.dumps({"cmd": "release"}))

@@ -7,6 +7,7 @@ from __future__ import annotations
 import importlib
 import time
 
+from weblab_console.server import simulation_console
 from weblab_console.session import ConsoleSession
 
 from acordcs.console.fanout import ConsoleHub
@@ -21,9 +22,11 @@ from tests.support import weblab_models as models
 SLOW = "smallNarrow: if cycleRate is small and angle is narrow then Locomotion.maxSpeed is slow"
 
 
-def test_an_update_is_an_event_of_the_timeline(weblab_app, tmp_path):
+def test_an_update_is_an_event_of_the_console(weblab_app, tmp_path):
     hub = ConsoleHub()
     session = ConsoleSession(hub, "token", speed=5.0)
+    console = simulation_console(hub, session)  # the console's page watches the experiment
+    console.attach()
     _, box = hub.join(lambda: None)
     try:
         session.start("residential", 0)
@@ -51,7 +54,7 @@ def test_an_update_is_an_event_of_the_timeline(weblab_app, tmp_path):
             seen += hub.take(box)[1]
             time.sleep(0.05)
         (event,) = [e for e in seen if e.get("kind") == "model.updated"]
-        assert event["text"] == line and before > 0
-        assert event["t"] >= before - 0.005, (event["t"], before)  # the run's time, to 0.01 s
+        assert event["line"] == line and before > 0
+        assert event["time"] >= before - 0.005, (event["time"], before)  # the run's time
     finally:
-        session.close()
+        console.close()

@@ -22,7 +22,12 @@ function takeToken() {
   return sessionStorage.getItem(TOKEN_KEY);
 }
 
-const token = takeToken();
+let token = takeToken();
+// The application's panels (acordcs.console.panels): each an ES module of the console's origin,
+// mounted once in a section of its own; what they listen to, by message type, and binary messages.
+// A panel's message that came before its module loaded is kept (the newest of each type) and
+// given to it when it listens.
+const panels = { mounted: false, handlers: new Map(), binary: [], last: new Map() };
 const state = { socket: null, app: null, series: new Map(), firings: new Map(), now: 0, ref: 0, pending: new Map(), plan: null, drawn: false };
 
 function say(text, kind = "") {
@@ -42,6 +47,7 @@ function connect() {
   const protocols = ["acordcs"];
   if (token && TOKEN_SHAPE.test(token)) protocols.push(`acordcs.token.${token}`);
   const socket = new WebSocket(`${location.protocol === "https:" ? "wss" : "ws"}://${location.host}/ws`, protocols);
+  socket.binaryType = "arraybuffer";
   state.socket = socket;
   socket.onopen = () => {
     $("connection").textContent = "live";
@@ -49,11 +55,17 @@ function connect() {
     if (!token) say("watching only: open the link the console printed to use its hands", "refused");
   };
   socket.onclose = (event) => {
+    if (socket !== state.socket) return;  // replaced (a new token): the new one is connecting
     $("connection").textContent = event.code === 1013 ? "full" : event.code === 1008 ? "refused" : "disconnected";
     $("connection").className = "badge off";
+    (panels.handlers.get("disconnected") || []).forEach((fn) => fn());
     if (event.code !== 1013 && event.code !== 1008) setTimeout(connect, 2000);
   };
   socket.onmessage = (event) => {
+    if (event.data instanceof ArrayBuffer) {
+      const bytes = new Uint8Array(event.data);
+      return panels.binary.forEach((fn) => fn(bytes));
+    }
     let message;
     try { message = JSON.parse(event.data); } catch { return; }
     if (Array.isArray(message)) message.forEach(handle);
@@ -65,6 +77,8 @@ function handle(message) {
   const then = message.ref !== undefined ? state.pending.get(message.ref) : undefined;
   if (then) { state.pending.delete(message.ref); return then(message); }
   switch (message.type) {
+    case "hello": return mountPanels(message);
+    case "done": return say(`${message.cmd}: done`, "ok");
     case "application": return showApplication(message.data);
     case "event": return showEvent(message.data);
     case "refused": return say(`refused: ${message.why}${message.todo ? ` (${message.todo})` : ""}`, "refused");
@@ -72,6 +86,45 @@ function handle(message) {
     case "error": return say(`${message.cmd}: ${message.why}`, "refused");
     default:
       if (message.type && message.type.startsWith("snapshot:")) return showSnapshot(message.data);
+      panels.last.set(message.type, message.data);
+      (panels.handlers.get(message.type) || []).forEach((fn) => fn(message.data));
+  }
+}
+
+async function mountPanels(hello) {
+  if (panels.mounted) return;
+  panels.mounted = true;
+  const api = {
+    hello,
+    send: (command, then) => send(command, then),
+    say,
+    on: (type, fn) => {
+      panels.handlers.set(type, [...(panels.handlers.get(type) || []), fn]);
+      if (panels.last.has(type)) fn(panels.last.get(type));
+    },
+    onBinary: (fn) => panels.binary.push(fn),
+  };
+  for (const panel of hello.panels || []) {
+    const section = document.createElement("section");
+    section.className = "panel wide app-panel";
+    section.id = `panel-${panel.name}`;
+    const h = document.createElement("h2");
+    h.textContent = panel.title;
+    section.append(h);
+    document.querySelector("main").prepend(section);
+    if (panel.style) {
+      const link = document.createElement("link");
+      link.rel = "stylesheet";
+      link.href = panel.style;
+      document.head.append(link);
+    }
+    try {
+      const module = await import(panel.script);
+      module.mount(section, api);
+      section.dataset.mounted = "true";
+    } catch (err) {
+      section.append(waiting(`this panel could not be loaded: ${err}`));
+    }
   }
 }
 
@@ -145,7 +198,7 @@ function showApplication(app) {
     props.append(option);
   });
   $("set").disabled = props.disabled = !app.properties.length;
-  $("update-model").textContent = app.model ? `model file: ${app.model}` : "started without --model FILE: no update from the page";
+  $("update-model").textContent = app.model ? `model file: ${app.model}` : "started without --model FILE: send a changed model below";
   $("plan").disabled = !app.model;
 }
 
@@ -328,9 +381,11 @@ function showEvent(e) {
     case "hold":
       return log("events", `${e.container}: hold on ${e.component} (${Number(e.left).toFixed(1)} s left, ${e.waiting} call(s) waiting)`, "hold");
     case "released":
-      return log("events", `${e.container}: ${e.component} released (its callers go on)`, "hold");
+      return log("events", `${e.container}: ${e.component} released${e.why === "expired" ? " (the hold expired)" : ""} (its callers go on)`, "hold");
     case "dropped":
       return log("events", `${e.container}: ${e.count} events missed (the console fell behind)`, "fault");
+    case "panel":  // what an application's panel tells (the WebLab's recoveries, the finish...)
+      return log("events", `t=${Number(e.time).toFixed(2)} ${e.panel}: ${e.text}`, e.what);
   }
 }
 
@@ -412,7 +467,44 @@ function apply() {
 $("operation").addEventListener("change", showParameters);
 $("call-form").addEventListener("submit", callOperation);
 $("set-form").addEventListener("submit", setProperty);
+// A changed model from the page: sent over HTTP (a model is larger than a WebSocket message may
+// be), with the token in a header; the server plans it as "Plan the update" does.
+const MAX_MODEL = 2 * 1024 * 1024;
+$("model-file").addEventListener("change", () => {
+  const file = $("model-file").files[0];
+  if (file) $("model-name").value = file.name;
+});
+async function planUpload() {
+  const file = $("model-file").files[0];
+  const body = file ? await file.arrayBuffer() : new TextEncoder().encode($("model-text").value);
+  $("plan-text").hidden = false;
+  $("apply").disabled = true;
+  if (body.byteLength > MAX_MODEL) { $("plan-text").textContent = `refused: a model of more than ${MAX_MODEL} bytes`; return; }
+  $("plan-text").textContent = `planning ${$("model-name").value} (acordcs-gen update --dry-run)…`;
+  let reply;
+  try {
+    const response = await fetch("/model", { method: "POST", body, headers: { "X-Acordcs-Token": token || "", "X-Acordcs-Model-Name": $("model-name").value } });
+    reply = await response.json();
+  } catch (err) { $("plan-text").textContent = `the console did not answer: ${err}`; return; }
+  if (reply.type === "refused") { $("plan-text").textContent = `refused: ${reply.why} (${reply.todo})`; return; }
+  state.plan = reply.plan;
+  $("update-model").textContent = `model: ${reply.model} (sent from this page)`;
+  $("plan").disabled = false;
+  $("plan-text").textContent = `$ ${reply.command}\n${reply.output}\n(exit ${reply.code})`;
+  $("apply").disabled = !reply.plan;
+}
+$("plan-upload").addEventListener("click", planUpload);
 $("plan").addEventListener("click", plan);
 $("apply").addEventListener("click", apply);
 setInterval(drawPlots, 250);
 connect();
+// A link opened in a tab that shows the console already changes only the fragment: take its
+// token and connect again with it.
+window.addEventListener("hashchange", () => {
+  if (!new URLSearchParams(location.hash.slice(1)).has("token")) return;
+  token = takeToken();
+  const old = state.socket;
+  (panels.handlers.get("disconnected") || []).forEach((fn) => fn());
+  connect();
+  if (old) old.close();
+});

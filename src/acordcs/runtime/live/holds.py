@@ -12,11 +12,16 @@ from __future__ import annotations
 
 import threading
 import time
+from collections.abc import Callable
 from typing import Any
 
 from Pyro5.callcontext import current_context
 
+from acordcs.runtime import events as ev
 from acordcs.runtime.interceptors import Interceptor, Invocation
+
+EXPIRY_SLACK = 0.05
+"""Seconds after a hold's end its expiry is looked at (a renewal just in time is no end)."""
 
 
 class CallHold(Interceptor):
@@ -63,3 +68,48 @@ class CallHold(Interceptor):
                     self._cond.wait(left)
             finally:
                 self.waiting -= 1
+
+
+class HoldNotices:
+    """Tells watchers when a hold starts (``component.held``) and ends (``component.released``:
+    released, or expired, seen by a timer at its end), through ``notice(kind, component, value,
+    data)`` (the observer's :meth:`~acordcs.runtime.live.observer.Observer.notice`); a renewal
+    while it lasts is no new hold."""
+
+    def __init__(self, notice: Callable[[str, str, object, dict[str, object]], None]) -> None:
+        self.notice = notice
+        self._lock = threading.Lock()
+        self._on: dict[str, tuple[CallHold, threading.Timer]] = {}
+
+    def held(self, hold: CallHold, seconds: float) -> None:
+        timer = threading.Timer(seconds + EXPIRY_SLACK, self._expired, (hold,))
+        timer.daemon = True
+        with self._lock:
+            found = self._on.get(hold.component)
+            if found is not None:
+                found[1].cancel()
+            self._on[hold.component] = (hold, timer)
+        timer.start()
+        if found is None or found[0] is not hold:
+            state = hold.state()
+            self.notice(ev.COMPONENT_HELD, hold.component, state["left"],
+                        {"waiting": state["waiting"], "patience": state["patience"]})  # fmt: skip
+
+    def ended(self, hold: CallHold, why: str) -> None:
+        with self._lock:
+            found = self._on.get(hold.component)
+            if found is None or found[0] is not hold:
+                return
+            del self._on[hold.component]
+        found[1].cancel()
+        self.notice(ev.COMPONENT_RELEASED, hold.component, why, {})
+
+    def _expired(self, hold: CallHold) -> None:
+        if hold.state()["left"] <= 0:  # else renewed meanwhile: its own timer looks again
+            self.ended(hold, "expired")
+
+    def close(self) -> None:
+        with self._lock:
+            on, self._on = dict(self._on), {}
+        for _hold, timer in on.values():
+            timer.cancel()

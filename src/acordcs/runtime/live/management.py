@@ -45,7 +45,7 @@ from acordcs.runtime.connectors.remote import RemoteFault
 from acordcs.runtime.errors import ConfigurationError, RuntimeFailure
 from acordcs.runtime.live.apply_update import UpdateFailed, apply_part
 from acordcs.runtime.live.code_check import hosted_here
-from acordcs.runtime.live.holds import CallHold
+from acordcs.runtime.live.holds import CallHold, HoldNotices
 from acordcs.runtime.live.observer import OBSERVE_OBJECT, Observer, ObserverEndpoint
 from acordcs.runtime.live.property_setting import model_property, typed
 from acordcs.runtime.live.update_steps import Classes
@@ -119,6 +119,7 @@ class Management:
         self._touched: set[tuple[str, str]] = set()
         self._holds: dict[str, CallHold] = {}
         self._holding = threading.Lock()
+        self.hold_notices = HoldNotices(self._notice)
         self.container.subscribe(ev.PROPERTY_CHANGED, self._changed, name="management")
 
     def _changed(self, event: Event) -> None:
@@ -138,7 +139,12 @@ class Management:
         here = next((c for c in self.application.containers if c.name == self.name), None)
         return tuple(here.hosted("policy-set")) if here is not None else ()
 
+    def _notice(self, kind: str, element: str, value: object, data: dict[str, object]) -> None:
+        if self.observer is not None:
+            self.observer.notice(kind, element, value, data)
+
     def close(self) -> None:
+        self.hold_notices.close()
         self.container.unsubscribe("management")
         self.container.unsubscribe("management:fired")
         if self.observer is not None:
@@ -244,6 +250,7 @@ class Management:
                 self._holds[component] = found
                 self.container.add_interceptor(found, component=component)
         found.extend(float(seconds))
+        self.hold_notices.held(found, float(seconds))
         return found.state()
 
     def release(self, component: str) -> dict[str, Any]:
@@ -255,6 +262,7 @@ class Management:
             return {"component": component, "held": False, "left": 0.0, "waiting": 0}
         found.end()
         self.container.remove_interceptor(found)
+        self.hold_notices.ended(found, "released")
         return {**found.state(), "held": True}
 
     def apply(

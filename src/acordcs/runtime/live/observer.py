@@ -160,6 +160,15 @@ class Observer:
             # thread that may be (un)subscribing, hence waiting for that dispatcher.
             self._expire_idle(wait=False)
 
+    def notice(self, kind: str, element: str, value: object, data: dict[str, object]) -> None:
+        """An event of the container's management side (a hold starting or ending: nothing the
+        container's dispatcher carries) for every watch, at once: from the management's thread,
+        never waiting for the container's chain of events."""
+        event = ev.Event(
+            kind, element, None, value=value, time=self.container.clock.now(), data=data
+        )
+        self._record(event)
+
     # ------------------------------------------------------------------------------- calls
     def watch(self, calls: Iterable[str] = (), rules: bool = False) -> dict[str, Any]:
         """Start a watch: ``calls``, the operations (``Component.operation``) whose calls it sees;
