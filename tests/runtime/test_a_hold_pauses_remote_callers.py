@@ -34,14 +34,19 @@ class Camera(CtxComponent):
         return "frame"
 
 
+class Lamp(CtxComponent):
+    """A component that provides no operation: no call to it can be held."""
+
+
 def lab():
     return application(
         "Lab",
-        containers=(container("lab", ref("component", "Camera")),),
+        containers=(container("lab", ref("component", "Camera"), ref("component", "Lamp")),),
         components=(
             component(
                 "Camera", operations=(op("grab", returns="string"),), ports=(port("CameraPort"),)
             ),
+            component("Lamp"),
         ),
     )
 
@@ -50,9 +55,10 @@ def lab():
 def served(monkeypatch):
     monkeypatch.delenv("ACORDCS_TOKEN", raising=False)
     app = lab()
-    run = assemble(app, clock=VirtualClock(), factories={"Camera": Camera}, token=TOKEN)
+    run = assemble(app, clock=VirtualClock(), factories={"Camera": Camera, "Lamp": Lamp},
+                   token=TOKEN)  # fmt: skip
     server = run.serve("lab", host="127.0.0.1")
-    management = manage(run, "lab", server, to_xml(app), GivenClasses({"Camera": Camera}),
+    management = manage(run, "lab", server, to_xml(app), GivenClasses({"Camera": Camera, "Lamp": Lamp}),
                         timeout=2.0)  # fmt: skip
     yield (
         run,
@@ -122,7 +128,8 @@ def test_a_hold_nobody_renews_ends_by_itself(served):
 @pytest.mark.parametrize(
     ("args", "says"),
     [
-        (("Heater", 5.0), "container 'lab' hosts no component 'Heater' (it hosts: Camera)"),
+        (("Heater", 5.0), "container 'lab' hosts no component 'Heater' (it hosts: Camera, Lamp)"),
+        (("Lamp", 5.0), "component 'Lamp' of container 'lab' provides no operation, so no call"),
         (("Camera", 0), "a hold lasts more than 0 and at most 60 seconds"),
         (("Camera", 61), "a hold lasts more than 0 and at most 60 seconds"),
         (("Camera", float("nan")), "seconds is a finite number"),

@@ -237,10 +237,16 @@ class Management:
         if not isinstance(seconds, int | float) or not 0 < seconds <= HOLD_MAX:
             raise ConfigurationError(f"a hold lasts more than 0 and at most {HOLD_MAX:g} seconds")
         if not self.container.operations_of(component):
-            hosted = ", ".join(c.name for c in self.container.components()) or "none"
+            names = [c.name for c in self.container.components()]
+            if component in names:  # hosted, but nothing to hold: no call can reach it
+                raise ConfigurationError(
+                    f"component {component!r:.80} of container {self.name!r} provides no "
+                    "operation, so no call to it can be held",
+                    hint="hold a component that provides operations",
+                )
             raise ConfigurationError(
                 f"container {self.name!r} hosts no component {component!r:.80} (it hosts: "
-                f"{hosted})",
+                f"{', '.join(names) or 'none'})",
                 hint="hold a component of the container it runs in",
             )
         with self._holding:
