@@ -82,6 +82,8 @@ def test_not_started_exits_2(built: Path, tmp_path: Path, args: tuple[str, ...],
     done = run_container(built, "weblab_app.UserSide", *args, "--exit-file", str(exit_file))
     assert done.returncode == 2, done.stdout + done.stderr
     assert says in done.stderr and "Traceback" not in done.stderr
+    # the addresses of the others are asked for only when one is missing
+    assert ("give the address of each one" in done.stderr) == (args == ()), done.stderr
     assert ended(exit_file) == "2 0\n"
 
 

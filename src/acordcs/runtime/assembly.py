@@ -41,7 +41,7 @@ from acordcs.runtime.connectors import (
 from acordcs.runtime.connectors.base import Connector
 from acordcs.runtime.connectors.pyrogate import TLSFiles
 from acordcs.runtime.container import Container
-from acordcs.runtime.errors import BindingError
+from acordcs.runtime.errors import BindingError, RemoteNotGivenError
 from acordcs.runtime.events import Event
 from acordcs.runtime.monitor import Monitor
 from acordcs.runtime.operations import OutParameters, generic_component
@@ -393,7 +393,7 @@ class Assembler:
             elif where in self.remote:
                 resolved.append(RemotePort(self.remote[where], comp, port))
             else:
-                raise BindingError(
+                raise RemoteNotGivenError(
                     f"connection {conn.name!r}: {comp}.{port} is in container {where!r}, not built here",
                     hint=f"pass remote={{{where!r}: uri}} to assemble",
                 )

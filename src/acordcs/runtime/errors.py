@@ -14,6 +14,11 @@ from acordcs.engines.errors import BindingError, EngineNotAvailableError
 from acordcs.errors import ConfigurationError, RuntimeFailure
 
 
+class RemoteNotGivenError(BindingError):
+    """A connection's other end runs in a container that is not built in this process, and no
+    address was given for it (``remote=`` of ``assemble``, ``--remote NAME=URI`` of a container)."""
+
+
 class FactoryError(RuntimeFailure):
     """A component type that is not installed, installed twice, or a factory that cannot build."""
 
@@ -84,6 +89,7 @@ __all__ = [
     "PortError",
     "QueueFullError",
     "RemoteCallError",
+    "RemoteNotGivenError",
     "RemoteTimeoutError",
     "RemoteUnreachableError",
     "RuntimeFailure",

@@ -50,7 +50,7 @@ from acordcs.runtime.broker_setting import (
     parse_context,
 )
 from acordcs.runtime.clock import Clock, RealClock, VirtualClock
-from acordcs.runtime.errors import RuntimeFailure
+from acordcs.runtime.errors import RemoteNotGivenError, RuntimeFailure
 from acordcs.runtime.live.code_check import hosted_here, operations_without_code
 from acordcs.runtime.run_arguments import RunCall, RunError, bind_run, parse_run
 
@@ -312,7 +312,7 @@ class Launcher:
                 context.close()
             self._say(f"{err}")
             others = [c.name for c in application.containers if c.name != self.container]
-            if others:
+            if others and isinstance(err, RemoteNotGivenError):
                 self._say(
                     f"the other containers: {', '.join(others)}; give the address of each one "
                     "this container reaches with --remote NAME=URI"
