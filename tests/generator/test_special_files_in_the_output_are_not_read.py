@@ -59,15 +59,15 @@ def test_read_bounded_refuses_at_once_what_is_not_a_small_regular_file(tmp_path:
     assert read_bounded(tmp_path / "small") == b"abc"
 
 
-def test_a_fifo_descriptor_is_reported_within_a_second(built: Path):
-    # a build of the same output without the FIFO: how long one takes on this machine now
-    _plain, usual = _timed("build", str(WEBLAB), "-o", str(built), "--check")
+def test_a_fifo_descriptor_is_reported_not_waited_on(built: Path):
+    # a FIFO nobody writes to blocks its reader for ever: a build that tried to read it would
+    # run into the 60 s timeout, whatever the host's load (a bound relative to a plain build
+    # failed on a loaded host, the writing build being slower than a check)
     (built / DESCRIPTOR).unlink()
     os.mkfifo(built / DESCRIPTOR)
     for args in (("--check",), ("--check", "--strict"), ()):
-        done, took = _timed("build", str(WEBLAB), "-o", str(built), *args, timeout=60)
+        done, _took = _timed("build", str(WEBLAB), "-o", str(built), *args, timeout=60)
         assert "named pipe (FIFO)" in done.stderr, done.stderr
-        assert took < usual + 1, (took, usual)
         if args:
             assert done.returncode == 1, done.stderr
             assert "not up to date" in done.stderr
