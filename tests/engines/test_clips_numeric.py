@@ -7,6 +7,7 @@ error and a false condition, never a CLIPS error; and that the oracle agrees on 
 
 from __future__ import annotations
 
+import functools
 import math
 
 from hypothesis import HealthCheck, given, settings
@@ -183,6 +184,7 @@ NUMERIC = ["A.x", "A.y", "B.z"]
 TYPES = {"A.x": "double", "A.y": "double", "B.z": "int", "B.s": "string", "A.f": "boolean"}
 
 
+@functools.cache  # made once per index: see tests.support.clips_oracle.numbers_
 def typed_actions(index: int) -> st.SearchStrategy[str]:
     assign = st.one_of(
         st.tuples(st.sampled_from(NUMERIC), numbers_()).map(lambda t: f"{t[0]} = {t[1]}"),

@@ -293,12 +293,17 @@ def test_split_rules() -> None:
 
 
 # ------------------------------------------------------------------------------------ round trip
+# Made once, drawn from many times (a strategy made afresh for each draw is validated afresh).
+_FIRST = st.sampled_from("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ_")
+_REST = st.text("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ_0123456789", max_size=6)
+_PART = st.builds(lambda f, r: f + r, _FIRST, _REST).filter(lambda s: s.lower() not in KEYWORDS)
+_PARTS = {
+    dotted: st.lists(_PART, min_size=1, max_size=3 if dotted else 1) for dotted in (False, True)
+}
+
+
 def _ident(draw, dotted: bool = False) -> str:
-    first = st.sampled_from("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ_")
-    rest = st.text("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ_0123456789", max_size=6)
-    name = st.builds(lambda f, r: f + r, first, rest).filter(lambda s: s.lower() not in KEYWORDS)
-    parts = draw(st.lists(name, min_size=1, max_size=3 if dotted else 1))
-    return ".".join(parts)
+    return ".".join(draw(_PARTS[dotted]))
 
 
 names = st.composite(lambda draw: _ident(draw))()

@@ -8,6 +8,7 @@ values, until none fires; evaluation errors make a condition false or skip one a
 
 from __future__ import annotations
 
+import functools
 import math
 import operator
 
@@ -173,6 +174,10 @@ def string_literal(text: str) -> str:
     return f"'{text}'" if "'" not in text else f'"{text}"'
 
 
+# Each strategy is made once (functools.cache) and drawn from many times: a strategy made afresh
+# for every draw is validated afresh, which took most of the oracle tests' time (the draws are the
+# same, made once or afresh).
+@functools.cache
 def numbers_() -> st.SearchStrategy[str]:
     atoms = st.one_of(
         st.sampled_from([*NUMERIC, "x", "z"]),
@@ -191,6 +196,7 @@ def numbers_() -> st.SearchStrategy[str]:
     )
 
 
+@functools.cache
 def conditions() -> st.SearchStrategy[str]:
     comparison = st.one_of(
         st.tuples(numbers_(), st.sampled_from(["==", "!=", "<", "<=", ">", ">="]), numbers_()).map(
@@ -215,6 +221,7 @@ def conditions() -> st.SearchStrategy[str]:
     )
 
 
+@functools.cache
 def actions(index: int) -> st.SearchStrategy[str]:
     assign = st.one_of(
         st.tuples(st.sampled_from(NUMERIC), numbers_()).map(lambda t: f"{t[0]} = {t[1]}"),
