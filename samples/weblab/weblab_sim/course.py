@@ -38,6 +38,15 @@ taken while the robot drove forward under the user's control:
 - the way the stripe ran where the robot was last on it (where it lost it, when it has) also
   bounds a single crossing: one more than :data:`BACKWARDS_DEG` from it runs backwards too.
 
+A stripe seen only from more than :data:`BEYOND_MM` ahead is not the one the robot follows: that
+one enters the view at its near edge (150 mm ahead), and leaves it there when the robot is within
+150 mm of a corner, before the new segment comes into view. At the right-angle path's second
+corner the camera then sees only the fifth segment, 700 mm on (and 2 m further along the stripe);
+steering at it took the robot there, too far from the corner for the recovery to bring it back,
+and a person was needed in every run. The Navigator reports no stripe instead: the robot stops,
+and the recovery backs it up turning towards the side it was turning to, where the new segment
+comes into view.
+
 Headings are in degrees, counter-clockwise from east (as the telemetry gives them).
 """
 
@@ -50,6 +59,7 @@ from weblab_sim.detector import Sighting, bearing
 SIDE_BIAS_DEG = 45.0
 BACKWARDS_DEG = 150.0
 AHEAD_MM = 400.0  # as far past the farthest point reached as the next stretch of stripe starts
+BEYOND_MM = 500.0  # a stripe that begins this far ahead is not the one the robot was following
 TURNING_DEG = 2.0  # a turn smaller than this says nothing about the side the stripe goes to
 CARRIED_DEG = 75.0  # a heading change between two telemetry readings the wheels cannot make
 
@@ -123,7 +133,8 @@ class Course:
 
     def choose(self, seen: Sighting | None) -> float | None:
         """The turn (degrees, + left) to steer at in what the camera saw, or None: no stripe, or
-        only a stripe that runs backwards, or the robot is astray."""
+        only a stripe that runs backwards or begins more than :data:`BEYOND_MM` ahead, or the robot is
+        astray."""
         if self.halt:
             self.halt = False
             return None
@@ -139,6 +150,8 @@ class Course:
                     key=lambda b: abs(wrap(self.heading + b - preferred)),  # type: ignore[operator]
                 )
             )
+        if math.hypot(*seen.target) > BEYOND_MM:
+            return None
         turn = bearing(seen.target)
         way = wrap(self.heading + turn)
         if abs(wrap(way - self.travel)) > BACKWARDS_DEG:
