@@ -416,5 +416,5 @@ def _recovery_claim(path: str, table: dict[str, dict[str, dict[str, Stat]]]) -> 
         "with the recovery kept, the fixed speeds need the user less often than with every "
         "policy off (requests per run, summed over the speeds and profiles)",
         kept < off,
-        f"{kept:.1f} against {off:.1f}, {len(pairs)} speeds",
+        f"{kept:.1f} against {off:.1f}, {len(pairs)} speed{'s' if len(pairs) != 1 else ''}",
     )

@@ -26,9 +26,9 @@ from .conftest import SAMPLE_DIR
 README = (ROOT / "README.md").read_text(encoding="utf-8")
 WHOLE = (SAMPLE_DIR / "README.md").read_text(encoding="utf-8")  # the whole transcript
 TIMING = re.compile(r"simulated s in [\d.]+ wall s|^WebLab runs: |^report: ")
-CLAIMS = 13  # the claims shown for the default path
-NOT_CLAIMED = 2  # of which made on other paths only (summary.SCOPES)
-OBSERVED = 1  # and said as seen or not on these runs, never claimed
+CLAIMS = 14  # the claims shown for the default path
+NOT_CLAIMED = 1  # of which made on other paths only (summary.SCOPES)
+OBSERVED = 2  # and said as seen or not on these runs, never claimed
 ELIDED = re.compile(r"^\[\.\.\. .* \.\.\.\]$")
 
 
