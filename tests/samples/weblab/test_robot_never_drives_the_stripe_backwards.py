@@ -109,3 +109,35 @@ def test_at_the_second_right_angle_a_stripe_seen_only_far_ahead_is_not_steered_a
     turn = course.choose(nearer)
     assert nearer is not None and math.hypot(*nearer.target) < 400.0
     assert turn is not None and turn > 20.0  # left, onto the third segment
+
+
+def test_after_the_lab_stopped_it_the_robot_takes_no_point_back_along_the_stripe() -> None:
+    # Past the right-angle path's fourth corner, on the fifth segment (running east), facing
+    # north-west: the lab stopped it for driving the stripe backwards.
+    course = Course()
+    course.observe(reading(141.0, 5568.0, 5568.0, 0.0), forward=False)
+    course.travel = 145.0  # where it had been steering
+    stopped = {**reading(142.0, 5529.0, 5568.0, 0.0), "stoppedBackwards": 1.0}
+    course.observe(stopped, forward=True)
+    assert course.choose(None) is None  # it stops once
+    back = detector.Sighting((216.0, 16.0), ((216.0, 16.0),))  # 145 degrees from east
+    assert course.choose(back) is None
+    on = (150.0, -300.0)  # 63 degrees right of heading 142: 79 degrees from east
+    both = detector.Sighting(back.target, (back.target, on))
+    turn = course.choose(both)
+    assert turn == pytest.approx(detector.bearing(on))
+    # Facing along the stripe again (turned by the recovery), the bound is lifted.
+    course.observe(reading(20.0, 5600.0, 5600.0, 0.0), forward=False)
+    assert course.against is None
+
+
+def test_the_run_that_drove_the_fifth_segment_backwards_no_longer_does(weblab_app) -> None:
+    # Seed 8203, campus, SpeedLimiting off: facing back along the fifth segment, the robot took
+    # it the wrong way after each back-up of the recovery (the lab stopped it each time), 119 mm
+    # back in all.
+    metrics = experiment.run("campus", 8203, "no_speed_policy", path="right", series=True)
+    assert metrics["finished"] == 1
+    worst = fallen_back(floor.make_path("right"), metrics["series"])
+    assert metrics["backwards_mm"] <= experiment.BACKWARDS_MM, metrics["backwards_mm"]
+    assert worst <= experiment.BACKWARDS_MM, worst
+    assert metrics["followed_backwards"] == 0
