@@ -79,6 +79,7 @@ def as_json(
                 "claim": c.text,
                 "claimed": c.claimed,
                 "holds": c.holds,
+                "verdict": c.verdict,
                 "figures": c.detail,
             }
             for c in found

@@ -1,23 +1,29 @@
 """From runs to results: each metric's mean, sample standard deviation and n per (path,
 condition, profile), and the claims the reproduction must hold, each checked, per path.
 
-The claims: every run of every condition finishes (a run that hits the time cap is a failure);
-the orderings of Table 1 across profiles for the adaptive runs (each step's 95% Welch interval on
-its side of 0); no user request with adaptation
-on the default path, fewer than with any fixed speed on the others (:data:`STRICT`);
-the fast fixed speed (150 mm/s, chosen beforehand) needs the user on every profile; against the
-fixed speeds of the sweep: adaptation is faster (95% Welch interval of the difference of the mean
-times below 0) than every fixed speed that needs no user on that profile, and no fixed speed is as
-good as adaptation on every profile (each is slower, by that interval, or needs the user somewhere).
+The claims: every run of every condition finishes (a run that hits the time cap is a failure) and
+none drives the stripe backwards; the orderings of Table 1 across profiles for the adaptive runs
+(each step's 95% Welch interval on its side of 0), but from campus to LAN, where the time's fall is
+too small against the runs' spread and the claim is that it does not rise by more than
+:data:`NO_SLOWER_S`; no user request with adaptation (:data:`STRICT`), or fewer than with any fixed
+speed with every policy off; the fast fixed speed (150 mm/s, chosen beforehand) needs the user on
+every profile; against the fixed speeds of the sweep with every policy off: adaptation is faster
+(95% Welch interval of the difference of the mean times below 0) than every one that needs no user
+on that profile, and none is as good as adaptation on every profile; with the recovery kept, the
+fixed speeds need the user less often than with every policy off. Claims that do not hold on every
+path are made where :data:`SCOPES` says. Two comparisons with the fixed speeds that keep the
+recovery (one as fast somewhere, none as good everywhere) turn on a tie, an interval that contains
+0, which is no evidence of equal times: they are said as shown or not on the runs, never claimed.
 """
 
 from __future__ import annotations
 
 import itertools
 from collections import defaultdict
-from dataclasses import dataclass, replace
+from dataclasses import dataclass
 
 from weblab_sim.experiment import BACKWARDS_MM, FIXED, UNLIMITED, family, fixed_speed
+from weblab_sim.world import HUMAN_DELAY
 
 from weblab_experiment.display import interval
 from weblab_experiment.grid import Outcome
@@ -66,33 +72,34 @@ FAMILIES = {
 }
 """The fixed-speed families the sweep runs, and what each switches off: the first compares
 adaptation as a whole with a fixed speed, the second speed adaptation alone."""
-STRICT = ("default", "gentle")
+STRICT = ("default", "right", "gentle")
 """Paths on which adaptation must need the user in no run. On the sharp path (a corner of 115
 degrees turns the stripe out of the camera's view before the robot reaches it) it must need the
 user less often than every fixed speed with every policy off, on every profile (:data:`SCOPES`)."""
 SCOPES = {
     "fewer_user_requests": ("sharp",),
-    "time_first_step": ("default", "right", "gentle"),
-    "time_last_step": ("gentle",),
+    "time_last_no_slower": ("default", "gentle"),
     "fast_needs_user": ("default", "sharp", "right"),
-    "faster_than_safe_fixed": ("default", "sharp"),
-    "safe_unlimited_as_fast": ("default", "right", "gentle"),
-    "none_as_good_unlimited": ("sharp", "right"),
+    "faster_than_safe_fixed": ("sharp",),
 }
-"""Where a claim is made, for the claims that do not hold on every path of the family (set from
-the runs on seeds 0 to 2, or 0 to 9 for the default path, and checked on seeds never run while
-developing: seeds 3000 to 3004 on all four paths). Elsewhere the output shows the same figures
-as "not claimed here". Two scopes were narrowed after that check, and are not checked on unseen
-seeds since: the time from campus to LAN (on the default path it fell by 3 s [-8, +3], a tie) and
-no fixed speed with the recovery kept as good as adaptation everywhere (on the default path one
-was). Why each is where it is: on the right-angle path adaptation needs the user at the second corner (the robot
-overshoots it and the lab stops it on a segment far ahead), so a fixed speed that needs no user
-ties it there on the LAN, and on campus and LAN some fixed speeds need no user; on the sharp
-and right-angle paths the time from campus to LAN falls by less than its interval, and on the
-sharp path the time from residential to campus varies with the runs that need the user; on the
-gentle path 150 mm/s needs the user rarely on the LAN, a fixed 60 mm/s ties adaptation on
-residential, and with the recovery kept 150 mm/s is as good as adaptation on every profile; on
-the sharp path every fixed speed with the recovery kept needs the user somewhere."""
+"""Where a claim is made, for the claims that do not hold on every path of the family. The rule,
+stated before the runs that set them were looked at: a claim is made on a path where, on seeds 0
+to 4 with ``--paths all`` (the design seeds), it held with a margin: an interval's end nearest
+the claim's bound beyond it by at least the interval's half-width; "needs the user" at least once
+per run on every profile; "no run needs the user" in none of the runs; a claim about the fixed
+speeds that need no user only where no fixed speed needed the user in some runs and not in
+others (between 0 and 1 requests per run: which speeds count would change with the seeds).
+Elsewhere the output shows the same figures as "not claimed here". They were then checked, as
+worded, on seeds never run before (8100 to 8104 and 8200 to 8204, ``--paths all``;
+samples/weblab/README.md says how each did). Why each is where it is: the time from campus to LAN falls by 0 to 5 s against
+its runs' spread, so only that it does not rise by more than :data:`NO_SLOWER_S` is claimed, on
+the default and gentle paths (on the sharp and right-angle paths the interval reaches past it);
+fixed_150 needs the user rarely on the gentle path's LAN; on the default, right-angle and gentle
+paths some fixed speed with every policy off needs the user in some runs only, or ties
+adaptation (60 mm/s on residential)."""
+NO_SLOWER_S = HUMAN_DELAY
+"""Where the time's fall from one profile to the next is not claimed, the claim is that it does
+not rise by more than this (s): the time one person's help takes."""
 Table = dict[str, dict[str, dict[str, dict[str, Stat]]]]
 """path -> condition -> profile -> metric -> Stat."""
 
@@ -104,14 +111,17 @@ class Claim:
     holds: bool
     detail: str
     claimed_on: tuple[str, ...] | None = None  # None: every path; else the paths it is made on
+    observed: bool = False  # a finding of these runs, said as seen or not, never a claim
 
     @property
     def claimed(self) -> bool:
         """Whether the claim is made on this path (elsewhere it is shown, not claimed)."""
-        return self.claimed_on is None or self.path in self.claimed_on
+        return not self.observed and (self.claimed_on is None or self.path in self.claimed_on)
 
     @property
     def verdict(self) -> str:
+        if self.observed:
+            return "shown on these runs" if self.holds else "not shown on these runs"
         if self.claimed:
             return "holds" if self.holds else "DOES NOT HOLD"
         where = ", ".join(self.claimed_on or ())
@@ -242,10 +252,11 @@ def _claims_of_path(
             ordered("speed_mm_s", "the speed", True, 0),
         ]
         shown = [p for p in profiles if p in adaptive]
-        for i, (a, b) in enumerate(itertools.pairwise(shown)):
-            step = ordered("time_s", "the time to the finish", False, 0, (a, b))
-            key = "time_last_step" if b == "LAN" else "time_first_step" if i == 0 else None
-            out.append(replace(step, claimed_on=SCOPES[key]) if key else step)
+        for a, b in itertools.pairwise(shown):
+            if b != "LAN" or a == "residential":  # a step of 40 to 60 s: claimed as a fall
+                out.append(ordered("time_s", "the time to the finish", False, 0, (a, b)))
+            else:  # campus to LAN, 0 to 5 s: no more than that it does not rise by much
+                out.append(_no_slower(path, adaptive[a]["time_s"], adaptive[b]["time_s"], a, b))
         if "residential" in profiles:
             fps = {p: adaptive[p]["fps"].mean for p in profiles if p in adaptive}
             out.append(
@@ -304,7 +315,24 @@ def _claims_of_path(
         for prefix in FAMILIES:
             if fixed_conditions(table, prefix):
                 out += _sweep_claims(path, table, profiles, prefix)
-    return out
+    recovery = _recovery_claim(path, table)
+    return [*out, recovery] if recovery is not None else out
+
+
+def _no_slower(path: str, a: Stat, b: Stat, first: str, then: str) -> Claim:
+    """The time to the finish does not rise from profile ``first`` to ``then`` by more than
+    :data:`NO_SLOWER_S` (the 95% interval of the step ends below it): what a faster network
+    must give where the step is too small to be claimed as a fall."""
+    step = difference(b, a)
+    return Claim(
+        path,
+        f"adaptive: the time to the finish does not rise from {first} to {then} by more than "
+        f"{NO_SLOWER_S:g} s (95% interval of the step below +{NO_SLOWER_S:g} s)",
+        step is not None and step.high < NO_SLOWER_S,
+        f"{a.mean:.0f} then {b.mean:.0f}; step "
+        + (interval(step, 0) if step is not None else "n < 2: no interval"),
+        SCOPES["time_last_no_slower"],
+    )
 
 
 def _sweep_claims(
@@ -345,15 +373,14 @@ def _sweep_claims(
             figures,
             SCOPES["faster_than_safe_fixed"],
         )
-    else:
+    else:  # a tie (an interval that contains 0) is no evidence of equal times: said, not claimed
         speed_claim = Claim(
             path,
-            f"with the recovery kept, a fixed speed can match adaptation: some {which} that "
-            "needs no user is as fast on some profile (95% interval of adaptive minus fixed time "
-            "not below 0)",
+            f"with the recovery kept, some {which} that needs no user is not shown slower than "
+            "adaptation on some profile (95% interval of adaptive minus fixed time not below 0)",
             bool(safe) and not faster,
             figures,
-            SCOPES["safe_unlimited_as_fast"],
+            observed=True,
         )
     return [
         speed_claim,
@@ -364,6 +391,30 @@ def _sweep_claims(
             not matched,
             f"{len(verdicts)} fixed speeds ({', '.join(verdicts)})"
             + (f"; as good everywhere: {', '.join(matched)}" if matched else ""),
-            None if prefix == FIXED else SCOPES["none_as_good_unlimited"],
+            observed=prefix != FIXED,  # with the recovery kept, a tie decides it either way
         ),
     ]
+
+
+def _recovery_claim(path: str, table: dict[str, dict[str, dict[str, Stat]]]) -> Claim | None:
+    """With the recovery kept the fixed speeds need the user less often, in all, than the same
+    speeds with every policy off: what the Recovering policy buys, the speed the same."""
+    pairs = [
+        (c, f"{UNLIMITED}{c[len(FIXED) :]}")
+        for c in fixed_conditions(table)
+        if f"{UNLIMITED}{c[len(FIXED) :]}" in table
+    ]
+    if not pairs:
+        return None
+
+    def total(conditions: list[str]) -> float:
+        return sum(p["user_requests"].mean for c in conditions for p in table[c].values())
+
+    off, kept = total([a for a, _ in pairs]), total([b for _, b in pairs])
+    return Claim(
+        path,
+        "with the recovery kept, the fixed speeds need the user less often than with every "
+        "policy off (requests per run, summed over the speeds and profiles)",
+        kept < off,
+        f"{kept:.1f} against {off:.1f}, {len(pairs)} speed{'s' if len(pairs) != 1 else ''}",
+    )

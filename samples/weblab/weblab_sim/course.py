@@ -36,7 +36,26 @@ taken while the robot drove forward under the user's control:
   reach (``progress``) is on another segment: it is astray, and reports no stripe until a
   reading shows it back where it was (the lab's recovery or its person puts it there);
 - the way the stripe ran where the robot was last on it (where it lost it, when it has) also
-  bounds a single crossing: one more than :data:`BACKWARDS_DEG` from it runs backwards too.
+  bounds a single crossing: one more than :data:`BACKWARDS_DEG` from it runs backwards too;
+- once a reading says the robot drove the stripe backwards (the lab stopped it,
+  ``stoppedBackwards``, or it heads more than :data:`BACKWARDS_DEG` from the way the stripe runs),
+  the way the stripe runs there is the way on, and a point more than :data:`AGAINST_DEG` from it
+  lies back along the stripe: the Navigator takes none until a reading shows the robot on the
+  stripe facing within :data:`AGAINST_DEG` of the way it runs there (or it is carried).
+  :data:`BACKWARDS_DEG` is wide because a robot coming to a corner steers up to 120 degrees from
+  the segment it is on; a robot the lab has just found driving back along the stripe is not
+  coming to a corner, and with only that wide bound it took the same stripe the wrong way after
+  each of the recovery's back-ups (on the right-angle path, past the fourth corner, heading 145
+  degrees from the stripe: each time the lab stopped it 16 mm further back, 119 mm in all).
+
+A stripe seen only from more than :data:`BEYOND_MM` ahead is not the one the robot follows: that
+one enters the view at its near edge (150 mm ahead), and leaves it there when the robot is within
+150 mm of a corner, before the new segment comes into view. At the right-angle path's second
+corner the camera then sees only the fifth segment, 700 mm on (and 2 m further along the stripe);
+steering at it took the robot there, too far from the corner for the recovery to bring it back,
+and a person was needed in every run. The Navigator reports no stripe instead: the robot stops,
+and the recovery backs it up turning towards the side it was turning to, where the new segment
+comes into view.
 
 Headings are in degrees, counter-clockwise from east (as the telemetry gives them).
 """
@@ -49,7 +68,9 @@ from weblab_sim.detector import Sighting, bearing
 
 SIDE_BIAS_DEG = 45.0
 BACKWARDS_DEG = 150.0
+AGAINST_DEG = 90.0  # a point farther than this from the way the stripe runs lies back along it
 AHEAD_MM = 400.0  # as far past the farthest point reached as the next stretch of stripe starts
+BEYOND_MM = 500.0  # a stripe that begins this far ahead is not the one the robot was following
 TURNING_DEG = 2.0  # a turn smaller than this says nothing about the side the stripe goes to
 CARRIED_DEG = 75.0  # a heading change between two telemetry readings the wheels cannot make
 
@@ -91,6 +112,9 @@ class Course:
         self.stripe: float | None = None  # the way the stripe ran where the robot last was on it
         self.halt = False  # the robot drove the stripe backwards: the next step stops it
         self.astray = False  # the robot is on another segment, far ahead
+        # the way the stripe runs where the robot was found driving it backwards, until it faces
+        # along the stripe again
+        self.against: float | None = None
 
     def observe(self, reading: object, forward: bool = False) -> None:
         """Take the heading of a telemetry reading (a mapping with ``heading`` in degrees, and
@@ -104,14 +128,21 @@ class Course:
             return
         if self.heading is not None and abs(wrap(heading - self.heading)) > CARRIED_DEG:
             self.travel, self.side, self.stripe = None, 0.0, None
+            self.against = None
         self.heading = heading
-        if forward and reading.get("stoppedBackwards"):
+        stopped = forward and bool(reading.get("stoppedBackwards"))
+        if stopped:
             self.halt = True  # the lab stopped it: it drove the stripe backwards
         judged = judge(reading)
         if judged is None:
             return
         backwards, elsewhere = judged
         runs = float(reading["stripeHeading"])  # judge() found it a number
+        if not elsewhere:
+            if stopped or (forward and backwards):
+                self.against = runs
+            elif abs(wrap(heading - runs)) <= AGAINST_DEG:
+                self.against = None  # it faces along the stripe again
         if forward and elsewhere:
             self.astray = True
         elif not elsewhere and not backwards:
@@ -123,13 +154,25 @@ class Course:
 
     def choose(self, seen: Sighting | None) -> float | None:
         """The turn (degrees, + left) to steer at in what the camera saw, or None: no stripe, or
-        only a stripe that runs backwards, or the robot is astray."""
+        only a stripe that runs backwards or begins more than :data:`BEYOND_MM` ahead, or the robot is
+        astray."""
         if self.halt:
             self.halt = False
             return None
         if seen is None or self.astray:
             return None
-        if self.heading is None or self.travel is None:
+        if self.heading is None:
+            return self._take(bearing(seen.target))
+        if self.against is not None:
+            onward = [
+                p
+                for p in seen.crossings
+                if abs(wrap(self.heading + bearing(p) - self.against)) <= AGAINST_DEG
+            ]
+            if not onward:
+                return None
+            seen = Sighting(onward[0], tuple(onward))
+        if self.travel is None:
             return self._take(bearing(seen.target))
         if len(seen.crossings) >= 2:
             preferred = self.travel + SIDE_BIAS_DEG * self.side
@@ -139,6 +182,8 @@ class Course:
                     key=lambda b: abs(wrap(self.heading + b - preferred)),  # type: ignore[operator]
                 )
             )
+        if math.hypot(*seen.target) > BEYOND_MM:
+            return None
         turn = bearing(seen.target)
         way = wrap(self.heading + turn)
         if abs(wrap(way - self.travel)) > BACKWARDS_DEG:

@@ -30,7 +30,7 @@ def weblab_app() -> None:
 
 
 class DemoInBackground:
-    """The experiment as ``make demo`` runs it (10 seeds, every condition and profile), started as
+    """The experiment as ``make demo`` runs it (its default seeds, every condition and profile), started as
     soon as collection shows a test needs it: it takes minutes on its own processes, and the rest
     of the suite runs on one core meanwhile, so the suite waits for it once, not on top of it."""
 

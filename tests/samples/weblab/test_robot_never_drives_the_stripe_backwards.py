@@ -7,10 +7,11 @@ trajectory, never falls back while it drives forward, and no run finishes by a s
 from __future__ import annotations
 
 import itertools
+import math
 
 import numpy as np
 import pytest
-from weblab_sim import experiment, floor
+from weblab_sim import camera, detector, experiment, floor
 from weblab_sim.course import Course
 
 
@@ -68,6 +69,7 @@ def test_on_the_right_angle_path_progress_along_the_stripe_is_monotone(
     assert worst <= experiment.BACKWARDS_MM, worst
     assert metrics["backwards_mm"] == pytest.approx(worst, abs=20.0)  # the lab's own measure
     assert metrics["followed_backwards"] == 0
+    assert metrics["user_requests"] == 0  # not even at the second corner (below)
 
 
 def reading(heading: float, along: float, progress: float, runs: float) -> dict[str, float]:
@@ -90,3 +92,52 @@ def test_a_robot_on_a_segment_far_ahead_is_astray_until_it_is_back() -> None:
     assert course.astray
     course.observe(reading(180.0, 3150.0, 3100.0, 180.0), forward=False)  # put back by a person
     assert not course.astray
+
+
+def test_at_the_second_right_angle_a_stripe_seen_only_far_ahead_is_not_steered_at() -> None:
+    # 50 mm before the second corner, facing north: the third segment (west from the corner) is
+    # nearer than the camera's near edge, and the fifth, 700 mm north, is all the camera sees.
+    x, y = floor.make_path("right").points[2]
+    seen = detector.sight(camera.render(x, y - 50.0, math.radians(90.0), path="right"))
+    assert seen is not None and math.hypot(*seen.target) > 650.0  # the fifth segment
+    course = Course()
+    course.observe(reading(90.0, 3050.0, 3050.0, 90.0), forward=True)
+    course.travel = 90.0  # it was following the second segment north
+    assert course.choose(seen) is None
+    # Backed up and turned left (what the recovery does), it sees the third segment, and takes it.
+    nearer = detector.sight(camera.render(x, y - 200.0, math.radians(100.0), path="right"))
+    turn = course.choose(nearer)
+    assert nearer is not None and math.hypot(*nearer.target) < 400.0
+    assert turn is not None and turn > 20.0  # left, onto the third segment
+
+
+def test_after_the_lab_stopped_it_the_robot_takes_no_point_back_along_the_stripe() -> None:
+    # Past the right-angle path's fourth corner, on the fifth segment (running east), facing
+    # north-west: the lab stopped it for driving the stripe backwards.
+    course = Course()
+    course.observe(reading(141.0, 5568.0, 5568.0, 0.0), forward=False)
+    course.travel = 145.0  # where it had been steering
+    stopped = {**reading(142.0, 5529.0, 5568.0, 0.0), "stoppedBackwards": 1.0}
+    course.observe(stopped, forward=True)
+    assert course.choose(None) is None  # it stops once
+    back = detector.Sighting((216.0, 16.0), ((216.0, 16.0),))  # 145 degrees from east
+    assert course.choose(back) is None
+    on = (150.0, -300.0)  # 63 degrees right of heading 142: 79 degrees from east
+    both = detector.Sighting(back.target, (back.target, on))
+    turn = course.choose(both)
+    assert turn == pytest.approx(detector.bearing(on))
+    # Facing along the stripe again (turned by the recovery), the bound is lifted.
+    course.observe(reading(20.0, 5600.0, 5600.0, 0.0), forward=False)
+    assert course.against is None
+
+
+def test_the_run_that_drove_the_fifth_segment_backwards_no_longer_does(weblab_app) -> None:
+    # Seed 8203, campus, SpeedLimiting off: facing back along the fifth segment, the robot took
+    # it the wrong way after each back-up of the recovery (the lab stopped it each time), 119 mm
+    # back in all.
+    metrics = experiment.run("campus", 8203, "no_speed_policy", path="right", series=True)
+    assert metrics["finished"] == 1
+    worst = fallen_back(floor.make_path("right"), metrics["series"])
+    assert metrics["backwards_mm"] <= experiment.BACKWARDS_MM, metrics["backwards_mm"]
+    assert worst <= experiment.BACKWARDS_MM, worst
+    assert metrics["followed_backwards"] == 0

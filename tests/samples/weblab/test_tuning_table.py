@@ -95,6 +95,12 @@ def expected() -> dict[str, list[str]]:
             f"more than {course.CARRIED_DEG:g} degrees",
         ],
         "recovered": ["100 mm or more"],
+        "course_beyond": [f"more than {course.BEYOND_MM:g} mm ahead"],
+        "course_against": [
+            f"more than {course.BACKWARDS_DEG:g} degrees",
+            f"more than {course.AGAINST_DEG:g} degrees",
+            f"within {course.AGAINST_DEG:g} degrees",
+        ],
         "family_paths": [path_value("right"), path_value("gentle")]
         + [
             "segments " + ", ".join(f"{length:g}" for length, _ in floor.PATHS[name]) + " mm"
