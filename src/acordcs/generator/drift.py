@@ -19,10 +19,11 @@ its public methods that implement nothing the model declares are named beside th
 from __future__ import annotations
 
 import ast
+from collections.abc import Callable, Iterator
 from dataclasses import dataclass
 from pathlib import Path
 
-from acordcs.descriptor import Application, Component, DescriptorError, from_xml
+from acordcs.descriptor import Application, Component, DescriptorError, Operation, from_xml
 from acordcs.diagnostics import Diagnostic, diagnostic
 from acordcs.generator.paths import Unreadable, read_bounded
 
@@ -131,19 +132,32 @@ def _without_code(
     return out
 
 
+def stale_operations(
+    methods: dict[str, int],
+    old: Component,
+    new: Component,
+    code_name: Callable[[str], str] = str,
+) -> Iterator[tuple[Operation, str, int, str | None]]:
+    """The operations of the previous build's ``old`` whose method (by ``code_name``: the
+    target's name of an operation) the user's class still defines at a line of ``methods``,
+    though ``new`` has no operation of that name: each with its method's name, line, and the
+    name the model gives it now (found by id), or None where it is gone."""
+    current = {code_name(op.name) for op in new.operations}
+    by_id = {op.id: code_name(op.name) for op in new.operations}
+    for old_op in old.operations:
+        name = code_name(old_op.name)
+        line = methods.get(name)
+        if line is not None and name not in current:
+            yield old_op, name, line, by_id.get(old_op.id)
+
+
 def _stale_methods(
     path: str, methods: dict[str, int], old: Component, new: Component
 ) -> list[Drift]:
     out: list[Drift] = []
-    current_ops = {op.name for op in new.operations}
     current_ports = {p.name for p in new.ports}
-    ops_by_id = {op.id: op.name for op in new.operations}
     ports_by_id = {p.id: p.name for p in new.ports}
-    for old_op in old.operations:
-        line = methods.get(old_op.name)
-        if line is None or old_op.name in current_ops:
-            continue
-        now = ops_by_id.get(old_op.id)
+    for old_op, _name, line, now in stale_operations(methods, old, new):
         if now is not None:
             message = (
                 f"method {old_op.name}() of class {new.name} implements operation "
@@ -159,8 +173,8 @@ def _stale_methods(
         out.append(Drift(path, line, message, new.qualified_name, old_op.id))
     for old_port in old.ports:
         handler = f"on_{old_port.name}"
-        line = methods.get(handler)
-        if line is None or old_port.name in current_ports:
+        at = methods.get(handler)
+        if at is None or old_port.name in current_ports:
             continue
         now = ports_by_id.get(old_port.id)
         if now is not None:
@@ -173,7 +187,7 @@ def _stale_methods(
                 f"method {handler}() of class {new.name} handles port {old_port.name} (id "
                 f"{old_port.id}), which is no longer in the model: remove the method"
             )
-        out.append(Drift(path, line, message, new.qualified_name, old_port.id))
+        out.append(Drift(path, at, message, new.qualified_name, old_port.id))
     return out
 
 

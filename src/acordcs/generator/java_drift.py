@@ -17,7 +17,7 @@ import re
 from pathlib import Path
 
 from acordcs.descriptor import Application, Component
-from acordcs.generator.drift import Drift
+from acordcs.generator.drift import Drift, stale_operations
 from acordcs.generator.paths import read_bounded
 from acordcs.java_names import identifier, method, package
 
@@ -62,15 +62,8 @@ def find_java_drift(out: Path, old: Application | None, new: Application) -> lis
 
 def _stale(path: str, methods: dict[str, int], old: Component, new: Component) -> list[Drift]:
     out = []
-    current = {method(op.name) for op in new.operations}
-    by_id = {op.id: method(op.name) for op in new.operations}
     cls = identifier(new.name)
-    for old_op in old.operations:
-        name = method(old_op.name)
-        line = methods.get(name)
-        if line is None or name in current:
-            continue
-        now = by_id.get(old_op.id)
+    for old_op, name, line, now in stale_operations(methods, old, new, method):
         if now is not None:
             message = (
                 f"method {name}() of Java class {cls} implements operation {old_op.name}, which "
