@@ -180,3 +180,24 @@ def make_network(*names: str, hosts: dict[str, str] | None = None) -> Network:
         network.teardown()
         raise
     return network
+
+
+BROKER_CONF = """\
+listener 1883 {address}
+allow_anonymous true
+set_tcp_nodelay true
+max_queued_messages 100000
+user root
+persistence true
+persistence_location {dir}/
+log_dest file {dir}/mosquitto.log
+log_type all
+"""
+
+
+def broker_config(host: Host, directory: Path) -> Path:
+    """A mosquitto configuration for a broker on ``host``: anonymous, persistent (its state and
+    its log, every kind of line, in ``directory``), listening on the host's address only."""
+    conf = directory / "mosquitto.conf"
+    conf.write_text(BROKER_CONF.format(address=host.address, dir=directory), encoding="utf-8")
+    return conf

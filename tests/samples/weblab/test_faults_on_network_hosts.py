@@ -54,17 +54,6 @@ SHORT = {"residential": "r", "campus": "c", "LAN": "l"}
 PEER_ENV = {**os.environ, "PYTHONPATH": f"{ROOT}:{ROOT / 'src'}"}  # the test's own helpers
 USER_PORT, LAB_PORT = 47011, 47020  # the WebLab's containers' ports (the model's numbering)
 TIME_CAP = 6  # s each profile's Navigator drives
-BROKER_CONF = """\
-listener 1883 {address}
-allow_anonymous true
-set_tcp_nodelay true
-max_queued_messages 100000
-user root
-persistence true
-persistence_location {dir}/
-log_dest file {dir}/mosquitto.log
-log_type all
-"""
 
 
 @pytest.fixture(scope="module")
@@ -81,8 +70,7 @@ def broker(network: netns.Network, tmp_path_factory: pytest.TempPathFactory):
     """mosquitto on the broker's host; yields its log's path."""
     work = tmp_path_factory.mktemp("broker")
     host = network.hosts["broker"]
-    conf = work / "mosquitto.conf"
-    conf.write_text(BROKER_CONF.format(address=host.address, dir=work))
+    conf = netns.broker_config(host, work)
     process = subprocess.Popen(host.command(mosquitto_binary(), "-c", str(conf)),
                                stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)  # fmt: skip
     log = work / "mosquitto.log"

@@ -153,24 +153,11 @@ def test_weblab_across_hosts_survives_its_link_going_down(
     assert f"serving at PYRO:acordcs.container.WebLabSide@{lab.address}:47020" in lab_text
 
 
-BROKER_CONF = """\
-listener 1883 {address}
-allow_anonymous true
-set_tcp_nodelay true
-max_queued_messages 100000
-user root
-persistence true
-persistence_location {dir}/
-log_dest file {dir}/mosquitto.log
-"""
-
-
 def test_qos1_context_across_hosts_survives_a_broker_restart(
     network: netns.Network, tmp_path: Path
 ) -> None:
     broker_host = network.hosts["broker"]
-    conf = tmp_path / "mosquitto.conf"
-    conf.write_text(BROKER_CONF.format(address=broker_host.address, dir=tmp_path))
+    conf = netns.broker_config(broker_host, tmp_path)
     binary = mosquitto_binary()
     env = {**os.environ, "PYTHONPATH": f"{ROOT}:{ROOT / 'src'}"}
     peer = [sys.executable, "-m", "tests.support.context_peer"]
