@@ -12,6 +12,7 @@ import multiprocessing
 import os
 import shutil
 import socket
+import statistics
 import subprocess
 import sys
 import time
@@ -106,41 +107,146 @@ def console_on(app: Greenhouse, watchers: int = 0) -> Iterator[tuple[str, Consol
 
 
 def cpu_seconds(pid: int) -> float:
-    """User and system CPU seconds of process ``pid`` so far (``/proc/<pid>/stat``)."""
+    """User and system CPU seconds of process ``pid`` so far (``/proc/<pid>/stat``, in clock
+    ticks of 10 ms)."""
     fields = Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()
     return (int(fields[11]) + int(fields[12])) / os.sysconf("SC_CLK_TCK")
 
 
-def _cpu_over(pid: int, seconds: float) -> float:
-    """The share of a core (%) process ``pid`` used over the next ``seconds``."""
-    before, t0 = cpu_seconds(pid), time.monotonic()
+CPUACCT = Path("/sys/fs/cgroup/cpuacct")  # cgroup v1's CPU accounting, in nanoseconds
+
+
+class CpuClock:
+    """The CPU seconds process ``pid`` has used, all its threads (gone ones too): from a cgroup
+    of its own under cgroup v1's ``cpuacct`` (nanoseconds) when this process may make one
+    (root), else from ``/proc/<pid>/stat`` (10 ms ticks: at about 1 % of a core a 15 s window
+    holds some 15 ticks, too coarse for a difference of 5 %). ``source`` says which."""
+
+    def __init__(self, pid: int) -> None:
+        self.pid, self.group = pid, CPUACCT / f"acordcs-bench-{pid}"
+        try:
+            self.group.mkdir()
+            (self.group / "cgroup.procs").write_text(str(pid))
+        except OSError:
+            with contextlib.suppress(OSError):
+                self.group.rmdir()
+            self.group = None  # type: ignore[assignment]
+        self.source = "cgroup cpuacct (ns)" if self.group else "/proc stat (10 ms ticks)"
+
+    def seconds(self) -> float:
+        if self.group is None:
+            return cpu_seconds(self.pid)
+        return int((self.group / "cpuacct.usage").read_text()) / 1e9
+
+    def close(self) -> None:
+        """The process back in the root group, and the group removed."""
+        if self.group is not None:
+            with contextlib.suppress(OSError):  # gone meanwhile: its group empties itself
+                (CPUACCT / "cgroup.procs").write_text(str(self.pid))
+            with contextlib.suppress(OSError):
+                self.group.rmdir()
+
+
+def wakeups(pid: int) -> int:
+    """How many times the threads of process ``pid`` alive now gave up their core to wait so far
+    (``voluntary_ctxt_switches`` of each ``/proc/<pid>/task/*/status``; the involuntary ones
+    count the host's load): each request it serves, each timer it sleeps on, is one or more;
+    the work it does, counted rather than timed."""
+    total = 0
+    for status in Path(f"/proc/{pid}/task").glob("*/status"):
+        with contextlib.suppress(OSError):  # a thread that ended meanwhile
+            for line in status.read_text().splitlines():
+                if line.startswith("voluntary_ctxt_switches:"):
+                    total += int(line.split()[1])
+    return total
+
+
+@dataclass(frozen=True)
+class Window:
+    """What the process did over one window, per second: ``cpu`` (% of a core), ``wakeups``
+    (its threads' voluntary context switches), ``threads`` (at the window's end)."""
+
+    cpu: float
+    wakeups: float
+    threads: int
+
+
+def _window(clock: CpuClock, seconds: float) -> Window:
+    """What the clock's process does over the next ``seconds``."""
+    cpu0, woke0, t0 = clock.seconds(), wakeups(clock.pid), time.monotonic()
     time.sleep(seconds)
-    return 100 * (cpu_seconds(pid) - before) / (time.monotonic() - t0)
+    cpu1, woke1, wall = clock.seconds(), wakeups(clock.pid), time.monotonic() - t0
+    threads = len(list(Path(f"/proc/{clock.pid}/task").iterdir()))
+    return Window(100 * (cpu1 - cpu0) / wall, (woke1 - woke0) / wall, threads)
 
 
-def cpu_rounds(
-    app: Greenhouse, window: float, rounds: int, viewers: Callable
-) -> dict[str, list[float]]:
-    """The greenhouse's CPU with no console, the console and 0 viewers, and 10 viewers (the
-    ``viewers`` function of bench_console in a child process), ``rounds`` times each in turn."""
-    found: dict[str, list[float]] = {"none": [], "console": [], "10 viewers": []}
+# The 0.975 quantile of Student's t with 1..30 degrees of freedom (a table: the interval below
+# needs nothing more, and scipy is not a dependency).
+T975 = (12.706, 4.303, 3.182, 2.776, 2.571, 2.447, 2.365, 2.306, 2.262, 2.228, 2.201, 2.179,
+        2.160, 2.145, 2.131, 2.120, 2.110, 2.101, 2.093, 2.086, 2.080, 2.074, 2.069, 2.064,
+        2.060, 2.056, 2.052, 2.048, 2.045, 2.042)  # fmt: skip
+
+
+@dataclass
+class CpuPairs:
+    """The greenhouse's windows: ``none`` before any console, then, with the console attached
+    throughout, ``zero`` and ``ten`` viewers, window ``i`` of each one pair (run back to back,
+    the order alternating pair by pair); ``source``: where its CPU time was read."""
+
+    none: list[Window]
+    zero: list[Window]
+    ten: list[Window]
+    source: str
+
+    def mean(self, kind: str, what: str) -> float:
+        """The mean of ``what`` (a field of :class:`Window`) over the windows of ``kind``."""
+        return statistics.fmean(getattr(w, what) for w in getattr(self, kind))
+
+    def difference(self, what: str = "cpu") -> tuple[float, float, float]:
+        """10 viewers against 0 in ``what``, as % of the 0-viewer mean: the mean of the pairs'
+        differences and its 95 % confidence interval (Student's t over the pairs)."""
+        diffs = [
+            getattr(t, what) - getattr(z, what) for t, z in zip(self.ten, self.zero, strict=True)
+        ]
+        base, mean = self.mean("zero", what), statistics.fmean(diffs)
+        half = (
+            T975[min(len(diffs), len(T975) + 1) - 2] * statistics.stdev(diffs) / len(diffs) ** 0.5
+        )
+        return tuple(100 * v / base for v in (mean, mean - half, mean + half))  # type: ignore[return-value]
+
+
+def cpu_pairs(app: Greenhouse, window: float, pairs: int, viewers: Callable) -> CpuPairs:
+    """The greenhouse's CPU with no console (two windows), then with the console attached once
+    and, ``pairs`` times, a window with 0 viewers and one with 10 (the ``viewers`` function of
+    bench_console in a child process, connected before its window starts and gone before the
+    next), in alternating order so that a drift of the host's load falls on both alike."""
+    settle = 2.0  # seconds after the viewers came or went, before a window opens
+    clock = CpuClock(app.pid)
+    found = CpuPairs([_window(clock, window) for _ in range(2)], [], [], clock.source)
     ctx = multiprocessing.get_context("spawn")
-    for _ in range(rounds):
-        found["none"].append(_cpu_over(app.pid, window))
-        with console_on(app, watchers=10) as (url, hub):
-            time.sleep(1.0)  # the watch settled
-            found["console"].append(_cpu_over(app.pid, window))
-            stop, ready = ctx.Event(), ctx.Event()
-            ws = url.replace("http", "ws") + "/ws"
-            child = ctx.Process(target=viewers, args=(ws, 10, ready, stop), daemon=True)
-            child.start()
-            ready.wait(30)
-            deadline = time.monotonic() + 10
-            while hub.viewers < 10 and time.monotonic() < deadline:
-                time.sleep(0.05)
-            found["10 viewers"].append(_cpu_over(app.pid, window))
-            stop.set()
-            child.join(10)
+    with contextlib.closing(clock), console_on(app, watchers=10) as (url, hub):
+        time.sleep(settle)  # the watch settled
+        ws = url.replace("http", "ws") + "/ws"
+        for i in range(pairs):
+            for viewed in (False, True) if i % 2 == 0 else (True, False):
+                if not viewed:
+                    found.zero.append(_window(clock, window))
+                    continue
+                stop, ready = ctx.Event(), ctx.Event()
+                child = ctx.Process(target=viewers, args=(ws, 10, ready, stop), daemon=True)
+                child.start()
+                ready.wait(30)
+                deadline = time.monotonic() + 10
+                while hub.viewers < 10 and time.monotonic() < deadline:
+                    time.sleep(0.05)
+                time.sleep(settle)
+                found.ten.append(_window(clock, window))
+                stop.set()
+                child.join(10)
+                deadline = time.monotonic() + 10
+                while hub.viewers and time.monotonic() < deadline:
+                    time.sleep(0.05)
+                time.sleep(settle)
     return found
 
 

@@ -11,8 +11,10 @@ without the token are refused. The generated ``bin/console`` serves the page and
 from __future__ import annotations
 
 import http.client
+import json
 import re
 import threading
+import urllib.request
 from http.server import BaseHTTPRequestHandler, ThreadingHTTPServer
 from urllib.parse import urlsplit
 
@@ -288,7 +290,6 @@ def test_a_viewer_without_the_token_sees_nothing_of_an_application_started_with_
 def test_the_generated_bin_console_serves_the_page_and_stops_on_term(greenhouse):
     import signal
     import subprocess
-    import urllib.request
 
     from tests.generator.test_shell_scripts_parse_quote_and_run import free_ports
 
@@ -309,6 +310,8 @@ def test_the_generated_bin_console_serves_the_page_and_stops_on_term(greenhouse)
         with urllib.request.urlopen(f"http://127.0.0.1:{port}/", timeout=10) as page:
             assert "acordcs console" in page.read().decode()
             assert "frame-ancestors 'none'" in page.headers["content-security-policy"]
+        with urllib.request.urlopen(f"http://127.0.0.1:{port}/status", timeout=10) as status:
+            assert json.load(status)["mode"] == "attached"
         child.send_signal(signal.SIGTERM)
         out, err = child.communicate(timeout=20)
         assert child.returncode == 0, err
@@ -320,7 +323,6 @@ def test_the_generated_bin_console_serves_the_page_and_stops_on_term(greenhouse)
 
 
 def test_a_single_process_run_serves_the_same_console_beside_its_container(greenhouse):
-    import json
     import os
     import signal
     import subprocess
@@ -354,6 +356,8 @@ def test_a_single_process_run_serves_the_same_console_beside_its_container(green
                         kinds.add(m["data"]["kind"])
                     if m["type"] == "application":
                         assert [c for c in m["data"]["containers"]] == ["House"]
+        with urllib.request.urlopen(f"http://{where}/status", timeout=10) as status:
+            assert json.load(status)["mode"] == "single process"
         child.send_signal(signal.SIGTERM)
         out, _ = child.communicate(timeout=20)
         assert "House: stopped at" in out and child.returncode == 0

@@ -42,6 +42,7 @@ class InProcess:
         self.descriptor = descriptor
         self.name = descriptor.name
         self.app_dir = None
+        self.mode = "simulation"  # as the console's /status says it
         self.how_to_start = HOW_TO_START
         self.places = {c.name: c.name for c in descriptor.containers}
         self.host_of = {

@@ -71,8 +71,8 @@ class Application:
     runs; ``places``, where each container serves; ``token``, the application's (empty: none);
     ``timeout``: seconds a call may take; ``how_to_start``: what a container that does not answer
     is told to do; ``app_dir``: the directory it was built in (None: not known, as for a
-    single process that serves its own console). :meth:`built_in` finds them as the scripts
-    do."""
+    single process that serves its own console); ``mode``: how it runs, as the console's
+    ``/status`` says it. :meth:`built_in` finds them as the scripts do."""
 
     def __init__(
         self,
@@ -82,8 +82,10 @@ class Application:
         timeout: float,
         how_to_start: str = HOW_TO_START,
         app_dir: Path | None = None,
+        mode: str = "attached",
     ) -> None:
         self.descriptor = descriptor
+        self.mode = mode
         self.places = dict(places)
         self.token = token
         self.how_to_start = how_to_start

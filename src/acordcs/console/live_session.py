@@ -56,7 +56,6 @@ from acordcs.plugins import PluginTable
 from acordcs.runtime.errors import RuntimeFailure
 from acordcs.runtime.live.observer import plain
 
-MODE = "attached"
 SITE_NAME = "acordcs console"
 UPDATE_SECONDS = 300.0
 """Seconds ``acordcs-gen update`` may take (a build, then each container's apply)."""
@@ -166,7 +165,7 @@ class LiveSession:
         )
 
     def describe(self) -> dict[str, Any]:
-        return {"mode": MODE, "application": self.app.name, "containers": list(self.app.places),
+        return {"mode": self.app.mode, "application": self.app.name, "containers": list(self.app.places),
                 "panels": [p.shown() for p in self.panels],
                 "panel_state": {name: _described(panel)
                                 for name, panel in self.panel_sessions.items()}}  # fmt: skip

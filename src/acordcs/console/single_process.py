@@ -40,6 +40,7 @@ def serve_beside(
         token or "",
         timeout=5.0,
         how_to_start="the container serving this console stopped answering",
+        mode="single process",
     )
     hub = ConsoleHub(max_viewers=32, max_watchers=8 if not token and is_loopback(where) else 0)
     console_token = secrets.token_urlsafe(16)

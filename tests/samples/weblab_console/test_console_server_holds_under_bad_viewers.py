@@ -125,6 +125,7 @@ def test_the_page_and_its_module_are_served(console):
     )
     assert client.get("/static/console.js").status_code == 200
     status = client.get("/status").json()
+    assert status["mode"] == "simulation"  # the experiment in this process, not an attached app
     assert status["panel_state"]["weblab"]["profiles"] == list(PROFILES)
     (panel,) = status["panels"]  # the WebLab's, on the console's page
     assert client.get(panel["script"]).status_code == 200
