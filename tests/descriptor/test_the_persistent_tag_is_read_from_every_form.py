@@ -10,6 +10,7 @@ from pathlib import Path
 
 from acordcs.descriptor import from_xml, to_xml
 from acordcs.generator.describe import describe
+from acordcs.model.ecore_builder import to_ecore
 from acordcs.model.reading import read_model
 from acordcs.profile import stereotype
 from tests.support.toolchain import SAMPLES, WEBLAB, replace, replace_in_element
@@ -18,10 +19,15 @@ VENTILATION = SAMPLES / "papyrus" / "ventilation.uml"
 
 
 def _persistent(path: Path) -> dict[str, bool]:
+    """Each component's tag as the descriptor carries it, held equal to the metamodel instance
+    ``acordcs-gen export`` writes (an EBoolean there)."""
     reading = read_model(str(path))
     app = describe(reading.architecture)
     assert from_xml(to_xml(app)) == app  # carried by the descriptor's XML form as it is
-    return {c.name: c.persistent for c in app.components}
+    exported = {c.name: c.persistent for c in to_ecore(reading.architecture).components}
+    found = {c.name: c.persistent for c in app.components}
+    assert exported == found
+    return found
 
 
 def _codes(path: Path) -> list[str]:
