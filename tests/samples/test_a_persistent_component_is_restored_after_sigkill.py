@@ -18,8 +18,8 @@ import pytest
 from acordcs.runtime.connectors.remote import RemoteConnector
 from acordcs.runtime.live.management import MANAGE_OBJECT
 from tests.support.generator import build
-from tests.support.services import free_port
 from tests.support.scripts import alive, environment, script, wait_until
+from tests.support.services import free_port
 from tests.support.toolchain import SAMPLES, replace
 
 TOKEN = "a-token-for-the-ventilation-test-0123"
