@@ -16,10 +16,13 @@ from typing import ClassVar
 
 import pytest
 
+from acordcs.descriptor import to_xml
 from acordcs.runtime.assembly import assemble
 from acordcs.runtime.clock import RealClock
 from acordcs.runtime.component import ComponentFactory, CtxComponent
 from acordcs.runtime.container import Container
+from acordcs.runtime.live.apply_update import GivenClasses
+from acordcs.runtime.live.management import Management, digest
 from acordcs.runtime.persistence import Persistence, StateStore, state_file
 from tests.support.descriptors import application, component, container, prop, ref
 
@@ -41,17 +44,17 @@ class Fan(CtxComponent):
         self.log.append("stopped")
 
 
-def home(fan_persistent: bool = True):
+def home(fan_persistent: bool = True, hours: int = 0, level: int = 1):
     return application(
         "Home",
         containers=(container("house", ref("component", "Fan"), ref("component", "Lamp")),),
         components=(
             component(
                 "Fan",
-                properties=(prop("speed", 20.0), prop("filterHours", 0)),
+                properties=(prop("speed", 20.0), prop("filterHours", hours)),
                 persistent=fan_persistent,
             ),
-            component("Lamp", properties=(prop("level", 1),)),
+            component("Lamp", properties=(prop("level", level),)),
         ),
     )
 
@@ -205,3 +208,19 @@ def test_a_write_that_fails_is_a_fault_of_the_container(tmp_path, monkeypatch):
     fault = next(f for f in house.faults.recent if f.kind == "persistence")
     assert fault.where == "Fan" and "No space left on device" in fault.error
     assert fault.context["file"] == str(state_file(tmp_path, "Fan"))
+
+
+def test_an_update_of_a_default_leaves_a_restored_value_be(tmp_path):
+    """A value the kept state gave is a change made at run time, as one made since the start."""
+    with run(tmp_path) as app:
+        app.container("house").set_property("Fan", "filterHours", 321)
+    with run(tmp_path) as app:
+        assert app.restored == {"house": frozenset({("Fan", "filterHours")})}
+        old = to_xml(home())
+        managed = Management(app, "house", old, classes=GivenClasses({"Fan": Fan}))
+        reply = managed.apply(to_xml(home(hours=5, level=2)).decode(), digest(old))
+        assert reply["status"] == "applied", reply
+        house = app.container("house")
+        assert house.get_property("Fan", "filterHours") == 321
+        assert house.get_property("Lamp", "level") == 2
+        assert any("filterHours" in line for line in reply["kept"]), reply

@@ -189,6 +189,12 @@ def test_a_property_the_model_removed_is_ignored(tmp_path):
     )
 
 
+def test_a_long_string_code_set_reads_back(tmp_path):
+    # longer than a string the management interface takes (10,000 characters): code may set it
+    assert store(tmp_path).write({"properties": {"label": "x" * 50_000}, "fields": {}})
+    assert store(tmp_path).load()["properties"] == {"label": "x" * 50_000}
+
+
 def test_a_double_written_as_an_integer_is_taken_as_a_double(tmp_path):
     assert store(tmp_path).write({"properties": {"speed": 60}, "fields": {}})
     (value,) = store(tmp_path).load()["properties"].values()

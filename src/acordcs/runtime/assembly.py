@@ -98,8 +98,12 @@ class RunningApplication:
         release: Iterable[Callable[[], None]] = (),
         token: str | None = None,
         java_sources: Path | None = None,
+        restored: Mapping[str, Iterable[tuple[str, str]]] | None = None,
     ) -> None:
         self.descriptor = descriptor
+        # By container: the (component, property) a kept state gave another value than the
+        # model's, as changes at run time are (an update of the default leaves them be).
+        self.restored = {k: frozenset(v) for k, v in (restored or {}).items()}
         self.java_sources = java_sources  # where its Java components' classes are (or None)
         self.name = descriptor.name
         self.clock = clock
@@ -247,8 +251,10 @@ class Assembler:
         self.app = app
         self.java_sources = java_sources
         self.state_dir = state_dir
-        # The state files of the persistent components built here, by container and component.
+        # The state files of the persistent components built here, by container and component,
+        # and the properties their kept state changed.
         self.stores: dict[str, dict[str, StateStore]] = {}
+        self.restored: dict[str, set[tuple[str, str]]] = {}
         self.token = token
         self.context = context
         self.factories = factories
@@ -323,6 +329,7 @@ class Assembler:
             release=release,
             token=self.token,
             java_sources=self.java_sources,
+            restored=self.restored,
         )
 
     def factory(self, comp: ComponentDescription) -> ComponentFactory:
@@ -352,6 +359,10 @@ class Assembler:
             store = StateStore(Path(self.state_dir), self.app.name, comp, token=token)
             self.stores.setdefault(target.name, {})[comp.name] = store
             state = store.load()
+            defaults = {p.name: p.default for p in comp.properties}
+            for name, value in (state or {}).get("properties", {}).items():
+                if value != defaults.get(name):
+                    self.restored.setdefault(target.name, set()).add((comp.name, name))
         instance = target.create(type_name, comp.name, state=state).instance
         self.port_properties(comp, instance)
         check = OutParameters(comp.name, comp.operations)

@@ -180,6 +180,9 @@ class StateStore:
             if declared is None:
                 ignored.append(name)
                 continue
+            if declared.kind == "string" and isinstance(value, str):
+                typed_props[name] = value  # as long as the file holds: code may set any string
+                continue
             try:
                 typed_props[name] = typed(declared, value)
             except ConfigurationError as err:
@@ -361,7 +364,7 @@ class Persistence:
     def _write(self, name: str) -> None:
         instance = self._instances[name]
         try:
-            if self.stores[name].write(instance.save_state()):
+            if self.stores[name].write(self._snapshot(instance)):
                 self.writes += 1
         except Exception as exc:  # the disk full, the run directory gone: said as a fault
             self.container.faults.record(
@@ -371,6 +374,17 @@ class Persistence:
                 self.container.clock.now(),
                 file=str(self.stores[name].path),
             )
+
+    @staticmethod
+    def _snapshot(instance: CtxComponent) -> dict[str, Any]:
+        """The component's state as it is now. Taken in the writer's thread while the component
+        runs in others: a state field (a dict) that changed size while copied is copied again."""
+        for _ in range(2):
+            try:
+                return instance.save_state()
+            except RuntimeError:  # "dictionary changed size during iteration"
+                continue
+        return instance.save_state()
 
     def flush(self) -> None:
         """Write every component's file now (in the caller's thread)."""
