@@ -99,3 +99,17 @@ def test_from_the_text_notation_with_its_findings(tmp_path):
 def test_unset_is_false_everywhere():
     assert set(_persistent(WEBLAB).values()) == {False}
     assert set(_persistent(VENTILATION).values()) == {False}
+
+
+def test_a_change_of_the_tag_is_planned_as_a_restart():
+    from dataclasses import replace as changed
+
+    from acordcs.descriptor.diff import diff
+
+    old = describe(read_model(str(VENTILATION)).architecture)
+    fan = next(c for c in old.components if c.name == "Fan")
+    new = changed(old, components=tuple(changed(c, persistent=True) if c is fan else c
+                                        for c in old.components))  # fmt: skip
+    plan = diff(old, new)
+    assert plan.lines == ("~ component Fan: persistent false -> true",)
+    assert not plan.live and plan.changes[0].containers == ("Plant",)
