@@ -75,8 +75,11 @@ def test_what_a_container_wrote_reads_back_typed_and_signed(tmp_path):
 
 def test_no_file_is_no_state_and_no_warning(tmp_path):
     said: list[str] = []
+    left = tmp_path / ".Fan.state.json.x1y2.tmp"  # what a write killed before its rename left
+    left.write_text('{"half": ')
     assert store(tmp_path, said=said).load() is None
     assert said == []
+    assert not left.exists()
 
 
 def edit(run: Path, change) -> None:

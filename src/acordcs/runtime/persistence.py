@@ -122,7 +122,13 @@ class StateStore:
     # ------------------------------------------------------------------------------ reading
     def load(self) -> dict[str, Any] | None:
         """The state the file holds (``{"properties": ..., "fields": ...}``, the properties typed
-        by the model), or None: no file, or a file refused (said, and moved aside)."""
+        by the model), or None: no file, or a file refused (said, and moved aside). The
+        temporary files a write killed half-way left (never the state: that is renamed whole)
+        are removed."""
+        for left in self.path.parent.glob(f".{self.path.name}.*.tmp"):
+            with contextlib.suppress(OSError):
+                if left.is_file() and not left.is_symlink():
+                    left.unlink()
         try:
             data = read_bounded(self.path, self.limit)
         except FileNotFoundError:
