@@ -40,13 +40,19 @@ def test_the_profile_declares_it_a_boolean_false_by_default():
 
 
 def test_from_a_bouml_export(tmp_path):
+    # BOUML writes the tag in both places it puts a stereotype: the class's extension and the
+    # root-level stereotype application
     text = WEBLAB.read_text()
     text = replace_in_element(
         text,
         "Navigator",
-        '<taggedValue tag="ACORDCS:CtxComponent:language" value="python"/>',
-        '<taggedValue tag="ACORDCS:CtxComponent:language" value="python"/>\n'
-        '\t\t\t\t\t\t\t<taggedValue tag="ACORDCS:CtxComponent:persistent" value="true"/>',
+        '<taggedValue tag="ACORDCS:CtxComponent:persistent" value="false"/>',
+        '<taggedValue tag="ACORDCS:CtxComponent:persistent" value="true"/>',
+    )
+    text = replace(
+        text,
+        'language="python" persistent="false" base_Element="BOUML_0x1f482_4"/>',
+        'language="python" persistent="true" base_Element="BOUML_0x1f482_4"/>',
     )
     target = tmp_path / "weblab.xmi"
     target.write_text(text)
