@@ -346,6 +346,8 @@ class Persistence:
         return f"persistence of {self.container.name}"
 
     def _changed(self, event: Event) -> None:
+        if event.element in self._dirty:  # already due to be written: nothing to wake
+            return
         with self._wake:
             self._dirty.add(event.element)
             self._wake.notify()
