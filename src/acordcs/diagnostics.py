@@ -183,6 +183,10 @@ CODES: dict[str, tuple[Severity, str]] = {
     "A515": (W, "monitor tag that its acquisition does not read"),
     "A516": (E, "connector the deployment cannot honour (in-process between two containers)"),
     "A517": (E, "port connection joins a port that belongs to no component"),
+    "A518": (
+        W,
+        "persistent component declares no property (only its class's state fields are kept)",
+    ),
     # N: names that become identifiers
     "N601": (E, "name is not a valid identifier"),
     "N602": (E, "name is a reserved word in Python or Java"),

@@ -35,6 +35,11 @@ def parse_integer(text: str) -> int | None:
     return int(text) if _INTEGER.fullmatch(text) and len(text) < 20 else None
 
 
+def parse_boolean(text: str) -> bool | None:
+    """A Boolean tag's value (``true`` or ``false``, any case, as EMF reads it), or None."""
+    return {"true": True, "false": False}.get(text.strip().lower())
+
+
 def value_kind(type_name: str | None, *, variable: bool = False) -> str:
     """How a UML type is read: ``int``, ``double``, ``bool`` or ``string``. A linguistic variable
     of any type but an integer one is a ``double``."""

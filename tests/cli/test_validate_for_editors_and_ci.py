@@ -57,7 +57,7 @@ def test_every_error_and_warning_line_is_matched_by_the_gcc_problem_matcher(webl
         assert str(CODES[code][0]) == m[4]
     assert {m[5].split(" ", 1)[0] for m in matched} >= {"L402", "L404", "T303"}
     l402 = next(m for m in matched if m[5].startswith("L402 "))
-    assert (l402[2], l402[3]) == ("723", "1")  # the tag's line; the rule's column is in the text
+    assert (l402[2], l402[3]) == ("729", "1")  # the tag's line; the rule's column is in the text
     assert "column 17" in l402[5]
 
 
@@ -190,7 +190,7 @@ def test_dash_reads_standard_input(weblab_text, tmp_path):
         check=False,
     )
     assert done.returncode == 1, done.stderr
-    assert done.stdout.splitlines()[0].startswith("<stdin>:723:1: error: L402 ")
+    assert done.stdout.splitlines()[0].startswith("<stdin>:729:1: error: L402 ")
     assert done.stdout.splitlines()[-1].startswith("<stdin>: 2 errors")
     bad = subprocess.run(
         [*entry_point(), "validate", "-"],

@@ -163,6 +163,7 @@ def test_components_ports_and_operations_as_pyecore(weblab, ecore):
         c.name: (
             c.xmiId,
             c.language.name,
+            c.persistent,
             _attributes(c),
             _operations(c),
             sorted(
@@ -176,6 +177,7 @@ def test_components_ports_and_operations_as_pyecore(weblab, ecore):
         c.name: (
             c.id,
             c.language,
+            c.persistent,
             _properties(c.properties),
             _ops(c.operations),
             sorted(

@@ -56,8 +56,12 @@ def component(
     properties: tuple[Property, ...] = (),
     operations: tuple[Operation, ...] = (),
     ports: tuple[Port, ...] = (),
+    persistent: bool = False,
 ) -> Component:
-    return Component(f"id-{name}", name, f"M::{name}", "python", properties, operations, ports)
+    return Component(
+        f"id-{name}", name, f"M::{name}", "python", properties, operations, ports,
+        persistent=persistent,
+    )  # fmt: skip
 
 
 def ref(kind: str, name: str) -> Ref:

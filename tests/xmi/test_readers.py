@@ -543,14 +543,16 @@ def test_bouml_free_stereotype_named_like_ours(weblab_text: str, tmp_path: Path)
     """``<stereotype name="CtxComponent"/>`` without the profile prefix: R206, and a role."""
     text = replace(
         weblab_text,
-        '<ACORDCS:CtxComponent xmi:id="BOUML_STELT_0x1f502_4" language="python" base_Element="BOUML_0x1f502_4"/>\n',
+        '<ACORDCS:CtxComponent xmi:id="BOUML_STELT_0x1f502_4" language="python" persistent="false" base_Element="BOUML_0x1f502_4"/>\n',
         "",
     )
     start = text.index('name="Vision" xmi:id="BOUML_0x1f502_4"')
     end = text.index("</xmi:Extension>", start)
     block = text[start:end]
-    free = block.replace('name="ACORDCS:CtxComponent"', 'name="CtxComponent"').replace(
-        'tag="ACORDCS:CtxComponent:language"', 'tag="language"'
+    free = (
+        block.replace('name="ACORDCS:CtxComponent"', 'name="CtxComponent"')
+        .replace('tag="ACORDCS:CtxComponent:language"', 'tag="language"')
+        .replace('tag="ACORDCS:CtxComponent:persistent"', 'tag="persistent"')
     )
     target = tmp_path / "free.xmi"
     target.write_text(text[:start] + free + text[end:])

@@ -41,6 +41,7 @@ ARCHITECTURE = {
             "fed_by": ["Light"],
         }
     },
+    "persistent": [],
 }
 
 

@@ -3,10 +3,11 @@
 from __future__ import annotations
 
 from acordcs.diagnostics import printable
-from acordcs.model.architecture import CONTAINER, POLICY_SET, Architecture
+from acordcs.model.architecture import COMPONENT, CONTAINER, POLICY_SET, Architecture
 from acordcs.model.queries import policy_rules
 from acordcs.model.reading import ModelReading
 from acordcs.profile import profile
+from acordcs.typed_values import parse_boolean
 
 
 def summarize(reading: ModelReading) -> dict:
@@ -43,7 +44,15 @@ def _acordcs(arch: Architecture) -> dict:
             "adapts": sorted(r.name for r in arch.related(ps, "adapts")),
             "fed_by": sorted(r.name for r in arch.related_to(ps, "feeds")),
         }
-    return {"elements": elements, "deployment": deployment, "policy_sets": policy_sets}
+    persistent = sorted(
+        _key(c, arch) for c in arch.of_kind(COMPONENT) if parse_boolean(c.tag("persistent") or "")
+    )
+    return {
+        "elements": elements,
+        "deployment": deployment,
+        "policy_sets": policy_sets,
+        "persistent": persistent,
+    }
 
 
 def _key(role, arch: Architecture) -> str:
@@ -85,6 +94,10 @@ def summary_text(data: dict) -> str:
         lines.append(
             f"    policy set {ps}: engine {info['engine']}, {info['rules']} rules, adapts "
             f"{', '.join(info['adapts']) or 'nothing'}, fed by {', '.join(info['fed_by']) or 'nothing'}"
+        )
+    if acordcs.get("persistent"):
+        lines.append(
+            f"    persistent (state kept across restarts): {', '.join(acordcs['persistent'])}"
         )
     if data["diagnostics"]:
         lines.append(f"  reader diagnostics: {data['diagnostics']}")

@@ -54,6 +54,7 @@ def page_model(app: Application) -> dict[str, Any]:
             "id": comp.id,
             "container": where.get(comp.name),
             "language": comp.language,
+            "persistent": comp.persistent,
             "properties": [_property(p) for p in comp.properties],
             "operations": [_operation(o) for o in comp.operations],
             "ports": [

@@ -174,6 +174,8 @@ class Component:
     operations: tuple[Operation, ...] = field(default=(), metadata=children("operation"))
     ports: tuple[Port, ...] = field(default=(), metadata=children("port"))
     documentation: str = field(default="", metadata=doc())
+    # the model's tag persistent: its state kept in the run directory across restarts
+    persistent: bool = field(default=False, metadata=attr(type=BOOLEAN))
 
     def port(self, name: str) -> Port | None:
         return next((p for p in self.ports if p.name == name), None)

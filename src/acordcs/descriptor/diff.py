@@ -28,7 +28,8 @@ What applies live, and how (``action``):
   ``replace``, keeping its state.
 
 What does not (``action`` ``restart``): a container added or removed, a container's host or
-endpoint changed, an element moved to another container, the application renamed. Those need
+endpoint changed, an element moved to another container, a component's ``persistent`` tag
+changed (its container sets up its store as it starts), the application renamed. Those need
 new processes: build, then stop and start the application.
 
 Pure: no toolchain, no runtime (this package is a leaf).
@@ -289,6 +290,9 @@ class _Differ:
         if a.language != b.language:
             replaced.append(f"language {a.language} -> {b.language}")
         replaced += self.operations(a.operations, b.operations)
+        if a.persistent != b.persistent:  # its store is set up as its container starts
+            what = f"persistent {str(a.persistent).lower()} -> {str(b.persistent).lower()}"
+            self.add("~", "component", a.name, what, here, "restart")
         for name, p, q in pairs(a.properties, b.properties):
             if p is None:
                 replaced.append(f"property {name} added")

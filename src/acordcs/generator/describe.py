@@ -66,7 +66,13 @@ from acordcs.model.queries import (
 )
 from acordcs.rules import RuleSyntaxError, parse_rule
 from acordcs.rules.binding import bind, default_label
-from acordcs.typed_values import parse_integer, parse_real, typed_default, value_kind
+from acordcs.typed_values import (
+    parse_boolean,
+    parse_integer,
+    parse_real,
+    typed_default,
+    value_kind,
+)
 from acordcs.vocabularies import FUZZY_ENGINE
 from acordcs.xmi.uml import Classifier, Element
 from acordcs.xmi.uml import Operation as UmlOperation
@@ -259,6 +265,7 @@ class _Describer:
             self.operations(role),
             self._sorted(self.port(p) for p in ports),
             _documentation(role.element),
+            persistent=parse_boolean(role.tag("persistent") or "") or False,
         )
 
     def port(self, role: Role) -> Port:

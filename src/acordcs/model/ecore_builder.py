@@ -25,9 +25,10 @@ from acordcs.model.queries import (
     variable_terms,
 )
 from acordcs.rules import RuleSyntaxError, parse_rule
+from acordcs.typed_values import parse_boolean
 from acordcs.xmi.uml import Classifier
 
-_NUMBER_PARSERS = {"EDouble": parse_real, "EInt": parse_integer}
+_TYPED_PARSERS = {"EDouble": parse_real, "EInt": parse_integer, "EBoolean": parse_boolean}
 
 _ROOT_LISTS = {
     CONTAINER: "containers",
@@ -129,10 +130,10 @@ def _element(role: Role, arch: Architecture):
         feature = eclass.findEStructuralFeature(tag.feature)
         if tag.values:
             setattr(obj, tag.feature, _enum(tag.type, value))
-        elif feature.eType.name in _NUMBER_PARSERS:
-            number = _NUMBER_PARSERS[feature.eType.name](value)
-            if number is not None:  # a value of the wrong type is the checks' T304
-                setattr(obj, tag.feature, number)
+        elif feature.eType.name in _TYPED_PARSERS:
+            typed = _TYPED_PARSERS[feature.eType.name](value)
+            if typed is not None:  # a value of the wrong type is the checks' T304
+                setattr(obj, tag.feature, typed)
         else:
             setattr(obj, tag.feature, value)
     element = role.element

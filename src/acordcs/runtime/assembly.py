@@ -21,6 +21,7 @@ load the toolchain.
 from __future__ import annotations
 
 import logging
+import os
 from collections.abc import Callable, Iterable, Mapping
 from dataclasses import dataclass
 from pathlib import Path
@@ -45,6 +46,7 @@ from acordcs.runtime.errors import BindingError, RemoteNotGivenError
 from acordcs.runtime.events import Event
 from acordcs.runtime.monitor import Monitor
 from acordcs.runtime.operations import OutParameters, generic_component
+from acordcs.runtime.persistence import Persistence, StateStore
 from acordcs.runtime.policy import PolicySet
 from acordcs.runtime.ports import Port
 
@@ -96,8 +98,12 @@ class RunningApplication:
         release: Iterable[Callable[[], None]] = (),
         token: str | None = None,
         java_sources: Path | None = None,
+        restored: Mapping[str, Iterable[tuple[str, str]]] | None = None,
     ) -> None:
         self.descriptor = descriptor
+        # By container: the (component, property) a kept state gave another value than the
+        # model's, as changes at run time are (an update of the default leaves them be).
+        self.restored = {k: frozenset(v) for k, v in (restored or {}).items()}
         self.java_sources = java_sources  # where its Java components' classes are (or None)
         self.name = descriptor.name
         self.clock = clock
@@ -177,6 +183,7 @@ def assemble(
     context: ProviderCore | None = None,
     token: str | None = None,
     java_sources: Path | None = None,
+    state_dir: Path | None = None,
 ) -> RunningApplication:
     """Build the containers of ``descriptor`` (all, or those named in ``only``) on one clock
     (default: a :class:`VirtualClock` with seed 0) and one context provider (default: an embedded
@@ -185,7 +192,9 @@ def assemble(
     ``remote`` and required by the ones this process serves (default: ``$ACORDCS_TOKEN``).
     ``java_sources``: the ``java`` target's output, where the classes of the components tagged
     ``language=java`` are (:mod:`acordcs.runtime.jvm` hosts them; none: such a component is
-    refused)."""
+    refused). ``state_dir``: where the state of the components tagged ``persistent`` is kept
+    (the run directory; :mod:`.persistence`): restored from there before they start, written
+    there as it changes (None: not kept)."""
     clock = clock or VirtualClock()
     owned = context is None
     if context is None:
@@ -207,6 +216,7 @@ def assemble(
             context=provider,
             token=token,
             java_sources=java_sources,
+            state_dir=state_dir,
         ).run()
     except BaseException:
         if owned:
@@ -236,9 +246,15 @@ class Assembler:
         token: str | None = None,
         containers: dict[str, Container] | None = None,
         java_sources: Path | None = None,
+        state_dir: Path | None = None,
     ) -> None:
         self.app = app
         self.java_sources = java_sources
+        self.state_dir = state_dir
+        # The state files of the persistent components built here, by container and component,
+        # and the properties their kept state changed.
+        self.stores: dict[str, dict[str, StateStore]] = {}
+        self.restored: dict[str, set[tuple[str, str]]] = {}
         self.token = token
         self.context = context
         self.factories = factories
@@ -303,6 +319,8 @@ class Assembler:
             if target is not None:
                 target.add_policy_set(self.policy_set(ps, target))
         release = [self.relay.close] if self.relay is not None else []
+        for name, stores in self.stores.items():  # closed after the components stopped
+            release.append(Persistence(self.containers[name], stores).close)
         return RunningApplication(
             self.app,
             self.clock,
@@ -311,6 +329,7 @@ class Assembler:
             release=release,
             token=self.token,
             java_sources=self.java_sources,
+            restored=self.restored,
         )
 
     def factory(self, comp: ComponentDescription) -> ComponentFactory:
@@ -332,8 +351,19 @@ class Assembler:
     def component(
         self, comp: ComponentDescription, target: Container, type_name: str
     ) -> CtxComponent:
-        """Create component ``comp`` in ``target`` from its factory there (of ``type_name``)."""
-        instance = target.create(type_name, comp.name).instance
+        """Create component ``comp`` in ``target`` from its factory there (of ``type_name``); one
+        tagged ``persistent`` takes the state its file keeps, if any, before it starts."""
+        state = None
+        if comp.persistent and self.state_dir is not None:
+            token = self.token if self.token is not None else os.environ.get("ACORDCS_TOKEN")
+            store = StateStore(Path(self.state_dir), self.app.name, comp, token=token)
+            self.stores.setdefault(target.name, {})[comp.name] = store
+            state = store.load()
+            defaults = {p.name: p.default for p in comp.properties}
+            for name, value in (state or {}).get("properties", {}).items():
+                if value != defaults.get(name):
+                    self.restored.setdefault(target.name, set()).add((comp.name, name))
+        instance = target.create(type_name, comp.name, state=state).instance
         self.port_properties(comp, instance)
         check = OutParameters(comp.name, comp.operations)
         if check.lengths:

@@ -217,9 +217,12 @@ class Container(OperationCalls, Wiring):
         name: str,
         *,
         properties: dict[str, object] | None = None,
+        state: dict[str, Any] | None = None,
         **config: Any,
     ) -> ComponentRef:
-        """Create a component of an installed type; ``config`` goes to the factory."""
+        """Create a component of an installed type; ``config`` goes to the factory. ``state``: a
+        state it takes (:meth:`CtxComponent.restore_state`) before its ``on_start``, as one kept
+        across a restart (:mod:`.persistence`)."""
         with self._lock:
             factory = self._factory(type_name)
             if name in self._components:
@@ -229,6 +232,9 @@ class Container(OperationCalls, Wiring):
                     hint="destroy it, replace it, or pick another name",
                 )
             instance = self._build(factory, name, properties, config)
+            if state is not None:
+                with self.guard("component", name, phase="restore_state"):
+                    instance.restore_state(state)
             hosted = Hosted(instance, next(self._lineages), instance.operation_names())
             self._components[name] = hosted
             factory.adopt(instance)

@@ -145,12 +145,16 @@ class Launcher:
         *,
         application: Application | None = None,
         context: ProviderCore | None = None,
+        state_dir: Path | None = None,
     ) -> RunningApplication:
         """The container assembled from the descriptor (``application``, default: read from the
         package) with the package's classes; ``remote``: the URI of each other container its
         connections reach (``PYRO:acordcs.container.<name>@host:port``); ``context``: its context
-        provider (default: an embedded one), closed with it."""
-        shared = {} if context is None else {"context": context}
+        provider (default: an embedded one), closed with it; ``state_dir``: where its persistent
+        components' state is kept (None: not kept)."""
+        shared: dict[str, object] = {} if context is None else {"context": context}
+        if state_dir is not None:
+            shared["state_dir"] = state_dir
         running: RunningApplication = self.registry().assemble_application(
             only=[self.container],
             clock=clock,
@@ -210,6 +214,10 @@ class Launcher:
             help="serve the browser console of this container on 127.0.0.1:PORT (0: any; "
             "needs --clock real; serves the container on loopback if --serve is not given); "
             "its link is printed")  # fmt: skip
+        add("--state-dir", type=_state_dir, metavar="DIR",
+            help="keep the state of the components the model tags persistent in DIR (the "
+            "run directory, as bin/<Container>-start gives it): restored at start, written as "
+            "it changes and at stop; not given: their state is not kept")  # fmt: skip
         add("--exit-file", type=_exit_file, metavar="PATH",
             help="at exit, write 'EXIT_CODE FAULTS' (one line, mode 0600) to PATH, replacing it "
             "at once; an existing one is removed at start")  # fmt: skip
@@ -283,6 +291,12 @@ class Launcher:
         except RunError as err:
             self._say(f"{err}")
             return EXIT_NOT_STARTED, 0
+        if args.state_dir is None:
+            hosted = hosted_here(application, self.container, "component")
+            kept = [c.name for c in application.components if c.persistent and c.name in hosted]
+            if kept:
+                self._say(f"the state of {', '.join(kept)} (tagged persistent) is not kept: no "
+                          "--state-dir given (bin/<Container>-start gives the run directory)")  # fmt: skip
         problem = self._import_problem()
         if problem is not None:
             self._say(problem)
@@ -305,7 +319,7 @@ class Launcher:
         clock: Clock = VirtualClock(args.seed) if args.clock == "virtual" else RealClock()
         try:
             app = self.assemble(clock, dict(args.remote), args.timeout, application=application,
-                                context=context)  # fmt: skip
+                                context=context, state_dir=args.state_dir)  # fmt: skip
         except AcordError as err:
             clock.close()
             if context is not None:
@@ -564,6 +578,13 @@ def _exit_file(text: str) -> Path:
         raise argparse.ArgumentTypeError(
             f"{text!r}: its directory {str(path.parent)!r} does not exist (create it first)"
         )
+    return path
+
+
+def _state_dir(text: str) -> Path:
+    path = Path(text)
+    if not path.is_dir():
+        raise argparse.ArgumentTypeError(f"{text!r} is not a directory (create it first)")
     return path
 
 

@@ -375,12 +375,14 @@ def assemble_application(
     monitors: Mapping[str, type[Monitor]] | None = None,
     application: Application | None = None,
     context: ProviderCore | None = None,
+    state_dir: Path | None = None,
 ) -> RunningApplication:
     """The containers of the application (all, or those in ``only``), with the component classes
     of :data:`FACTORIES` and the monitor classes of :data:`MONITORS` (``monitors`` replaces some);
     ``remote`` gives the URI of each container running elsewhere; ``application``: the
     descriptor, if read already (default: :func:`descriptor`); ``context``: the context provider
-    (default: an embedded one; an MQTT one shares context with other processes)."""
+    (default: an embedded one; an MQTT one shares context with other processes); ``state_dir``:
+    where the state of the components tagged persistent is kept (None: not kept)."""
     return assemble(
         application if application is not None else descriptor(),
         factories=FACTORIES,
@@ -390,6 +392,7 @@ def assemble_application(
         remote=remote,
         remote_timeout=remote_timeout,
         context=context,
+        state_dir=state_dir,
 </xsl:text>
     <xsl:if test="$components[@language = 'java']">
       <xsl:text>        java_sources=JAVA_SOURCES,

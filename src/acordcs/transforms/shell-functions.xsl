@@ -204,7 +204,8 @@ acordcs_pid() {
     return 1
 }
 
-# acordcs_start NAME ARGUMENTS...: starts container NAME (python -m, with --exit-file and the
+# acordcs_start NAME ARGUMENTS...: starts container NAME (python -m, with --exit-file, --state-dir
+# (the run directory: the state of its components tagged persistent) and the
 # ARGUMENTS) in the background, its pid in NAME.pid, its output appended to NAME.log; waits until
 # its log says it serves (at most ACORDCS_START_TIMEOUT s): the container says so at the end of
 # its start-up (on a real clock, once its --run operations are past their first moments). 0
@@ -219,7 +220,7 @@ acordcs_start() {
     if [ -f "$acordcs_log" ]; then acordcs_from=$(($(wc -c <"$acordcs_log") + 1)); fi
     rm -f -- "$ACORDCS_RUN_DIR/$acordcs_name.exit"
     nohup "$PYTHON" -m "$ACORDCS_PACKAGE.$acordcs_name" --exit-file "$ACORDCS_RUN_DIR/$acordcs_name.exit" \
-        "$@" >>"$acordcs_log" 2>&1 </dev/null &
+        --state-dir "$ACORDCS_RUN_DIR" "$@" >>"$acordcs_log" 2>&1 </dev/null &
     pid=$!
     echo "$pid" >"$ACORDCS_RUN_DIR/$acordcs_name.pid"
     acordcs_ticks=$((ACORDCS_START_TIMEOUT * 10))

@@ -17,6 +17,7 @@ from acordcs.model.architecture import (
 )
 from acordcs.model.causes import SOURCE, TARGET, lacks, unread
 from acordcs.model.checks.check_context import Context
+from acordcs.typed_values import parse_boolean
 
 _ADAPTABLE = {CONTAINER, COMPONENT, PORT, CONNECTION}
 
@@ -224,5 +225,24 @@ def _deployed_apart(ctx: Context, conn: Role, ports: list[Role]) -> Iterator[Dia
     )
 
 
-CHECKS = (connections, policy_sets, monitors, deployment, ports)
+def persistence(ctx: Context) -> Iterator[Diagnostic]:
+    """A518: a component tagged ``persistent`` that declares no property. Its container keeps the
+    properties the model declares and the state fields its class names (``state_fields``), which
+    the model cannot see: the tag may keep nothing."""
+    for comp in ctx.arch.of_kind(COMPONENT):
+        if not parse_boolean(comp.tag("persistent") or "") or ctx.arch.attributes(comp):
+            continue
+        yield ctx.diag(
+            "A518",
+            f"component {comp.name!r} is tagged persistent but declares no property: its container "
+            "keeps only the state fields its class names (state_fields), if any; give it the "
+            "attributes whose values must survive a restart, or remove the tag",
+            comp,
+            line=comp.tag_line("persistent"),
+            column=comp.tag_column("persistent"),
+            subject="persistent",
+        )
+
+
+CHECKS = (connections, policy_sets, monitors, deployment, ports, persistence)
 """This module's checks, in the order they run."""

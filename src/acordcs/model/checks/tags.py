@@ -17,6 +17,7 @@ from acordcs.model.queries import (
     variable_range,
 )
 from acordcs.rules import RuleSyntaxError, TermDef
+from acordcs.typed_values import parse_boolean
 
 MISSPELT = 2
 """An unknown tag within this many edits of a tag of its stereotype is a misspelling of it (T320)."""
@@ -24,7 +25,7 @@ MISSPELT = 2
 _PARSERS = {
     "Real": parse_real,
     "Integer": parse_integer,
-    "Boolean": lambda t: {"true": True, "false": False}.get(t.strip().lower()),
+    "Boolean": parse_boolean,
 }
 
 

@@ -115,8 +115,9 @@ class Management:
         self.refused: Callable[[], dict[str, int]] | None = None
         self._lock = threading.Lock()
         self._applying: int | None = None  # the thread applying an update
-        # (element, attribute) of the properties changed at run time: an update leaves them be.
-        self._touched: set[tuple[str, str]] = set()
+        # (element, attribute) of the properties changed at run time: an update leaves them be;
+        # those a persistent component's kept state set at start are.
+        self._touched: set[tuple[str, str]] = set(running.restored.get(container, ()))
         self._holds: dict[str, CallHold] = {}
         self._holding = threading.Lock()
         self.hold_notices = HoldNotices(self._notice)
