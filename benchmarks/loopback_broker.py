@@ -18,7 +18,7 @@ PIDS: dict[int, int] = {}
 """port -> process id of each broker running (for benchmarks that measure its CPU)."""
 
 CONF = """\
-listener {port} 127.0.0.1
+listener {port} {address}
 allow_anonymous true
 set_tcp_nodelay true
 max_queued_messages 1000000
@@ -26,6 +26,14 @@ max_inflight_messages 1000
 persistence false
 log_dest none
 """
+
+
+def write_config(directory: Path, address: str, port: int, extra: str = "") -> Path:
+    """``directory``/mosquitto.conf: this module's configuration listening on ``address``:``port``,
+    with the lines ``extra`` after it; returns its path."""
+    conf = directory / "mosquitto.conf"
+    conf.write_text(CONF.format(port=port, address=address) + extra)
+    return conf
 
 
 def available() -> bool:
@@ -40,8 +48,7 @@ def loopback_broker() -> Iterator[int]:
         sock.bind(("127.0.0.1", 0))
         port = sock.getsockname()[1]
     workdir = Path(tempfile.mkdtemp(prefix="bench-mosquitto-"))
-    conf = workdir / "mosquitto.conf"
-    conf.write_text(CONF.format(port=port))
+    conf = write_config(workdir, "127.0.0.1", port)
     broker = subprocess.Popen(
         [MOSQUITTO, "-c", str(conf)], stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL
     )
