@@ -4,7 +4,7 @@
    limiting policy set fired (the project's fuzzy engine if present, else a crisp one) -> the new
    speed written to the component. p50 / p99 over many changes.
 2. A remote call through our Pyro5 connector against a bare Pyro5 call to the same object in the
-   same server process (serpent both; ratio target <= 1.3).
+   same server process (serpent both; target: at most 1.2 at p50 and p90, issue 33).
 3. Virtual-time speed-up of an idle container with 10 monitors at 10 Hz (simulated s per wall s).
 
 Usage: python benchmarks/bench_runtime.py [--quick]

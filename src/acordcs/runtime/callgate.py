@@ -15,21 +15,24 @@ import time
 
 class CallGate:
     def __init__(self) -> None:
-        # a plain lock (never taken twice by one thread here): cheaper than the default RLock
-        self._cond = threading.Condition(threading.Lock())
+        # a plain lock (never taken twice by one thread here): cheaper than the default RLock;
+        # calls take it directly (a C-level ``with``, not the condition's Python methods) and
+        # wait on the condition only while a replacement holds the gate
+        self._lock = threading.Lock()
+        self._cond = threading.Condition(self._lock)
         self._running: dict[int, int] = {}  # thread ident -> calls running in it
         self._holder: int | None = None
 
     def enter(self) -> None:
         me = threading.get_ident()
-        with self._cond:
+        with self._lock:
             while self._holder not in (None, me) and not self._running.get(me):
                 self._cond.wait()
             self._running[me] = self._running.get(me, 0) + 1
 
     def leave(self) -> None:
         me = threading.get_ident()
-        with self._cond:
+        with self._lock:
             left = self._running[me] - 1
             if left:
                 self._running[me] = left

@@ -28,6 +28,7 @@ import errno
 import logging
 import socket
 import threading
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any, Protocol
 
@@ -149,23 +150,48 @@ class RemoteConnector(Connector):
         return proxy
 
     def _invoke(self, conn: Connection, target: object, method: str, *args: Any) -> Any:
-        if not isinstance(target, RemotePort):
-            raise RemoteCallError(
-                f"connection {conn.name!r}: the remote connector needs a RemotePort, not {target!r}",
-                hint="use the in-process connector between ports of one container",
-            )
+        target = self._remote(conn, target)
         reply = self.request(
             target.uri,
             method,
             target.component,
             target.port,
             *args,
-            timeout=float(conn.qos.get("timeout", self.timeout) or self.timeout),
-            where=f"connection {conn.name!r} to {target.qualified_name}",
+            timeout=self._timeout_of(conn),
+            where=_place(conn, target),
             what=f"{args[0]}()" if method == "call" else "a delivery",
         )
         conn.stats["sent"] += 1
         return bytes_back(reply)
+
+    @staticmethod
+    def _remote(conn: Connection, target: object) -> RemotePort:
+        if not isinstance(target, RemotePort):
+            raise RemoteCallError(
+                f"connection {conn.name!r}: the remote connector needs a RemotePort, not {target!r}",
+                hint="use the in-process connector between ports of one container",
+            )
+        return target
+
+    def _timeout_of(self, conn: Connection) -> float:
+        return float(conn.qos.get("timeout", self.timeout) or self.timeout)
+
+    def _ready(self, uri: str, timeout: float, where: Callable[[], str]) -> Pyro5.api.Proxy:
+        """This thread's proxy to ``uri``, with ``timeout``, connected (``where()`` names the
+        caller in the error, made only if connecting fails)."""
+        proxy = self._proxy(uri)
+        if proxy._pyroTimeout != timeout:
+            proxy._pyroTimeout = timeout
+        if proxy._pyroConnection is None:
+            try:
+                proxy._pyroBind()
+            except Pyro5.errors.CommunicationError as exc:
+                raise RemoteUnreachableError(
+                    f"cannot reach the remote container at {uri}: {exc}",
+                    where=where(),
+                    hint="start the remote container (or check its address); the call was not sent",
+                ) from None
+        return proxy
 
     def request(
         self,
@@ -178,43 +204,12 @@ class RemoteConnector(Connector):
     ) -> Any:
         """Call ``method`` of the container endpoint at ``uri`` (:class:`ContainerEndpoint`) with
         ``args``; failures raise as for a port call (``where`` and ``what`` name it in them)."""
-        proxy = self._proxy(uri)
         timeout = timeout or self.timeout
-        if proxy._pyroTimeout != timeout:
-            proxy._pyroTimeout = timeout
-        if proxy._pyroConnection is None:
-            try:
-                proxy._pyroBind()
-            except Pyro5.errors.CommunicationError as exc:
-                raise RemoteUnreachableError(
-                    f"cannot reach the remote container at {uri}: {exc}",
-                    where=where,
-                    hint="start the remote container (or check its address); the call was not sent",
-                ) from None
+        proxy = self._ready(uri, timeout, lambda: where)
         try:
             return getattr(proxy, method)(*args)
-        except RemoteFault as fault:
-            kind, message, hint = fault.args
-            raise RemoteCallError(
-                f"remote {kind}: {message}",
-                where=where,
-                hint=hint or "see the remote container's log",
-            ) from None
-        except Pyro5.errors.CommunicationError as exc:
-            # Pyro already closed the connection (a late reply must not answer the next call); the
-            # next call reconnects.
-            raise RemoteTimeoutError(
-                f"no reply to {what} within {timeout:g} s "
-                f"({type(exc).__name__}: {exc}); it may or may not have run remotely",
-                where=where,
-                hint="retry only if the operation is idempotent; check the remote container",
-            ) from None
-        except Pyro5.errors.PyroError as exc:
-            raise RemoteCallError(
-                f"Pyro5 refused {method}: {exc}",
-                where=where,
-                hint="arguments and results must be serpent-serialisable (numbers, str, lists, dicts)",
-            ) from None
+        except (RemoteFault, Pyro5.errors.PyroError) as exc:
+            raise _translated(exc, method, timeout, where, what) from None
 
     def call(
         self,
@@ -224,9 +219,25 @@ class RemoteConnector(Connector):
         args: tuple[Any, ...],
         kwargs: dict[str, Any],
     ) -> Any:
-        if kwargs:
-            return self._invoke(conn, target, "call", operation, list(args), kwargs)
-        return self._invoke(conn, target, "call", operation, list(args))
+        target = self._remote(conn, target)
+        if "." in target.port or "." in operation:
+            # names that "component.port.operation" could not carry apart: the long form
+            if kwargs:
+                return self._invoke(conn, target, "call", operation, list(args), kwargs)
+            return self._invoke(conn, target, "call", operation, list(args))
+        # The short form (ContainerEndpoint.invoke): one target string, then the operation's own
+        # arguments, as a bare Pyro5 call sends them; the names of the failure's place are made
+        # only when there is a failure.
+        timeout = self._timeout_of(conn)
+        proxy = self._ready(target.uri, timeout, lambda: _place(conn, target))
+        try:
+            reply = proxy.invoke(f"{target.component}.{target.port}.{operation}", *args, **kwargs)
+        except (RemoteFault, Pyro5.errors.PyroError) as exc:
+            raise _translated(
+                exc, "invoke", timeout, _place(conn, target), f"{operation}()"
+            ) from None
+        conn.stats["sent"] += 1
+        return bytes_back(reply)
 
     def notify(self, conn: Connection, target: object, message: Any, size: int | None) -> None:
         self._invoke(conn, target, "deliver", message)
@@ -260,6 +271,36 @@ Pyro5.api.register_dict_to_class(
 def _fault(exc: BaseException) -> RemoteFault:
     hint = exc.hint if isinstance(exc, RuntimeFailure) else None
     return RemoteFault(type(exc).__name__, str(exc), hint)
+
+
+def _place(conn: Connection, target: RemotePort) -> str:
+    return f"connection {conn.name!r} to {target.qualified_name}"
+
+
+def _translated(
+    exc: RemoteFault | Pyro5.errors.PyroError, method: str, timeout: float, where: str, what: str
+) -> RuntimeFailure:
+    """What a failed request to an endpoint raises: the remote failure, a missing reply (outcome
+    unknown) or Pyro5's refusal, saying where."""
+    if isinstance(exc, RemoteFault):
+        kind, message, hint = exc.args
+        return RemoteCallError(
+            f"remote {kind}: {message}", where=where, hint=hint or "see the remote container's log"
+        )
+    if isinstance(exc, Pyro5.errors.CommunicationError):
+        # Pyro already closed the connection (a late reply must not answer the next call); the
+        # next call reconnects.
+        return RemoteTimeoutError(
+            f"no reply to {what} within {timeout:g} s "
+            f"({type(exc).__name__}: {exc}); it may or may not have run remotely",
+            where=where,
+            hint="retry only if the operation is idempotent; check the remote container",
+        )
+    return RemoteCallError(
+        f"Pyro5 refused {method}: {exc}",
+        where=where,
+        hint="arguments and results must be serpent-serialisable (numbers, str, lists, dicts)",
+    )
 
 
 def bytes_back(value: Any) -> Any:
@@ -331,11 +372,40 @@ class ContainerEndpoint:
         args: list[Any],
         kwargs: dict[str, Any] | None = None,
     ) -> Any:
-        """``kwargs`` is left out by callers that have none (one value less to serialise)."""
-        c = self._container
-        args = [bytes_back(a) for a in args]
-        kwargs = {k: bytes_back(v) for k, v in kwargs.items()} if kwargs else {}
+        """``operation`` of ``component`` through its provided synchronous ``port``, with ``args``
+        (a list) and ``kwargs``: the long form, for any names (a tool's, the console's)."""
+        return self._call(component, port, operation, args, kwargs or {})
+
+    @serpent_only
+    def invoke(self, target: str, /, *args: Any, **kwargs: Any) -> Any:
+        """The same call in the short form the connector sends: ``target`` is
+        ``"component.port.operation"`` (a port and an operation whose names have no dot), then the
+        operation's own arguments, as a bare Pyro5 call carries them (fewer values to serialise
+        and to parse on both sides)."""
         try:
+            component, port, operation = target.rsplit(".", 2)
+        except (AttributeError, ValueError):
+            raise _fault(
+                PortError(
+                    f"a call names its target 'component.port.operation', not {target!r}",
+                    where=f"container {self._container.name!r}",
+                )
+            ) from None
+        return self._call(component, port, operation, args, kwargs)
+
+    def _call(
+        self,
+        component: str,
+        port: str,
+        operation: str,
+        args: Sequence[Any],
+        kwargs: dict[str, Any],
+    ) -> Any:
+        c = self._container
+        try:
+            args = tuple([bytes_back(a) for a in args])
+            if kwargs:
+                kwargs = {k: bytes_back(v) for k, v in kwargs.items()}
             target = c.port_of(component, port)
             # the operations the container recorded when it made (or replaced) the component,
             # and what the port exposes of them: not computed again at every call
@@ -352,7 +422,7 @@ class ContainerEndpoint:
                     hint="call an operation of the port's interface; handlers and hooks run "
                     "from the port's queue",
                 )
-            return c.invoke_port(target, operation, tuple(args), kwargs)
+            return c.invoke_port(target, operation, args, kwargs)
         except Exception as exc:  # including faults in our own code: the worker must survive
             raise _fault(exc) from None
 
