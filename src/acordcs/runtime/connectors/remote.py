@@ -182,15 +182,14 @@ class RemoteConnector(Connector):
         proxy = self._proxy(uri)
         if proxy._pyroTimeout != timeout:
             proxy._pyroTimeout = timeout
-        if proxy._pyroConnection is None:
-            try:
-                proxy._pyroBind()
-            except Pyro5.errors.CommunicationError as exc:
-                raise RemoteUnreachableError(
-                    f"cannot reach the remote container at {uri}: {exc}",
-                    where=where(),
-                    hint="start the remote container (or check its address); the call was not sent",
-                ) from None
+        try:
+            proxy._pyroBind()  # Pyro5's documented bind: connects only a proxy not connected
+        except Pyro5.errors.CommunicationError as exc:
+            raise RemoteUnreachableError(
+                f"cannot reach the remote container at {uri}: {exc}",
+                where=where(),
+                hint="start the remote container (or check its address); the call was not sent",
+            ) from None
         return proxy
 
     def request(
