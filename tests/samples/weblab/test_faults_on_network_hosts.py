@@ -10,6 +10,12 @@ bandwidth with ``tc tbf`` and given the profile's one-way latency by a relay on 
   the lab's SpeedLimiting policy sets a lower speed limit on the residential line than on the LAN;
   each lab's telemetry went through the broker (its latest document is retained there, under the
   application's own topic prefix);
+- the user's link down for 5 s, watched from the lab's host through the lab container's observer
+  interface (tests/support/observer_peer.py): the lab's Control monitor goes stale (no move for
+  its 1 s) and measures its cycle rate up to now, falling below "small"; SpeedLimiting fires with
+  it and lowers the speed limit to "slow", BandwidthLimiting lowers the camera's frame rate; when
+  the link returns Control is fresh, its rate and the rules for a large one are back, in the same
+  processes;
 - a lab side killed with SIGKILL and started again by its script: the Navigator's calls fail
   meanwhile, it retries, and its run resumes against the new process without a restart;
 - a partition healing: a publisher's host cut off from the broker and from the subscriber's host
@@ -21,8 +27,8 @@ bandwidth with ``tc tbf`` and given the profile's one-way latency by a relay on 
   container, host and port, at once.
 
 Needs root (skips outside CI otherwise, fails in CI). Measured: 72 s on a 2-core machine at a load
-average of 26, most of it the three runs at once (six containers starting); 14 s the kill, 7 s the
-partition, 2 s the bad starts."""
+average of 26, most of it the three runs at once (six containers starting); 14 s the kill, 12 s the
+outage, 7 s the partition, 2 s the bad starts."""
 
 from __future__ import annotations
 
@@ -36,6 +42,7 @@ import signal
 import subprocess
 import sys
 import threading
+import time
 from pathlib import Path
 
 import pytest
@@ -292,6 +299,155 @@ def test_a_lab_side_killed_and_started_again_by_its_script_is_driven_on(
     assert pair.said(r"^UserSide: stopped at t=[\d.]+ s, faults: 0$"), pair.user_log.read_text()
     lab = pair.lab_log.read_text()  # the log of the second process (the first one's is replaced)
     assert "WebLabSide: serving at" in lab and "stopped at t=" in lab, lab
+
+
+OUTAGE = 5.0  # s the user's link is down
+
+
+class Observed:
+    """The lab container's events as a watcher on the lab's host sees them through its observer
+    interface (tests/support/observer_peer.py): Control's readings and staleness, the firings of
+    the two policy sets it feeds; each with the wall-clock time it happened at."""
+
+    ELEMENTS = ("Control", "SpeedLimiting", "BandwidthLimiting")
+
+    def __init__(self, pair: Pair) -> None:
+        peer = [sys.executable, "-m", "tests.support.observer_peer"]
+        self.process = subprocess.Popen(
+            pair.lab.command(*peer, pair.lab.address, str(LAB_PORT), "WebLabSide", *self.ELEMENTS),
+            env={**PEER_ENV, "ACORDCS_TOKEN": pair.token}, stdout=subprocess.PIPE, text=True)  # fmt: skip
+        self.out = Output(self.process)
+
+    def events(self) -> list[dict]:
+        with self.out.lock:
+            lines = list(self.out.lines)
+        return [json.loads(line) for line in lines if line.startswith("{")]
+
+    def rates(self, start: float = 0.0, end: float = float("inf")) -> list[tuple[float, float]]:
+        """Control's cycle rates published between the two times: (wall, cycles/s)."""
+        return [(e["wall"], e["values"]["cycleRate"]) for e in self.events()
+                if e["kind"] == "monitor.updated" and "cycleRate" in e["values"]
+                and start <= e["wall"] <= end]  # fmt: skip
+
+    def staleness(self, stale: bool) -> list[dict]:
+        return [e for e in self.events() if e["kind"] == "monitor.stale" and e["value"] is stale]
+
+    def firings(self, name: str, start: float = 0.0, end: float = float("inf")) -> list[dict]:
+        return [e["firing"] for e in self.events() if e["kind"] == "policy.fired"
+                and e["element"] == name and "firing" in e and start <= e["wall"] <= end]  # fmt: skip
+
+    def close(self) -> None:
+        self.process.kill()
+        self.process.wait(timeout=10)
+
+
+def rules(firing: dict, rate: str) -> list[str]:
+    """The rules of a firing for that linguistic value of the cycle rate (small, large) that
+    fired (degree > 0)."""
+    return [label for _, label, degree in firing["rules"] if label.startswith(rate) and degree > 0]
+
+
+def recovered(firings: list[dict], rate_before: float) -> list[dict]:
+    """The firings given a cycle rate back to 0.6 of what it was before the outage, or more."""
+    return [f for f in firings if f["inputs"]["Control.cycleRate"] >= 0.6 * rate_before]
+
+
+def running_pids(pair: Pair) -> dict[str, int]:
+    """Each side's pid, from its pid file, checked alive."""
+    pids = {}
+    for host, side in ((pair.user, "UserSide"), (pair.lab, "WebLabSide")):
+        pid = int((pair.tmp / f"run-{host.name}" / f"{side}.pid").read_text())
+        os.kill(pid, 0)  # alive (ProcessLookupError otherwise)
+        pids[side] = pid
+    return pids
+
+
+def test_during_an_outage_the_labs_monitor_sees_it_and_its_policies_adapt(
+    weblab_app: None, network: netns.Network, broker: Path, tmp_path: Path
+) -> None:
+    pair = Pair("LAN", network, tmp_path)
+    observed: Observed | None = None
+    try:
+        pair.link()
+        for started in at_once(*pair.starts(WEBLAB_TIME_CAP="60")):
+            assert started.returncode == 0, started.stdout + started.stderr
+        pids = running_pids(pair)
+        observed = Observed(pair)
+        assert wait_for(lambda: observed.out.has("ready"), 20), observed.out.lines
+        # driven: the camera's frame rate set from a measured cycle rate (BandwidthLimiting's
+        # period is 2 s), and the speed limit from the latest one
+        assert wait_for(lambda: any(f["inputs"].get("Control.cycleRate", 0) > 0
+                                    for f in observed.firings("BandwidthLimiting")), 20), \
+            json.dumps(observed.events())  # fmt: skip
+        before = observed.firings("SpeedLimiting")[-1]
+        rate_before = observed.rates()[-1][1]
+        down = time.time()
+        network.link_down(pair.user.name)
+        try:
+            time.sleep(OUTAGE)  # the fault itself
+        finally:
+            network.link_up(pair.user.name)
+        up = time.time()
+        # the link returns: the Navigator's moves reach the lab again, Control is fresh and its
+        # rate, counted over its window again, is back to the cadence before the outage
+        assert wait_for(lambda: any(r >= 0.6 * rate_before for _, r in observed.rates(up)), 20), \
+            (rate_before, observed.rates(down), pair.user_log.read_text())  # fmt: skip
+        assert wait_for(lambda: any(e["wall"] >= up for e in observed.staleness(False)), 5)
+        assert wait_for(lambda: recovered(observed.firings("SpeedLimiting", up), rate_before), 5)
+        events = observed.events()
+        pids_after = running_pids(pair)
+        user_status = pair.script(pair.user, "UserSide-status")
+        lab_status = pair.script(pair.lab, "WebLabSide-status")
+    finally:
+        if observed is not None:
+            observed.close()
+        stopped = pair.stop()
+        pair.close()
+    # (a) the monitor observed the outage: stale after its 1 s of silence (later when the lab's
+    # clock thread is held by a push to the user that times out), its rate falling meanwhile
+    stale = [e for e in observed.staleness(True) if down <= e["wall"] <= up]
+    assert stale, (down, up, observed.staleness(True))
+    assert stale[0]["data"]["cause"].startswith("no call through Locomotion.LocomotionPort for")
+    during = observed.rates(down, up)
+    lowest = min(r for _, r in during)
+    assert lowest < 0.5 * rate_before and lowest < 1.2, (rate_before, during)  # 1.2: "small"
+    assert [r for _, r in during] == sorted((r for _, r in during), reverse=True), during
+    # (b) the policies adapted during the outage, with the rate the outage gave
+    slow = [f for f in observed.firings("SpeedLimiting", down, up + 0.5)
+            if f["inputs"]["Control.cycleRate"] < 1.2]  # fmt: skip
+    assert slow, observed.firings("SpeedLimiting", down)
+    assert slow[-1]["outputs"]["Locomotion.maxSpeed"] < before["outputs"]["Locomotion.maxSpeed"]
+    assert slow[-1]["outputs"]["Locomotion.maxSpeed"] < 110, slow[-1]  # "slow" ends at 110 mm/s
+    assert rules(slow[-1], "small") and not rules(before, "small"), (before, slow[-1])
+    frames = observed.firings("BandwidthLimiting", down, up + 0.5)
+    lowered = [f for f in frames if f["inputs"]["Control.cycleRate"] < 1.2]
+    assert lowered, frames
+    frames_before = observed.firings("BandwidthLimiting", 0, down)[-1]
+    assert (
+        lowered[-1]["outputs"]["PanoramicCamera.fps"]
+        < frames_before["outputs"]["PanoramicCamera.fps"]
+    )
+    # (c) the link returned: fresh again, the speed limit back up, the same processes
+    fresh = [e for e in observed.staleness(False) if e["wall"] >= up]
+    assert fresh[0]["data"]["stale_for"] >= OUTAGE - 1.0, fresh
+    back = recovered(observed.firings("SpeedLimiting", up), rate_before)
+    assert back and rules(back[0], "large") and not rules(back[0], "small"), back
+    assert user_status.returncode == 0 and lab_status.returncode == 0
+    assert pids_after == pids, (pids, pids_after)
+    assert stopped == (0, 0), stopped
+    assert pair.said(r"^UserSide: stopped at t=[\d.]+ s, faults: 0$"), pair.user_log.read_text()
+    print("Control's cycleRate (wall s from the link down, cycles/s):",
+          [(round(t - down, 2), round(r, 2)) for t, r in observed.rates(down - 2, up + 3)])  # fmt: skip
+    print("SpeedLimiting (s, cycleRate, maxSpeed):",
+          [(round(e["wall"] - down, 2), round(e["firing"]["inputs"]["Control.cycleRate"], 2),
+            round(e["firing"]["outputs"]["Locomotion.maxSpeed"], 1)) for e in events
+           if e["kind"] == "policy.fired" and e["element"] == "SpeedLimiting"
+           and down - 2 <= e["wall"] <= up + 3])  # fmt: skip
+    print("BandwidthLimiting (s, cycleRate, fps):",
+          [(round(e["wall"] - down, 2), round(e["firing"]["inputs"]["Control.cycleRate"], 2),
+            e["firing"]["outputs"]["PanoramicCamera.fps"]) for e in events
+           if e["kind"] == "policy.fired" and e["element"] == "BandwidthLimiting"
+           and down - 2 <= e["wall"] <= up + 3])  # fmt: skip
 
 
 def test_a_partition_heals_and_qos1_documents_arrive_each_once(
