@@ -95,7 +95,12 @@ class InterceptingMonitor(Monitor):
         quiet_for = container.clock.now() - last
         if quiet_for < quiet_after:
             return
-        self.mark_stale(f"no call through {', '.join(self.sources)} for {quiet_for:.1f} s")
+        self.mark_stale(
+            f"no call through {', '.join(self.sources)} for {quiet_for:.1f} s",
+            unless=lambda: self.last_call != last,
+        )
+        if self.last_call != last:  # a call came meanwhile: no silence to read
+            return
         with container.guard("monitor", self.name, silence=f"{quiet_for:.1f} s"):
             values = self.on_quiet(quiet_for)
             if values:

@@ -104,6 +104,7 @@ class Monitor:
         self.ticks = 0
         self.overruns = 0  # ticks skipped while the previous acquire was still running
         self.stale_since: float | None = None  # the time its values went stale (None: fresh)
+        self._stale_lock = threading.Lock()
         self._timer: Timer | None = None
         self._busy = threading.Lock()  # held while an acquire runs off the clock's thread
 
@@ -136,20 +137,34 @@ class Monitor:
         if self.container is None:
             self.attributes.update(values)
             return
-        if self.stale_since is not None:
+        with self._stale_lock:
             since, self.stale_since = self.stale_since, None
-            stale_for = round(self.container.clock.now() - since, 6)
-            self.container.monitor_stale(self, False, {"stale_for": stale_for})
+        if since is not None:
+            self._fresh(self.container, since)
         self.container.monitor_update(self, values)
 
-    def mark_stale(self, cause: str) -> None:
+    def mark_stale(self, cause: str, *, unless: Callable[[], bool] | None = None) -> None:
         """Say that the monitor's values are stale (``cause``: why), once until its next
-        reading; its last values are kept."""
+        reading; its last values are kept. ``unless``: a reading came meanwhile (checked with the
+        change, so that a reading from another thread is never taken for stale)."""
         container = self.container
-        if container is None or self.stale_since is not None:
+        if container is None:
             return
-        self.stale_since = container.clock.now()
-        container.monitor_stale(self, True, {"cause": cause[:500], "since": self.stale_since})
+        with self._stale_lock:
+            if self.stale_since is not None or (unless is not None and unless()):
+                return
+            since = self.stale_since = container.clock.now()
+        container.monitor_stale(self, True, {"cause": cause[:500], "since": since})
+        # Emitted outside the lock (the container's dispatch takes its own): a reading from
+        # another thread may have said fresh before this said stale; if so, fresh again.
+        with self._stale_lock:
+            overtaken = self.stale_since != since
+        if overtaken:
+            self._fresh(container, since)
+
+    def _fresh(self, container: MonitorHost, since: float) -> None:
+        stale_for = round(container.clock.now() - since, 6)
+        container.monitor_stale(self, False, {"stale_for": stale_for})
 
     # ------------------------------------------------------------------ driven by the container
     def attach(self, container: MonitorHost) -> None:
