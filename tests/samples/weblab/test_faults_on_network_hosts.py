@@ -408,7 +408,7 @@ def test_during_an_outage_the_labs_monitor_sees_it_and_its_policies_adapt(
         up = time.time()
         # the link returns: Control is fresh, fed by the Navigator's calls again (its moves and
         # stops: it drives on, the same process)
-        assert wait_for(lambda: spell(observed, down, up) is not None, 20), \
+        assert wait_for(lambda: spell(observed, down, up) is not None, 30), \
             (down, up, observed.staleness(True), pair.user_log.read_text())  # fmt: skip
 
         def driven_again() -> list[dict]:
@@ -417,8 +417,10 @@ def test_during_an_outage_the_labs_monitor_sees_it_and_its_policies_adapt(
             return [e for e in readings(observed.events(), "Control")
                     if e["seq"] > found[1]["seq"] and "speed" in e["values"]]  # fmt: skip
 
-        # (40 s: the Navigator may lose more calls to timeouts after the link is back)
-        assert wait_for(lambda: len(driven_again()) >= 3, 40), pair.user_log.read_text()
+        # the reading that made it fresh: a call of the Navigator's (more of them may still time
+        # out for a while: docs/deployment.md)
+        assert wait_for(lambda: driven_again(), 10), \
+            pair.user_log.read_text() + pair.lab_log.read_text()[-6000:]  # fmt: skip
         events = observed.events()
         pids_after = running_pids(pair)
         user_status = pair.script(pair.user, "UserSide-status")
