@@ -27,7 +27,7 @@ bandwidth with ``tc tbf`` and given the profile's one-way latency by a relay on 
   container, host and port, at once.
 
 Needs root (skips outside CI otherwise, fails in CI). Measured: 72 s on a 2-core machine at a load
-average of 26, most of it the three runs at once (six containers starting); 14 s the kill, 12 s the
+average of 26, most of it the three runs at once (six containers starting); 14 s the kill, 10 to 19 s the
 outage, 7 s the partition, 2 s the bad starts."""
 
 from __future__ import annotations
