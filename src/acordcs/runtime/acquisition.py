@@ -3,7 +3,10 @@
 - :class:`InterceptingMonitor` (``intercept``): the calls through its source port, or to its source
   component, reach :meth:`~InterceptingMonitor.on_call` once done; the component's property changes
   reach :meth:`~InterceptingMonitor.on_change` (by default a change of a property named like one of
-  the monitor's attributes is taken as it is).
+  the monitor's attributes is taken as it is). With ``quiet_after`` (seconds) set, a monitor
+  whose sources have seen no call for that long goes stale (``monitor.stale``, its last values
+  kept) and :meth:`~InterceptingMonitor.on_quiet` is asked, every quarter of it while the silence
+  lasts, what the silence itself says (a rate that falls, say); the next call makes it fresh.
 - :class:`SubscribingMonitor` (``subscribe``): the context provider's documents its ``xpath``
   selects something in reach :meth:`~SubscribingMonitor.on_document`; by default the first selected
   element's child elements (or attributes) named like the monitor's attributes are read, each
@@ -22,7 +25,7 @@ from __future__ import annotations
 
 from collections.abc import Mapping
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, ClassVar
 
 from acordcs.runtime import events as ev
 from acordcs.runtime.errors import ConfigurationError
@@ -30,6 +33,7 @@ from acordcs.runtime.events import Event
 from acordcs.runtime.monitor import Monitor, MonitorHost
 
 if TYPE_CHECKING:
+    from acordcs.runtime.clock import Timer
     from acordcs.runtime.context.delivery import Notification, Subscription
 
 
@@ -51,7 +55,56 @@ class ObservedCall:
 
 
 class InterceptingMonitor(Monitor):
-    """``intercept``: sees the calls through its sources and their components' property changes."""
+    """``intercept``: sees the calls through its sources and their components' property changes.
+
+    ``quiet_after``: seconds without a call through its sources after which the monitor is stale
+    (None, the default: silence says nothing); counted from the monitor's first call, so a
+    source not used yet is not a silence."""
+
+    quiet_after: ClassVar[float | None] = None
+
+    def __init__(self, name: str, **kwargs: Any) -> None:
+        super().__init__(name, **kwargs)
+        self.last_call: float | None = None  # the time of the last call seen (None: none yet)
+        self._quiet_timer: Timer | None = None
+
+    def on_quiet(self, quiet_for: float) -> Mapping[str, object] | None:
+        """No call through the sources for ``quiet_for`` seconds (at least ``quiet_after``): the
+        values the silence gives (published, the monitor still stale), or None (the default)."""
+        return None
+
+    def attach(self, container: MonitorHost) -> None:
+        super().attach(container)
+        if self.quiet_after is not None:
+            if not self.quiet_after > 0:
+                raise ConfigurationError(
+                    f"monitor {self.name!r}: quiet_after must be > 0 s, not {self.quiet_after}"
+                )
+            self._quiet_timer = container.clock.call_every(self.quiet_after / 4, self._listen)
+
+    def detach(self) -> None:
+        if self._quiet_timer is not None:
+            self._quiet_timer.cancel()
+            self._quiet_timer = None
+        super().detach()
+
+    def _listen(self) -> None:
+        container, last, quiet_after = self.container, self.last_call, self.quiet_after
+        if container is None or last is None or quiet_after is None:
+            return
+        quiet_for = container.clock.now() - last
+        if quiet_for < quiet_after:
+            return
+        self.mark_stale(
+            f"no call through {', '.join(self.sources)} for {quiet_for:.1f} s",
+            unless=lambda: self.last_call != last,
+        )
+        if self.last_call != last:  # a call came meanwhile: no silence to read
+            return
+        with container.guard("monitor", self.name, silence=f"{quiet_for:.1f} s"):
+            values = self.on_quiet(quiet_for)
+            if values:
+                container.monitor_update(self, dict(values))
 
     def on_call(self, call: ObservedCall) -> Mapping[str, object] | None:
         """A call went through a source: return the attribute values it gives (or None)."""
@@ -63,6 +116,7 @@ class InterceptingMonitor(Monitor):
 
     def on_event(self, event: Event) -> None:
         if event.kind == ev.OPERATION_CALLED:
+            self.last_call = event.time
             data = event.data
             values = self.on_call(
                 ObservedCall(

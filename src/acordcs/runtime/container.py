@@ -450,6 +450,9 @@ class Container(OperationCalls, Wiring):
         monitor.attributes.update(values)
         self.emit(ev.MONITOR_UPDATED, monitor.name, data=dict(values))
 
+    def monitor_stale(self, monitor: Monitor, stale: bool, data: dict[str, object]) -> None:
+        self.emit(ev.MONITOR_STALE, monitor.name, value=stale, data=data)
+
     # --------------------------------------------------------------------------- policy sets
     def add_policy_set(self, policy_set: PolicySet) -> None:
         """Bind a policy set to this container (rules to an engine, variables to attributes)."""

@@ -20,6 +20,11 @@ COMPONENT_REPLACED = "component.replaced"
 PROPERTY_CHANGED = "property.changed"
 OPERATION_CALLED = "operation.called"
 MONITOR_UPDATED = "monitor.updated"
+# A monitor's values went stale (value True; data: ``cause``, ``since``): its acquisition faulted
+# (a polled operation that timed out), or no call came through an intercepting monitor's sources
+# for its ``quiet_after`` seconds; and fresh again (value False; data: ``stale_for``, seconds) at
+# its next reading. Its last values are kept meanwhile; policy sets do not fire on it.
+MONITOR_STALE = "monitor.stale"
 CONNECTION_CHANGED = "connection.changed"
 FACTORY_CHANGED = "factory.changed"
 POLICY_FIRED = "policy.fired"  # element: the policy set; its last_firing says what it did
@@ -41,6 +46,7 @@ EVENT_KINDS = frozenset(
         PROPERTY_CHANGED,
         OPERATION_CALLED,
         MONITOR_UPDATED,
+        MONITOR_STALE,
         CONNECTION_CHANGED,
         FACTORY_CHANGED,
         POLICY_FIRED,

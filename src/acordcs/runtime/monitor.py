@@ -10,6 +10,13 @@ through that port, which an interceptor on the port (:class:`PortTap`) hands ove
 new reading is news).
 
 A raising ``acquire`` or ``on_event`` is a fault: recorded and counted; the monitor keeps its rate.
+A periodic monitor whose ``acquire`` raises (a polled operation that timed out: the link to it is
+down) keeps its last values and goes *stale*: its container emits one ``monitor.stale`` event (value
+True, ``data``: ``cause``, the error, and ``since``, the time of the first failed acquisition),
+``stale_since`` says since when, and its next reading emits ``monitor.stale`` again (value False,
+``data``: ``stale_for``, seconds) before its ``monitor.updated``. No value is made up for the
+policy sets meanwhile: they do not fire on ``monitor.stale`` (a periodic one reads the last values);
+a watcher sees both events.
 On a real-time clock, ``acquire`` runs in the monitor's own thread, not the clock's: a monitor
 blocking in it skips its own ticks meanwhile (counted in ``overruns``) and holds up no other monitor
 or timer; its values are published from the clock's thread, like every other update.
@@ -62,6 +69,10 @@ class MonitorHost(Protocol):
         """Take the new attribute values and emit ``monitor.updated``."""
         ...
 
+    def monitor_stale(self, monitor: Monitor, stale: bool, data: dict[str, object]) -> None:
+        """Emit ``monitor.stale`` (``stale``: the monitor's values went stale, or fresh again)."""
+        ...
+
 
 class Monitor:
     """Base class; subclasses override :meth:`acquire` (periodic) or :meth:`on_event` (event-driven).
@@ -92,6 +103,8 @@ class Monitor:
         self.container: MonitorHost | None = None
         self.ticks = 0
         self.overruns = 0  # ticks skipped while the previous acquire was still running
+        self.stale_since: float | None = None  # the time its values went stale (None: fresh)
+        self._stale_lock = threading.Lock()
         self._timer: Timer | None = None
         self._busy = threading.Lock()  # held while an acquire runs off the clock's thread
 
@@ -119,11 +132,39 @@ class Monitor:
         """React to an event of a source (an operation called on it, a property change)."""
 
     def update(self, **values: Any) -> None:
-        """Publish new attribute values to the policy sets this monitor feeds."""
+        """Publish new attribute values to the policy sets this monitor feeds (a reading: a stale
+        monitor is fresh again)."""
         if self.container is None:
             self.attributes.update(values)
             return
+        with self._stale_lock:
+            since, self.stale_since = self.stale_since, None
+        if since is not None:
+            self._fresh(self.container, since)
         self.container.monitor_update(self, values)
+
+    def mark_stale(self, cause: str, *, unless: Callable[[], bool] | None = None) -> None:
+        """Say that the monitor's values are stale (``cause``: why), once until its next
+        reading; its last values are kept. ``unless``: a reading came meanwhile (checked with the
+        change, so that a reading from another thread is never taken for stale)."""
+        container = self.container
+        if container is None:
+            return
+        with self._stale_lock:
+            if self.stale_since is not None or (unless is not None and unless()):
+                return
+            since = self.stale_since = container.clock.now()
+        container.monitor_stale(self, True, {"cause": cause[:500], "since": since})
+        # Emitted outside the lock (the container's dispatch takes its own): a reading from
+        # another thread may have said fresh before this said stale; if so, fresh again.
+        with self._stale_lock:
+            overtaken = self.stale_since != since
+        if overtaken:
+            self._fresh(container, since)
+
+    def _fresh(self, container: MonitorHost, since: float) -> None:
+        stale_for = round(container.clock.now() - since, 6)
+        container.monitor_stale(self, False, {"stale_for": stale_for})
 
     # ------------------------------------------------------------------ driven by the container
     def attach(self, container: MonitorHost) -> None:
@@ -179,6 +220,11 @@ class Monitor:
             container.faults.record(
                 "monitor", self.name, exc, container.clock.now(), tick=self.ticks
             )
+            cause = f"{type(exc).__name__}: {exc}"
+            if container.clock.real_time:  # marked from the clock's thread, like its readings
+                container.clock.call_later(0.0, lambda: self.mark_stale(cause))
+            else:
+                self.mark_stale(cause)
             return
         if values:
             publish(values)

@@ -21,6 +21,8 @@ policy set or monitor acting), and
   the watcher polls; read back from CLIPS while a watch asked for ``rules``, which turns the
   crisp sets' ``trace_rules`` on);
 - ``monitor.updated``: the values the monitor took;
+- ``monitor.stale``: a monitor's values went stale (``value`` True, ``data``: ``cause``,
+  ``since``) or fresh again (False, ``data``: ``stale_for``);
 - ``model.updated``: the plan line and the descriptor's digests before and after;
 - ``operation.called``: only for the operations a watch names (``Component.operation``): the
   arguments, the result and the error. A call's arguments and result are exposed as they are: a
@@ -80,7 +82,13 @@ MAX_BYTES = 1 << 20
 """Bytes of one value (an operation's argument or result) shown as they are; a longer one is
 shown by its size only."""
 
-WATCHED = (ev.POLICY_FIRED, ev.MONITOR_UPDATED, ev.PROPERTY_CHANGED, ev.MODEL_UPDATED)
+WATCHED = (
+    ev.POLICY_FIRED,
+    ev.MONITOR_UPDATED,
+    ev.MONITOR_STALE,
+    ev.PROPERTY_CHANGED,
+    ev.MODEL_UPDATED,
+)
 """The kinds of events every watch sees (``operation.called`` only for the operations named)."""
 
 

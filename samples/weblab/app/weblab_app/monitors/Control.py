@@ -5,7 +5,14 @@ monitor). For each ``move(speed, turn)`` of the user's control: ``speed`` (the s
 ``angle`` = |turn| in degrees (at most 90) and ``cycleRate`` = control actions per second over the
 last :data:`RATE_WINDOW` moves; ``stop()`` publishes speed 0 and restarts the rate's window (the
 wait is not a control cycle). Calls made by a policy's action (the Recovery component backing the
-robot up through the same port) are not the user's control and are ignored (``call.origin``)."""
+robot up through the same port) are not the user's control and are ignored (``call.origin``).
+
+When no call has come for :attr:`quiet_after` s (the user's link is down: the lab sees silence,
+not an error), the monitor is stale and the rate is measured up to now: the window's moves over the
+time from its first one to now, a rate that falls while the silence lasts, published once the
+silence is longer than :data:`QUIET_CYCLES` of the window's own cycles (a slow cycle is not an
+outage), so that SpeedLimiting slows the robot and BandwidthLimiting lowers the camera's frame rate
+during an outage; the next move makes it fresh, its rate counted over the window again."""
 
 from __future__ import annotations
 
@@ -17,9 +24,12 @@ from weblab_app.base.Control import ControlBase
 from acordcs.runtime.api import ObservedCall
 
 RATE_WINDOW = 5
+QUIET_CYCLES = 3  # a silence this many of the window's mean cycles long lowers the rate
 
 
 class Control(ControlBase):
+    quiet_after = 1.0  # s without a call through LocomotionPort: the monitor is stale
+
     def __init__(self, name: str, **kwargs: Any) -> None:
         super().__init__(name, **kwargs)
         self._times: deque[float] = deque(maxlen=RATE_WINDOW + 1)
@@ -40,3 +50,12 @@ class Control(ControlBase):
             self._times.clear()
             return {"speed": 0.0, "angle": 0.0}
         return None
+
+    def on_quiet(self, quiet_for: float) -> dict[str, float] | None:
+        if len(self._times) < 2:  # stopped (the window restarts) or not driven yet
+            return None
+        span = self._times[-1] - self._times[0]
+        cycles = len(self._times) - 1
+        if span <= 0 or quiet_for < QUIET_CYCLES * span / cycles:
+            return None
+        return {"cycleRate": cycles / (self.clock.now() - self._times[0])}
