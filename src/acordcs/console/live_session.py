@@ -330,6 +330,10 @@ def _shown(container: str, event: dict[str, Any]) -> dict[str, Any] | None:
     if kind == "model.updated":
         return {"kind": "model.updated", **common, "line": str(event.get("value"))[:500]}
     data = event.get("data") or {}
+    if kind == "monitor.stale":  # its last values kept (runtime/monitor.py), or fresh again
+        return {"kind": "stale", **common, "stale": event.get("value") is True,
+                "cause": str(data.get("cause", ""))[:500],
+                "stale_for": data.get("stale_for")}  # fmt: skip
     if kind == "component.held":
         return {"kind": "hold", **common, "component": event.get("element"),
                 "left": event.get("value"), "waiting": data.get("waiting")}  # fmt: skip

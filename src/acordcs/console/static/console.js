@@ -378,6 +378,9 @@ function showEvent(e) {
       return log("events", `${e.container} stopped answering: ${e.why}`, "down");
     case "up":
       return log("events", `${e.container} answers (watching)`, "up");
+    case "stale":  // a monitor that cannot read keeps its last values, said here
+      if (e.stale) return log("events", `t=${Number(e.time).toFixed(2)} ${e.container}: monitor ${e.element} stale, its last values kept: ${e.cause}`, "fault");
+      return log("events", `t=${Number(e.time).toFixed(2)} ${e.container}: monitor ${e.element} reads again (stale for ${Number(e.stale_for).toFixed(1)} s)`, "up");
     case "hold":
       return log("events", `${e.container}: hold on ${e.component} (${Number(e.left).toFixed(1)} s left, ${e.waiting} call(s) waiting)`, "hold");
     case "released":
