@@ -141,8 +141,11 @@ def test_term_stops_a_serving_container_and_its_exit_file_says_so(
                                stderr=subprocess.PIPE, text=True)  # fmt: skip
     try:
         assert process.stdout is not None
-        first = process.stdout.readline()  # ready: it serves
+        first = process.stdout.readline()  # it serves
         assert first.startswith("UserSide: serving at PYRO:acordcs.container.UserSide@127.0.0.1:")
+        # ready: its start-up said all it says (a TERM before the second line may come first)
+        second = process.stdout.readline()
+        assert second.startswith("UserSide: runs descriptor sha256 "), second
         process.send_signal(signal.SIGTERM)
         out, err = process.communicate(timeout=60)
     finally:
