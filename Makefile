@@ -71,8 +71,12 @@ format: $(DEV_STAMP)
 	$(BIN)/ruff format src tests benchmarks samples tools
 	$(BIN)/ruff check --fix src tests benchmarks samples tools
 
+# A benchmark that exits 2 cannot run on this machine and said why (the scale test needs root
+# for its network namespaces): the others still run, and the end names what was not run.
 bench: $(DEV_STAMP)
-	@for b in benchmarks/bench_*.py; do echo "== $$b"; $(BIN)/python $$b || exit 1; done
+	@skipped=""; for b in benchmarks/bench_*.py; do echo "== $$b"; $(BIN)/python $$b; rc=$$?; \
+	  if [ $$rc -eq 2 ]; then skipped="$$skipped $$b"; elif [ $$rc -ne 0 ]; then exit 1; fi; done; \
+	  if [ -n "$$skipped" ]; then echo "not run on this machine (each said why above):$$skipped"; fi
 
 clean:
 	rm -rf $(VENV) build site src/*.egg-info .pytest_cache
