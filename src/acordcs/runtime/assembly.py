@@ -21,7 +21,6 @@ load the toolchain.
 from __future__ import annotations
 
 import logging
-import os
 from collections.abc import Callable, Iterable, Mapping
 from dataclasses import dataclass
 from pathlib import Path
@@ -40,7 +39,7 @@ from acordcs.runtime.connectors import (
     ShapedConnector,
 )
 from acordcs.runtime.connectors.base import Connector
-from acordcs.runtime.connectors.pyrogate import TLSFiles
+from acordcs.runtime.connectors.pyrogate import TLSFiles, resolve_token
 from acordcs.runtime.container import Container
 from acordcs.runtime.errors import BindingError, RemoteNotGivenError
 from acordcs.runtime.events import Event
@@ -355,8 +354,8 @@ class Assembler:
         tagged ``persistent`` takes the state its file keeps, if any, before it starts."""
         state = None
         if comp.persistent and self.state_dir is not None:
-            token = self.token if self.token is not None else os.environ.get("ACORDCS_TOKEN")
-            store = StateStore(Path(self.state_dir), self.app.name, comp, token=token)
+            store = StateStore(Path(self.state_dir), self.app.name, comp,
+                               token=resolve_token(self.token))  # fmt: skip
             self.stores.setdefault(target.name, {})[comp.name] = store
             state = store.load()
             defaults = {p.name: p.default for p in comp.properties}
