@@ -21,6 +21,7 @@ from tests.support.descriptors import (
     prop,
     ref,
 )
+from tests.support.services import wait_for
 
 
 class Lights(CtxComponent):
@@ -85,5 +86,7 @@ def test_an_unreachable_container_is_a_fault_of_the_feed_not_of_the_monitor():
         sensors = app.container("Sensors")
         sensors.monitor("Presence").update(occupancy=2)
         assert sensors.monitor("Presence").attributes == {"occupancy": 2}
+        # sent by the connector's thread (the monitor does not wait): the fault follows
+        assert wait_for(lambda: sensors.faults.of_kind("listener"), 10)
         (fault,) = sensors.faults.of_kind("listener")
         assert fault.where == "feed:Presence->Room" and "RemoteUnreachableError" in fault.error

@@ -534,19 +534,25 @@ class Assembler:
         else:
             if self.relay is None:
                 self.relay = RemoteConnector(timeout=self.remote_timeout, token=self.token)
-            uri, connector = self.remote[target], self.relay
+            uri, connector, home = self.remote[target], self.relay, self.containers[source]
+            name = f"feed:{monitor}->{target}"  # the fault's place, as a listener's would be
+            where = f"feed of monitor {monitor!r} to container {target!r}"
+
+            def send(reading: dict[str, object]) -> None:
+                connector.request(
+                    uri, "update_monitor", monitor, reading, where=where, what="a reading"
+                )
+
+            def report(error: BaseException | str) -> None:
+                home.faults.record("listener", name, error, home.clock.now())
+
+            # In order, from a thread of the connector's, no retry: the monitor (often ticked by
+            # the clock's thread) never waits for the other process; an unreachable container is
+            # a fault of this feed (logged once, counted) and the reading is lost for it.
+            outbox = connector.one_way(f"feed:{monitor}->{target}", send, report, {"lost": 0})
 
             def relay(event: Event) -> None:
-                # Synchronous, no retry: an unreachable container is a fault of this feed (logged
-                # once, counted) and the reading is lost for it; the monitor goes on.
-                connector.request(
-                    uri,
-                    "update_monitor",
-                    monitor,
-                    dict(event.data),
-                    where=f"feed of monitor {monitor!r} to container {target!r}",
-                    what="a reading",
-                )
+                outbox.put(dict(event.data))
 
         self.containers[source].subscribe(
             ev.MONITOR_UPDATED, relay, name=f"feed:{monitor}->{target}", element=monitor

@@ -8,6 +8,7 @@ emits ``property.changed`` (only when the value really changes, so an idempotent
 
 from __future__ import annotations
 
+import functools
 import threading
 from collections import Counter
 from collections.abc import Callable
@@ -22,7 +23,9 @@ from acordcs.runtime.errors import BindingError, ComponentNotFoundError, PortErr
 from acordcs.runtime.ports import Port
 
 if TYPE_CHECKING:
+    from acordcs.runtime.clock import Clock
     from acordcs.runtime.component import Hosted
+    from acordcs.runtime.events import FaultLog
     from acordcs.runtime.monitor import Monitor
 
 
@@ -34,6 +37,8 @@ class Wiring:
     """
 
     name: str
+    clock: Clock
+    faults: FaultLog
     properties: dict[str, object]
     stats: Counter[str]
     guard: Callable[..., AbstractContextManager[None]]
@@ -194,6 +199,7 @@ class Wiring:
             if label in self._connections:
                 raise PortError(f"a connection named {label!r} already exists", where=self._where)
             conn = Connection(label, a, b, connector, {**connector.default_qos(), **(qos or {})})
+            conn.on_fault = functools.partial(self._connection_fault, label)
             for end in (a, b):
                 if isinstance(end, Port):
                     end.connections.append(conn)
@@ -230,6 +236,9 @@ class Wiring:
             for conn in list(port.connections):
                 if conn.name in self._connections:
                     self.disconnect(conn.name)
+
+    def _connection_fault(self, label: str, error: BaseException | str) -> None:
+        self.faults.record("connection", label, error, self.clock.now())
 
     def close_connectors(self) -> None:
         for connector in self._connectors:

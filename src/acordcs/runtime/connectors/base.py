@@ -8,10 +8,14 @@ each send, so a change applies to the next message.
 
 from __future__ import annotations
 
+import logging
 from abc import ABC, abstractmethod
+from collections.abc import Callable
 from typing import Any, Protocol
 
 from acordcs.runtime.errors import PortError
+
+log = logging.getLogger(__name__)
 
 
 class Endpoint(Protocol):
@@ -70,6 +74,15 @@ class Connection:
         self.connector = connector
         self.qos = qos
         self.stats: dict[str, int] = {"sent": 0, "lost": 0}
+        self.on_fault: Callable[[BaseException | str], None] | None = None
+        """Where a failure off the sender's thread goes (a connector's own thread delivering a
+        notification): the container that made the connection records it as its fault."""
+
+    def report_fault(self, error: BaseException | str) -> None:
+        if self.on_fault is not None:
+            self.on_fault(error)
+        else:
+            log.error("connection %r: %s", self.name, error)
 
     def peer_of(self, port: Endpoint) -> Endpoint:
         if self.required is port:

@@ -12,7 +12,10 @@ Transport choices, after the Pyro5 5.17 pitfalls (../shared/reference/context-an
   is missing raises :class:`RemoteTimeoutError`, its outcome unknown;
 - one proxy per thread (a Pyro proxy belongs to the thread that made it): proxies live in a
   ``threading.local``; a dropped connection is re-established on the next call, so calls succeed
-  again once the remote container is back at the same URI (a fixed port and object id).
+  again once the remote container is back at the same URI (a fixed port and object id);
+- notifications and stream items (one way, no reply awaited) go through an :class:`.Outbox` per
+  connection, delivered in order by a thread of its own: the sender (often the clock's thread)
+  never waits for a slow or unreachable peer, and what is not delivered is counted and reported.
 
 The server side, :class:`ContainerServer`, exposes one endpoint per container; calls arriving there go
 through the container like local ones (interceptors, events). Only the operations behind its provided
@@ -28,6 +31,7 @@ import errno
 import logging
 import socket
 import threading
+import time
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any, Protocol
@@ -37,6 +41,7 @@ import Pyro5.errors
 import serpent
 
 from acordcs.runtime.connectors.base import Connection, Connector
+from acordcs.runtime.connectors.outbox import Outbox
 from acordcs.runtime.connectors.pyrogate import (
     HANDSHAKE_TIMEOUT,
     MAX_CONNECTIONS,
@@ -126,6 +131,7 @@ class RemoteConnector(Connector):
         self._local = threading.local()
         self._all: list[tuple[threading.Thread, Pyro5.api.Proxy]] = []
         self._lock = threading.Lock()
+        self._outboxes: dict[object, Outbox] = {}
 
     def default_qos(self) -> dict[str, object]:
         return {"timeout": self.timeout}
@@ -239,12 +245,59 @@ class RemoteConnector(Connector):
         return bytes_back(reply)
 
     def notify(self, conn: Connection, target: object, message: Any, size: int | None) -> None:
-        self._invoke(conn, target, "deliver", message)
+        self._outbox(conn, target).put(message)
 
     def stream(self, conn: Connection, target: object, item: Any, size: int | None) -> None:
-        self._invoke(conn, target, "deliver", item)
+        self._outbox(conn, target).put(item)
+
+    def _outbox(self, conn: Connection, target: object) -> Outbox:
+        outbox = self._outboxes.get(conn)
+        if outbox is None:
+            remote = self._remote(conn, target)  # a wrong end is the sender's error, at once
+            outbox = self.one_way(
+                conn,
+                lambda item: self._invoke(conn, remote, "deliver", item),
+                conn.report_fault,
+                conn.stats,
+            )
+        return outbox
+
+    def one_way(
+        self,
+        key: object,
+        send: Callable[[Any], None],
+        report: Callable[[BaseException | str], None],
+        stats: dict[str, int],
+    ) -> Outbox:
+        """The outbox of ``key`` (a connection, a monitor's feed), made on first use: items put
+        there are sent by ``send`` in a thread of their own, failures go to ``report``, and
+        :meth:`close` delivers what waits."""
+        with self._lock:
+            outbox = self._outboxes.get(key)
+            if outbox is None:
+                outbox = self._outboxes[key] = Outbox(str(key), send, report, stats)
+        return outbox
+
+    def pending(self) -> int:
+        """One-way items taken and not yet delivered, over all outboxes."""
+        with self._lock:
+            outboxes = list(self._outboxes.values())
+        return sum(outbox.pending() for outbox in outboxes)
 
     def close(self) -> None:
+        """Deliver the waiting one-way items (for at most the timeout in all; each outbox then
+        reports by count what it could not), and close every proxy."""
+        with self._lock:
+            outboxes, self._outboxes = list(self._outboxes.values()), {}
+        deadline = time.monotonic() + self.timeout
+        for outbox in outboxes:
+            undelivered = outbox.close(deadline)
+            if undelivered:
+                outbox.report(
+                    f"Undelivered: {undelivered} one-way item(s) waiting at close were not "
+                    f"delivered within {self.timeout:g} s (the peer is unreachable or slow); "
+                    "counted in stats['lost']"
+                )
         with self._lock:
             proxies, self._all = self._all, []
         for _thread, proxy in proxies:
