@@ -15,13 +15,14 @@ $(BIN)/python:
 # Byte-compiled as pip does for a regular install: an editable install never is, and with
 # PYTHONDONTWRITEBYTECODE set every `acordcs-gen` run would compile the toolchain again.
 # The demo's extra: `weblab` (what the WebLab experiment needs beyond the toolchain and runtime).
-$(STAMP): pyproject.toml | $(BIN)/python
-	$(BIN)/python -m pip install -q -e '.[weblab]'
+# constraints.txt: the versions the transcripts were checked with (a newer OpenCV moves a figure).
+$(STAMP): pyproject.toml constraints.txt | $(BIN)/python
+	$(BIN)/python -m pip install -q -c constraints.txt -e '.[weblab]'
 	$(BIN)/python -m compileall -q src > /dev/null
 	touch $@
 
-$(DEV_STAMP): pyproject.toml | $(BIN)/python
-	$(BIN)/python -m pip install -q -e '.[dev,weblab,plots]'
+$(DEV_STAMP): pyproject.toml constraints.txt | $(BIN)/python
+	$(BIN)/python -m pip install -q -c constraints.txt -e '.[dev,weblab,plots]'
 	$(BIN)/python -m compileall -q src > /dev/null
 	touch $@ $(STAMP)
 

@@ -63,19 +63,25 @@ def _pipe(source: socket.socket, sink: socket.socket, delay: float) -> None:
             sock.close()
 
 
+def _join(client: socket.socket, target: tuple[str, int], delay: float) -> None:
+    """Join ``client`` to a new connection to ``target``, in a thread of its own: a target that
+    does not answer (its link down) holds this connection only, never the next ones."""
+    try:
+        upstream = socket.create_connection(target, timeout=10)
+    except OSError:
+        client.close()
+        return
+    upstream.settimeout(None)
+    for sock in (client, upstream):
+        sock.setsockopt(socket.IPPROTO_TCP, socket.TCP_NODELAY, 1)
+    threading.Thread(target=_pipe, args=(client, upstream, delay), daemon=True).start()
+    _pipe(upstream, client, delay)
+
+
 def _serve(listener: socket.socket, target: tuple[str, int], delay: float) -> None:
     while True:
         client, _ = listener.accept()
-        try:
-            upstream = socket.create_connection(target, timeout=10)
-        except OSError:
-            client.close()
-            continue
-        upstream.settimeout(None)
-        for sock in (client, upstream):
-            sock.setsockopt(socket.IPPROTO_TCP, socket.TCP_NODELAY, 1)
-        threading.Thread(target=_pipe, args=(client, upstream, delay), daemon=True).start()
-        threading.Thread(target=_pipe, args=(upstream, client, delay), daemon=True).start()
+        threading.Thread(target=_join, args=(client, target, delay), daemon=True).start()
 
 
 def main(argv: list[str]) -> None:
