@@ -433,8 +433,8 @@ def test_during_an_outage_the_labs_monitor_sees_it_and_its_policies_adapt(
     outage = spell(observed, down, up)
     assert outage is not None
     went, back = outage
-    # (a) the monitor observed the outage: stale after its 1 s without a call (later when the
-    # lab's clock thread is held by a push to the user that times out), with the silence's own
+    # (a) the monitor observed the outage: stale after its 1 s without a call (its pushes to
+    # the user wait in their outboxes, not on the lab's clock thread), with the silence's own
     # readings meanwhile, a cycle rate falling into "small" (below 1.2/s)
     assert went["data"]["cause"].startswith("no call through Locomotion.LocomotionPort for"), went
     during = [e["values"]["cycleRate"] for e in readings(within(events, outage), "Control")]
