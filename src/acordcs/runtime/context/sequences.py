@@ -106,7 +106,7 @@ class SequenceBook:
                 if seq <= last:
                     return NEW if self._behind_last(publisher, epoch, seq, last) else REFUSED
                 if seq - last > self.max_seq_jump:
-                    self.implausible += 1
+                    # said before counted: whoever waits for the count finds the warning logged
                     log.warning(
                         "%s: ignoring seq %d after %d, a jump over max_seq_jump=%d (a forged "
                         "message? sign documents with payload_key)",
@@ -115,6 +115,7 @@ class SequenceBook:
                         last,
                         self.max_seq_jump,
                     )
+                    self.implausible += 1
                     return REFUSED
                 if seq > last + 1:
                     self._gap(publisher, last, seq)
