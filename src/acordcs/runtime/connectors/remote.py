@@ -137,6 +137,7 @@ class RemoteConnector(Connector):
         proxies = getattr(self._local, "proxies", None)
         if proxies is None:
             proxies = self._local.proxies = {}
+            self._local.bound = set()  # URIs this thread's proxies were bound to since a failure
         proxy = proxies.get(uri)
         if proxy is None:
             # The _pyro* attributes and methods of a proxy are Pyro5's documented public API
@@ -187,6 +188,7 @@ class RemoteConnector(Connector):
             proxy._pyroTimeout = timeout
         try:
             proxy._pyroBind()  # Pyro5's documented bind: connects only a proxy not connected
+            self._local.bound.add(uri)
         except Pyro5.errors.CommunicationError as exc:
             raise RemoteUnreachableError(
                 f"cannot reach the remote container at {uri}: {exc}",
@@ -232,16 +234,14 @@ class RemoteConnector(Connector):
         # only when there is a failure.
         timeout = self._timeout_of(conn)
         proxy = self._proxy(target.uri)
-        if proxy._pyroConnection is None or proxy._pyroTimeout != timeout:
+        # Bound once, then again only after a failure (Pyro5 drops the connection on one): its
+        # _pyroBind costs a lock and a closure a call even when it has nothing to do.
+        if proxy._pyroTimeout != timeout or target.uri not in self._local.bound:
             proxy = self._ready(target.uri, timeout, lambda: _place(conn, target))
         try:
-            # what proxy.invoke(...) ends in (_pyroInvoke, a _pyro* name of the proxy's like
-            # _pyroBind), without the remote-method object Pyro5 makes per call; the server still
-            # checks that "invoke" is exposed, as for any call
-            reply = proxy._pyroInvoke(
-                "invoke", (f"{target.component}.{target.port}.{operation}", *args), kwargs
-            )
+            reply = proxy.invoke(f"{target.component}.{target.port}.{operation}", *args, **kwargs)
         except (RemoteFault, Pyro5.errors.PyroError) as exc:
+            self._local.bound.discard(target.uri)
             raise _translated(
                 exc, "invoke", timeout, _place(conn, target), f"{operation}()"
             ) from None
