@@ -26,9 +26,12 @@ class CallGate:
     def enter(self) -> None:
         me = threading.get_ident()
         with self._lock:
-            while self._holder not in (None, me) and not self._running.get(me):
-                self._cond.wait()
-            self._running[me] = self._running.get(me, 0) + 1
+            running = self._running
+            # no replacement holding the gate (the usual case): one test, not the loop's
+            if self._holder is not None:
+                while self._holder not in (None, me) and not running.get(me):
+                    self._cond.wait()
+            running[me] = running.get(me, 0) + 1
 
     def leave(self) -> None:
         me = threading.get_ident()

@@ -126,7 +126,13 @@ class OperationCalls:
             )
         self.stats["calls"] += 1
         type_name = instance.factory.type_name
-        entries = [e for e in self._interceptors if e.matches(name, type_name, operation, port)]
+        interceptors = self._interceptors
+        # none installed (the usual case): not even the comprehension's own frame
+        entries = (
+            [e for e in interceptors if e.matches(name, type_name, operation, port)]
+            if interceptors
+            else []
+        )
         if not entries and not self._events.wants(ev.OPERATION_CALLED):
             # nobody intercepts or watches this call: no Invocation to make (the remote
             # endpoint's calls mostly take this path), the same fault record and error

@@ -114,6 +114,13 @@ class TLSFiles:
             cfg.SSL_CLIENTCERT, cfg.SSL_CLIENTKEY = self.cert, self.key
 
 
+def not_serpent(used: int) -> Pyro5.errors.SecurityError:
+    """The refusal of a call that arrived with serializer ``used``, not serpent."""
+    return Pyro5.errors.SecurityError(
+        f"this endpoint accepts the serpent serializer only (the call used id {used})"
+    )
+
+
 def serpent_only(method: F) -> F:
     """Refuse a call that arrived with another serializer than serpent (Pyro5 lets the client
     choose; marshal and json would bypass what the endpoint promises about its arguments)."""
@@ -121,9 +128,7 @@ def serpent_only(method: F) -> F:
     def checked(*args: Any, **kwargs: Any) -> Any:
         used = getattr(Pyro5.callcontext.current_context, "serializer_id", SERPENT_ID)
         if used != SERPENT_ID:
-            raise Pyro5.errors.SecurityError(
-                f"this endpoint accepts the serpent serializer only (the call used id {used})"
-            )
+            raise not_serpent(used)
         return method(*args, **kwargs)
 
     checked.__name__, checked.__doc__ = method.__name__, method.__doc__

@@ -39,16 +39,19 @@ from typing import TYPE_CHECKING, Any, Protocol
 import Pyro5.api
 import Pyro5.errors
 import serpent
+from Pyro5.callcontext import current_context
 
 from acordcs.runtime.connectors.base import Connection, Connector
 from acordcs.runtime.connectors.outbox import Outbox
 from acordcs.runtime.connectors.pyrogate import (
     HANDSHAKE_TIMEOUT,
     MAX_CONNECTIONS,
+    SERPENT_ID,
     GatedDaemon,
     TLSFiles,
     configure_server,
     is_loopback,
+    not_serpent,
     resolve_token,
     serpent_only,
 )
@@ -140,6 +143,7 @@ class RemoteConnector(Connector):
         proxies = getattr(self._local, "proxies", None)
         if proxies is None:
             proxies = self._local.proxies = {}
+            self._local.bound = set()  # URIs this thread's proxies were bound to since a failure
         proxy = proxies.get(uri)
         if proxy is None:
             # The _pyro* attributes and methods of a proxy are Pyro5's documented public API
@@ -190,6 +194,7 @@ class RemoteConnector(Connector):
             proxy._pyroTimeout = timeout
         try:
             proxy._pyroBind()  # Pyro5's documented bind: connects only a proxy not connected
+            self._local.bound.add(uri)
         except Pyro5.errors.CommunicationError as exc:
             raise RemoteUnreachableError(
                 f"cannot reach the remote container at {uri}: {exc}",
@@ -234,10 +239,15 @@ class RemoteConnector(Connector):
         # arguments, as a bare Pyro5 call sends them; the names of the failure's place are made
         # only when there is a failure.
         timeout = self._timeout_of(conn)
-        proxy = self._ready(target.uri, timeout, lambda: _place(conn, target))
+        proxy = self._proxy(target.uri)
+        # Bound once, then again only after a failure (Pyro5 drops the connection on one): its
+        # _pyroBind costs a lock and a closure a call even when it has nothing to do.
+        if proxy._pyroTimeout != timeout or target.uri not in self._local.bound:
+            proxy = self._ready(target.uri, timeout, lambda: _place(conn, target))
         try:
             reply = proxy.invoke(f"{target.component}.{target.port}.{operation}", *args, **kwargs)
         except (RemoteFault, Pyro5.errors.PyroError) as exc:
+            self._local.bound.discard(target.uri)
             raise _translated(
                 exc, "invoke", timeout, _place(conn, target), f"{operation}()"
             ) from None
@@ -359,8 +369,13 @@ def bytes_back(value: Any) -> Any:
     """``value``, unless it is how serpent sends ``bytes`` (a dict of exactly ``data`` and
     ``encoding: "base64"``): then the bytes. Only the value itself, not what it contains: a frame
     is one argument or result; a dict of that very shape sent on purpose is taken for bytes."""
-    serpent_bytes = isinstance(value, dict) and value.keys() == {"data", "encoding"}
-    if serpent_bytes and value.get("encoding") == "base64":
+    # (len, then the two keys: no set made for every dict result)
+    if (
+        isinstance(value, dict)
+        and len(value) == 2
+        and value.get("encoding") == "base64"
+        and "data" in value
+    ):
         try:
             return serpent.tobytes(value)
         except (TypeError, ValueError):  # not base64 after all: a dict of that shape
@@ -388,6 +403,10 @@ def _has(port: Port, operation: str) -> bool:
     return callable(getattr(port.component, operation, None))
 
 
+MAX_ROUTES = 4096
+"""Short-form targets a :class:`ContainerEndpoint` remembers (forgotten all at once beyond)."""
+
+
 class ContainerEndpoint:
     """What a container exposes over Pyro5; failures come back as :class:`RemoteFault`. Every
     method refuses a call made with another serializer than serpent."""
@@ -397,6 +416,12 @@ class ContainerEndpoint:
         # (component, port) -> (the port, its component's operations, what it exposes): computed
         # again when the container has another port or operations there (a replaced component)
         self._exposed: dict[tuple[str, str], tuple[Port, frozenset[str], frozenset[str]]] = {}
+        # a short-form target -> (its port, its operation), once the call was found to reach an
+        # exposed operation of a synchronous provided port: the next calls to it go straight to
+        # invoke_port (which checks the port again), without splitting the name, finding the port
+        # and what it exposes. Valid while the port's component is alive (a replaced or destroyed
+        # component is not: its target is resolved again, with the errors of the first time).
+        self._routes: dict[str, tuple[Port, str]] = {}
 
     def _exposed_by(self, component: str, target: Port) -> frozenset[str]:
         operations = self._container.operations_of(component)
@@ -428,12 +453,26 @@ class ContainerEndpoint:
         (a list) and ``kwargs``: the long form, for any names (a tool's, the console's)."""
         return self._call(component, port, operation, args, kwargs or {})
 
-    @serpent_only
+    @Pyro5.api.expose
     def invoke(self, target: str, /, *args: Any, **kwargs: Any) -> Any:
         """The same call in the short form the connector sends: ``target`` is
         ``"component.port.operation"`` (a port and an operation whose names have no dot), then the
         operation's own arguments, as a bare Pyro5 call carries them (fewer values to serialise
         and to parse on both sides)."""
+        # serpent only, as @serpent_only checks it, written out here: the busiest method of the
+        # endpoint, without the decorator's extra frame and repacking of the arguments
+        used = getattr(current_context, "serializer_id", SERPENT_ID)
+        if used != SERPENT_ID:
+            raise not_serpent(used)
+        route = self._routes.get(target) if type(target) is str else None
+        if route is not None and route[0].component.alive:
+            try:
+                args = tuple(map(bytes_back, args))
+                if kwargs:
+                    kwargs = {k: bytes_back(v) for k, v in kwargs.items()}
+                return self._container.invoke_port(route[0], route[1], args, kwargs)
+            except Exception as exc:  # as in _call
+                raise _fault(exc) from None
         try:
             component, port, operation = target.rsplit(".", 2)
         except (AttributeError, ValueError):
@@ -443,7 +482,7 @@ class ContainerEndpoint:
                     where=f"container {self._container.name!r}",
                 )
             ) from None
-        return self._call(component, port, operation, args, kwargs)
+        return self._call(component, port, operation, args, kwargs, route=target)
 
     def _call(
         self,
@@ -452,10 +491,13 @@ class ContainerEndpoint:
         operation: str,
         args: Sequence[Any],
         kwargs: dict[str, Any],
+        route: str | None = None,
     ) -> Any:
+        """The call; ``route``: the short-form target naming it, remembered for the next calls
+        when it reaches an exposed operation (:attr:`_routes`)."""
         c = self._container
         try:
-            args = tuple([bytes_back(a) for a in args])
+            args = tuple(map(bytes_back, args))
             if kwargs:
                 kwargs = {k: bytes_back(v) for k, v in kwargs.items()}
             target = c.port_of(component, port)
@@ -474,6 +516,15 @@ class ContainerEndpoint:
                     hint="call an operation of the port's interface; handlers and hooks run "
                     "from the port's queue",
                 )
+            if (
+                route is not None
+                and operation in exposed
+                and target.kind == "synchronous"
+                and target.role == "provided"
+            ):
+                if len(self._routes) >= MAX_ROUTES:  # components made and destroyed all along
+                    self._routes.clear()
+                self._routes[route] = (target, operation)
             return c.invoke_port(target, operation, args, kwargs)
         except Exception as exc:  # including faults in our own code: the worker must survive
             raise _fault(exc) from None
