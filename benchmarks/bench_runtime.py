@@ -27,7 +27,8 @@ import Pyro5.api
 from acordcs.engines.engine_registry import EngineSetup, Variable, lookup_engine, register_engine
 from acordcs.runtime.clock import VirtualClock
 from acordcs.runtime.component import ComponentFactory, CtxComponent
-from acordcs.runtime.connectors.remote import ContainerServer, RemoteConnector, RemotePort
+from acordcs.runtime.connectors.endpoint import ContainerServer
+from acordcs.runtime.connectors.remote import RemoteConnector, RemotePort
 from acordcs.runtime.container import Container
 from acordcs.runtime.errors import EngineNotAvailableError
 from acordcs.runtime.monitor import Monitor

@@ -12,7 +12,8 @@ import Pyro5.errors
 import pytest
 
 from acordcs.runtime.component import ComponentFactory, CtxComponent
-from acordcs.runtime.connectors.remote import ContainerServer, RemoteConnector, RemotePort
+from acordcs.runtime.connectors.endpoint import ContainerServer
+from acordcs.runtime.connectors.remote import RemoteConnector, RemotePort
 from acordcs.runtime.container import Container
 from acordcs.runtime.errors import RemoteCallError, RemoteUnreachableError
 from acordcs.runtime.ports import async_port, sync_port

@@ -8,7 +8,8 @@ from __future__ import annotations
 import pytest
 
 from acordcs.runtime.component import ComponentFactory, CtxComponent
-from acordcs.runtime.connectors.remote import ContainerServer, RemoteConnector, RemotePort
+from acordcs.runtime.connectors.endpoint import ContainerServer
+from acordcs.runtime.connectors.remote import RemoteConnector, RemotePort
 from acordcs.runtime.container import Container
 from acordcs.runtime.errors import RemoteCallError
 from acordcs.runtime.ports import sync_port

@@ -17,12 +17,8 @@ import Pyro5.errors
 import pytest
 
 from acordcs.runtime.component import ComponentFactory, CtxComponent
-from acordcs.runtime.connectors.remote import (
-    ContainerServer,
-    RemoteConnector,
-    RemotePort,
-    container_uri,
-)
+from acordcs.runtime.connectors.endpoint import ContainerServer
+from acordcs.runtime.connectors.remote import RemoteConnector, RemotePort, container_uri
 from acordcs.runtime.container import Container
 from acordcs.runtime.errors import RemoteCallError, RemoteUnreachableError
 from acordcs.runtime.ports import async_port, sync_port
@@ -178,7 +174,8 @@ CHILD = textwrap.dedent(
     """
     import socket, ssl, sys
     from acordcs.runtime.connectors.pyrogate import TLSFiles
-    from acordcs.runtime.connectors.remote import ContainerServer, RemoteConnector
+    from acordcs.runtime.connectors.endpoint import ContainerServer
+    from acordcs.runtime.connectors.remote import RemoteConnector
     from acordcs.runtime.container import Container
     d = sys.argv[1]
     c = Container("tls")

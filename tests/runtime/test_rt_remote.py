@@ -17,7 +17,8 @@ from typing import ClassVar
 import pytest
 
 from acordcs.runtime.component import ComponentFactory, CtxComponent
-from acordcs.runtime.connectors.remote import ContainerServer, RemoteConnector, RemotePort
+from acordcs.runtime.connectors.endpoint import ContainerServer
+from acordcs.runtime.connectors.remote import RemoteConnector, RemotePort
 from acordcs.runtime.container import Container
 from acordcs.runtime.errors import RemoteCallError, RemoteTimeoutError, RemoteUnreachableError
 from acordcs.runtime.monitor import Monitor

@@ -9,7 +9,7 @@ import socket
 
 import pytest
 
-from acordcs.runtime.connectors.remote import ContainerServer
+from acordcs.runtime.connectors.endpoint import ContainerServer
 from acordcs.runtime.container import Container
 from acordcs.runtime.errors import ConfigurationError
 

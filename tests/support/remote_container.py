@@ -12,7 +12,7 @@ import time
 from typing import Any, ClassVar
 
 from acordcs.runtime.component import ComponentFactory, CtxComponent
-from acordcs.runtime.connectors.remote import ContainerServer
+from acordcs.runtime.connectors.endpoint import ContainerServer
 from acordcs.runtime.container import Container
 from acordcs.runtime.ports import async_port, sync_port
 

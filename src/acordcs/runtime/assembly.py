@@ -549,7 +549,7 @@ class Assembler:
             # In order, from a thread of the connector's, no retry: the monitor (often ticked by
             # the clock's thread) never waits for the other process; an unreachable container is
             # a fault of this feed (logged once, counted) and the reading is lost for it.
-            outbox = connector.one_way(f"feed:{monitor}->{target}", send, report, {"lost": 0})
+            outbox = connector.one_way(name, send, report, {"lost": 0})
 
             def relay(event: Event) -> None:
                 outbox.put(dict(event.data))

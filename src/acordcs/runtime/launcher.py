@@ -57,7 +57,7 @@ from acordcs.runtime.run_arguments import RunCall, RunError, bind_run, parse_run
 if TYPE_CHECKING:
     from acordcs.descriptor import Application
     from acordcs.runtime.assembly import RunningApplication
-    from acordcs.runtime.connectors.remote import ContainerServer
+    from acordcs.runtime.connectors.endpoint import ContainerServer
     from acordcs.runtime.container import Container
     from acordcs.runtime.context.core import ProviderCore
 

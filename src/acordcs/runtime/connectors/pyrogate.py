@@ -3,7 +3,7 @@
 
 - a **token** per application, sent by every proxy in Pyro5's connection handshake
   (``_pyroHandshake``) and checked by the daemon's ``validateHandshake`` before any call can be
-  made: from the ``token=`` argument of :class:`~.remote.ContainerServer`,
+  made: from the ``token=`` argument of :class:`~.endpoint.ContainerServer`,
   :class:`~.remote.RemoteConnector` and ``assemble``, else the environment variable
   ``ACORDCS_TOKEN`` (:data:`TOKEN_ENV`);
 - a **handshake deadline**: a connection that has not completed the handshake within

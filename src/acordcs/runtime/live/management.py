@@ -54,7 +54,7 @@ if TYPE_CHECKING:
     from acordcs.descriptor.application import Application
     from acordcs.descriptor.diff import Change
     from acordcs.runtime.assembly import RunningApplication
-    from acordcs.runtime.connectors.remote import ContainerServer
+    from acordcs.runtime.connectors.endpoint import ContainerServer
     from acordcs.runtime.events import Event
 
 MANAGE_OBJECT = "acordcs.manage.{}"
