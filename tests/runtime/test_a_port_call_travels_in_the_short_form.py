@@ -150,3 +150,15 @@ def test_the_short_form_needs_the_token_and_serpent(served):
     finally:
         user.close()
         connector.close()
+
+
+def test_a_remembered_target_turns_bytes_back_and_fails_as_the_first_call_did(served):
+    # The endpoint's remembered targets take a path of their own from the second call on.
+    # (Last in the module: its faults would count in the test above that expects none.)
+    out = served[2].find("caller").instance.port("out")
+    for _ in range(3):
+        assert out.call("frame", b"\x00\x01\xff") == b"\xff\x01\x00"
+        assert out.call("reach", {"encoding": "utf-8"}, unit="") == "{'encoding': 'utf-8'}"
+        assert out.call("reach", [b"\x07"], unit="") == "[{'data': 'Bw==', 'encoding': 'base64'}]"
+        with pytest.raises(RemoteCallError, match=r"remote ComponentError: .*the arm is jammed"):
+            out.call("jam")
