@@ -16,6 +16,7 @@ from paho.mqtt.enums import CallbackAPIVersion
 
 from acordcs.runtime.context import MqttContextProvider, Notification, publisher_topic
 from tests.support.services import Broker, free_port, wait_for
+from tests.support.tls_certs import make_server_certificate
 
 pytestmark = pytest.mark.service
 
@@ -177,10 +178,6 @@ def test_publishers_beyond_the_cap_are_ignored_with_a_diagnostic(clients, caplog
 
 
 # -- the shipped secure configuration ----------------------------------------------------------------
-def openssl(*args: str, cwd: Path) -> None:
-    subprocess.run(["openssl", *args], cwd=cwd, check=True, capture_output=True, timeout=60)
-
-
 @pytest.fixture
 def secure_broker(tmp_path: Path):
     """mosquitto with deploy/mosquitto/acordcs.conf and acordcs.acl, paths and ports moved to
@@ -196,14 +193,7 @@ def secure_broker(tmp_path: Path):
              user, f"{user}-pw"],
             check=True, capture_output=True, timeout=30,
         )  # fmt: skip
-    openssl("req", "-x509", "-newkey", "rsa:2048", "-nodes", "-days", "2", "-subj", "/CN=ca",
-            "-keyout", "ca.key", "-out", "ca.pem", cwd=etc)  # fmt: skip
-    (etc / "san.ext").write_text("subjectAltName=IP:127.0.0.1\n")
-    openssl("req", "-newkey", "rsa:2048", "-nodes", "-subj", "/CN=broker",
-            "-keyout", "server.key", "-out", "server.csr", cwd=etc)  # fmt: skip
-    openssl("x509", "-req", "-in", "server.csr", "-CA", "ca.pem", "-CAkey", "ca.key",
-            "-CAcreateserial", "-days", "2", "-extfile", "san.ext", "-out", "server.pem",
-            cwd=etc)  # fmt: skip
+    made = make_server_certificate(etc, name="server")  # the paths acordcs.conf names
     tls_port = free_port()
     text = (DEPLOY / "acordcs.conf").read_text()
     text = text.replace("/etc/mosquitto/acordcs/", f"{etc}/").replace(
@@ -217,7 +207,7 @@ def secure_broker(tmp_path: Path):
     server.config.write_text(text + f"log_dest file {server.log}\n" + user)
     server.start()
     server.tls_port = tls_port
-    server.ca = str(etc / "ca.pem")
+    server.ca = str(made.ca)
     yield server
     server.stop()
 

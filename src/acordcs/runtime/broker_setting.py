@@ -1,8 +1,9 @@
 """Where a container's process keeps its context documents: in the process (``embedded``, the
 default) or at an MQTT broker that containers on several machines share
 (``mqtt://[USER@]HOST[:PORT][/PREFIX]``: port 1883 and topic prefix ``acordcs/ctx`` by default;
-one prefix per application sharing a broker), as the launcher's ``--context`` says (default:
-``$ACORDCS_CONTEXT``; docs/deployment.md).
+one prefix per application sharing a broker; ``mqtts://`` for TLS, port 8883 by default, the
+broker's certificate verified against the CAs in ``$ACORDCS_MQTT_CA`` or else the system's), as
+the launcher's ``--context`` says (default: ``$ACORDCS_CONTEXT``; docs/deployment.md).
 
 The broker's password is read from ``$ACORDCS_MQTT_PASSWORD``, never from the command line (which
 every user of the machine can read in ``ps``). With an application token (``$ACORDCS_TOKEN``, the
@@ -13,7 +14,8 @@ signed with it are taken (:class:`~acordcs.runtime.context.mqtt.MqttContextProvi
 Everything that stops the connection at start is one :class:`~acordcs.runtime.errors.ConfigurationError`
 naming the container, the broker's host and port, the cause and what to do, within the connect
 timeout: a name that does not resolve, a broker that is not there or refuses the connection, one that
-refuses the login, and a peer that answers something other than MQTT (no CONNACK in time)."""
+refuses the login, a peer that answers something other than MQTT (no CONNACK in time), and over
+TLS a CA file that cannot be read, a certificate that does not verify and a port without TLS."""
 
 from __future__ import annotations
 
@@ -30,37 +32,40 @@ if TYPE_CHECKING:
 
 CONTEXT_ENV = "ACORDCS_CONTEXT"
 PASSWORD_ENV = "ACORDCS_MQTT_PASSWORD"
+CA_ENV = "ACORDCS_MQTT_CA"
 EMBEDDED = "embedded"
 MQTT_PORT = 1883
+MQTTS_PORT = 8883
 DEFAULT_PREFIX = "acordcs/ctx"
 MIN_KEY_BYTES = 16  # what MqttContextProvider accepts as a payload key
 
 
 @dataclass(frozen=True)
 class BrokerSetting:
-    """An MQTT broker's address and the user to log in as (None: anonymous)."""
+    """An MQTT broker's address and the user to log in as (None: anonymous); ``tls``: over TLS."""
 
     host: str
     port: int = MQTT_PORT
     username: str | None = None
     prefix: str = DEFAULT_PREFIX  # the topics' prefix: <prefix>/<publisher>
+    tls: bool = False
 
     def __str__(self) -> str:
         user = f"{self.username}@" if self.username else ""
         host = f"[{self.host}]" if ":" in self.host else self.host
         prefix = "" if self.prefix == DEFAULT_PREFIX else f"/{self.prefix}"
-        return f"mqtt://{user}{host}:{self.port}{prefix}"
+        return f"{'mqtts' if self.tls else 'mqtt'}://{user}{host}:{self.port}{prefix}"
 
 
 def parse_context(text: str) -> BrokerSetting | None:
-    """``embedded`` (or empty): None; ``mqtt://[USER@]HOST[:PORT][/PREFIX]``: the broker.
-    ValueError says what is wrong and what to write."""
+    """``embedded`` (or empty): None; ``mqtt://[USER@]HOST[:PORT][/PREFIX]`` (``mqtts://`` over
+    TLS): the broker. ValueError says what is wrong and what to write."""
     text = text.strip()
     if text in ("", EMBEDDED):
         return None
-    shape = f"{EMBEDDED!r} or mqtt://[USER@]HOST[:PORT][/PREFIX]"
+    shape = f"{EMBEDDED!r} or mqtt://[USER@]HOST[:PORT][/PREFIX] (mqtts:// over TLS)"
     parts = urlsplit(text)
-    if parts.scheme != "mqtt" or not parts.netloc:
+    if parts.scheme not in ("mqtt", "mqtts") or not parts.netloc:
         raise ValueError(f"{text!r} is not {shape}")
     if "?" in text or "#" in text:
         raise ValueError(f"{text!r}: no '?' or '#' in a broker's address ({shape})")
@@ -81,7 +86,10 @@ def parse_context(text: str) -> BrokerSetting | None:
     if port == 0:
         raise ValueError(f"{text!r}: the port is a whole number 1 to 65535 ({shape})")
     user = unquote(parts.username) if parts.username else None
-    return BrokerSetting(parts.hostname, port or MQTT_PORT, user, prefix)
+    tls = parts.scheme == "mqtts"
+    return BrokerSetting(
+        parts.hostname, port or (MQTTS_PORT if tls else MQTT_PORT), user, prefix, tls
+    )
 
 
 def open_broker(
@@ -105,21 +113,36 @@ def open_broker(
         ) from None
     password = os.environ.get(PASSWORD_ENV) if setting.username else None
     key = token if token and len(token.encode()) >= MIN_KEY_BYTES else None
+    ca = (os.environ.get(CA_ENV) or None) if setting.tls else None
     try:
         provider = MqttContextProvider(setting.host, setting.port, qos=1, prefix=setting.prefix,
                                        username=setting.username, password=password,
-                                       payload_key=key, connect_timeout=timeout)  # fmt: skip
+                                       payload_key=key, connect_timeout=timeout,
+                                       tls=setting.tls, tls_ca_certs=ca)  # fmt: skip
     except ContextError as err:
         said = err.message.lower()
-        if "authori" in said or "password" in said:
+        if "ca certificates" in said:
+            hint = f"give in ${CA_ENV} the path of a readable PEM file of the broker's CA"
+        elif "certificate" in said or "hostname" in said:
+            hint = (
+                "the broker's certificate must be signed by a CA in "
+                f"${CA_ENV} (else the system's) and name the host as the address does"
+            )
+        elif setting.tls and ("ssl" in said or "eof" in said or "reset" in said):
+            hint = (
+                "is that port the broker's TLS listener? give that listener's port, or mqtt:// "
+                "for a listener without TLS"
+            )
+        elif "authori" in said or "password" in said:
             hint = (
                 "give the broker's user in --context mqtt://USER@HOST:PORT and its password in "
                 f"${PASSWORD_ENV}, as the broker's password file has them"
             )
         elif "no connack" in said:
             hint = (
-                "what answers there is not an MQTT broker, or not one that answers in time: check "
-                "the host and port (--context, $ACORDCS_CONTEXT) and the broker's log"
+                "what answers there is not an MQTT broker, or not one that answers in time (a "
+                "TLS listener needs mqtts://): check the host and port (--context, "
+                "$ACORDCS_CONTEXT) and the broker's log"
             )
         else:
             hint = (
@@ -130,4 +153,4 @@ def open_broker(
     return provider
 
 
-__all__ = ["CONTEXT_ENV", "PASSWORD_ENV", "BrokerSetting", "open_broker", "parse_context"]
+__all__ = ["CA_ENV", "CONTEXT_ENV", "PASSWORD_ENV", "BrokerSetting", "open_broker", "parse_context"]

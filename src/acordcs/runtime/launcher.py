@@ -43,6 +43,7 @@ from typing import TYPE_CHECKING
 
 from acordcs.errors import AcordError
 from acordcs.runtime.broker_setting import (
+    CA_ENV,
     CONTEXT_ENV,
     PASSWORD_ENV,
     BrokerSetting,
@@ -191,10 +192,11 @@ class Launcher:
             help="the URI of another container (repeat for each)")  # fmt: skip
         add("--timeout", type=float, default=5.0, help="remote call timeout, s")
         add("--context", type=_context, default=os.environ.get(CONTEXT_ENV, ""),
-            metavar="embedded|mqtt://[USER@]HOST[:PORT][/PREFIX]",
+            metavar="embedded|mqtt[s]://[USER@]HOST[:PORT][/PREFIX]",
             help="where the context documents go: in this process (embedded, the default) or "
             f"through an MQTT broker other containers share (default: ${CONTEXT_ENV}; the "
-            f"password in ${PASSWORD_ENV}); a broker not reached within --timeout: exit 2")  # fmt: skip
+            f"password in ${PASSWORD_ENV}; mqtts: TLS, the broker's CA in ${CA_ENV}); a broker "
+            "not reached within --timeout: exit 2")  # fmt: skip
         add("--run", type=_operation, action="append", default=[], metavar="COMPONENT.OPERATION",
             help="call this operation of a component hosted here once the container serves, in "
             "a worker thread (virtual clock: in turn, before the duration runs); its failure "

@@ -90,6 +90,9 @@ class MqttContextProvider(ProviderCore):
     silently. ``clean_session=False`` (with a ``client_id`` of its own, the same at each start):
     the broker keeps this client's subscriptions and queues its QoS 1/2 documents while it is
     away (across the broker's restarts too when the broker persists, ``persistence true``).
+
+    ``tls=True``: TLS to the broker, its certificate verified against the system's CAs, or
+    against ``tls_ca_certs`` (a PEM file; giving it implies ``tls``), and its name against ``host``.
     """
 
     def __init__(
@@ -107,6 +110,7 @@ class MqttContextProvider(ProviderCore):
         max_inflight_messages: int = 1000,
         username: str | None = None,
         password: str | None = None,
+        tls: bool = False,
         tls_ca_certs: str | None = None,
         limits: Limits | None = None,
         delivery_threads: int = 64,
@@ -161,7 +165,8 @@ class MqttContextProvider(ProviderCore):
                 hint="a topic without wildcards and without a trailing '/', e.g. 'acordcs/ctx'",
             )
         self.host, self.port, self.qos, self.prefix, self.mirror = host, port, qos, prefix, mirror
-        self._where = f"mqtt://{host}:{port}"
+        tls = tls or tls_ca_certs is not None
+        self._where = f"{'mqtts' if tls else 'mqtt'}://{host}:{port}"
         self.malformed = 0  # payloads from the broker that were not ours or not acceptable XML
         self.reconnects = 0
         self.forged = 0  # payloads without a valid signature (with a payload_key)
@@ -206,8 +211,17 @@ class MqttContextProvider(ProviderCore):
         client.max_inflight_messages_set(max_inflight_messages)
         if username is not None:
             client.username_pw_set(username, password)
-        if tls_ca_certs is not None:
-            client.tls_set(ca_certs=tls_ca_certs)
+        if tls:
+            try:  # the CA file read now: a missing or unreadable one is said before connecting
+                client.tls_set(ca_certs=tls_ca_certs)  # None: the system's CAs
+            except (OSError, ValueError) as err:  # ssl.SSLError is an OSError
+                self._closed = True
+                raise ContextError(
+                    f"cannot use the CA certificates {tls_ca_certs!r} for TLS to the broker: {err}",
+                    file=self._where,
+                    element="MqttContextProvider",
+                    hint="give a readable PEM file of the CA that signed the broker's certificate",
+                ) from None
         self._client = client
         try:
             client.connect(host, port, keepalive=keepalive)
