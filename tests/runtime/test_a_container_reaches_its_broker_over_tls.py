@@ -120,3 +120,12 @@ def test_a_ca_file_that_cannot_be_read_is_said_before_connecting(tls_broker, mon
 def test_plain_mqtt_to_the_tls_port_is_not_taken_for_a_broker(tls_broker, monkeypatch):
     said = refusal(f"mqtt://127.0.0.1:{tls_broker.tls_port}", monkeypatch, None)
     assert f"mqtt://127.0.0.1:{tls_broker.tls_port}" in said and "needs mqtts://" in said
+
+
+def test_the_launcher_takes_an_mqtts_broker_from_its_setting(monkeypatch):
+    from acordcs.runtime.launcher import Launcher
+
+    monkeypatch.setenv("ACORDCS_CONTEXT", "mqtts://lab@ctx.example.org/weblab")
+    args = Launcher("weblab_app", "WebLabSide").parser().parse_args([])
+    assert args.context == BrokerSetting("ctx.example.org", 8883, "lab", "weblab", tls=True)
+    assert str(args.context) == "mqtts://lab@ctx.example.org:8883/weblab"

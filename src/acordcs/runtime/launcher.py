@@ -16,7 +16,8 @@ signals and the exit status::
 line its start script waits for) at the end of its start-up: once its ``--run`` calls have
 returned or run for :data:`RUN_START_WINDOW` seconds; one failing in that time stops it first.
 
-Exit status (:data:`EXIT_STATUS`, also in ``--help`` and docs/build.md): 0 stopped without fault
+Exit status (:data:`~acordcs.runtime.launch_options.EXIT_STATUS`, also in ``--help`` and
+docs/build.md; the options: :mod:`~acordcs.runtime.launch_options`): 0 stopped without fault
 (or with faults and ``--faults-ok``); 1 a ``--run`` operation failed; 2 not started (a usage
 error, a ``--run`` whose arguments do not fit, a descriptor that cannot be read or fails its
 schema, component or monitor classes that do not import, an assembly failure, an operation without
@@ -42,18 +43,21 @@ from types import FrameType, ModuleType
 from typing import TYPE_CHECKING
 
 from acordcs.errors import AcordError
-from acordcs.runtime.broker_setting import (
-    CA_ENV,
-    CONTEXT_ENV,
-    PASSWORD_ENV,
-    BrokerSetting,
-    open_broker,
-    parse_context,
-)
+from acordcs.runtime.broker_setting import BrokerSetting, open_broker
 from acordcs.runtime.clock import Clock, RealClock, VirtualClock
 from acordcs.runtime.errors import RemoteNotGivenError, RuntimeFailure
+from acordcs.runtime.launch_options import (
+    EXIT_FAULTS,
+    EXIT_NOT_STARTED,
+    EXIT_OK,
+    EXIT_RUN_FAILED,
+    EXIT_STATUS,
+    console_options,
+    container_parser,
+    exit_file_given,
+)
 from acordcs.runtime.live.code_check import hosted_here, operations_without_code
-from acordcs.runtime.run_arguments import RunCall, RunError, bind_run, parse_run
+from acordcs.runtime.run_arguments import RunCall, RunError, bind_run
 
 if TYPE_CHECKING:
     from acordcs.descriptor import Application
@@ -61,20 +65,6 @@ if TYPE_CHECKING:
     from acordcs.runtime.connectors.endpoint import ContainerServer
     from acordcs.runtime.container import Container
     from acordcs.runtime.context.core import ProviderCore
-
-EXIT_OK = 0
-EXIT_RUN_FAILED = 1
-EXIT_NOT_STARTED = 2
-EXIT_FAULTS = 3
-
-EXIT_STATUS = f"""exit status:
-  {EXIT_OK}  stopped with no fault recorded (or with faults, given --faults-ok)
-  {EXIT_RUN_FAILED}  a --run operation failed
-  {EXIT_NOT_STARTED}  not started: a usage error (a --run whose arguments do not fit), a
-     descriptor that cannot be read or fails its schema, classes that do not
-     import, an assembly failure, an operation without code under --strict, a
-     port that cannot be served, a --context broker not reached
-  {EXIT_FAULTS}  stopped after recording faults (the last line says how many)"""
 
 DEFAULT_DURATION = 10.0  # virtual seconds run when --duration is not given
 
@@ -170,60 +160,7 @@ class Launcher:
 
     # ----------------------------------------------------------------------- command line
     def parser(self) -> argparse.ArgumentParser:
-        parser = argparse.ArgumentParser(
-            prog=self.prog,
-            description=f"Run container {self.container} of the application in package "
-            f"{self.package} (its descriptor.xml).",
-            epilog="ACORDCS_TOKEN: the application's token, the same in each of its processes; "
-            "--serve admits only callers presenting it, --remote presents it (required to serve "
-            "a host other than loopback).\n\n" + EXIT_STATUS,
-            formatter_class=argparse.RawDescriptionHelpFormatter,
-        )
-        add = parser.add_argument
-        add("--clock", choices=("virtual", "real"), default="virtual",
-            help="virtual: simulated time, as fast as it runs (default); real: wall time")  # fmt: skip
-        add("--seed", type=int, default=0, help="the virtual clock's seed (default 0)")
-        add("--duration", type=float, metavar="SECONDS",
-            help="how long to run (default: 10 virtual seconds; real: until interrupted)")  # fmt: skip
-        add("--serve", type=int, metavar="PORT",
-            help="serve the container to other processes at this TCP port (0: any)")  # fmt: skip
-        add("--host", help="the host to serve at (default: the container's host in the model)")
-        add("--remote", type=_remote, action="append", default=[], metavar="NAME=URI",
-            help="the URI of another container (repeat for each)")  # fmt: skip
-        add("--timeout", type=float, default=5.0, help="remote call timeout, s")
-        add("--context", type=_context, default=os.environ.get(CONTEXT_ENV, ""),
-            metavar="embedded|mqtt[s]://[USER@]HOST[:PORT][/PREFIX]",
-            help="where the context documents go: in this process (embedded, the default) or "
-            f"through an MQTT broker other containers share (default: ${CONTEXT_ENV}; the "
-            f"password in ${PASSWORD_ENV}; mqtts: TLS, the broker's CA in ${CA_ENV}); a broker "
-            "not reached within --timeout: exit 2")  # fmt: skip
-        add("--run", type=_operation, action="append", default=[], metavar="COMPONENT.OPERATION",
-            help="call this operation of a component hosted here once the container serves, in "
-            "a worker thread (virtual clock: in turn, before the duration runs); its failure "
-            "stops the container, exit 1 (repeat for each). Arguments in parentheses, typed by "
-            "the model's parameters: numbers, true or false, strings in quotes, by position or "
-            "name: 'Display.watch(5)', \"Display.show('a b', size=2.5)\"; a value that does not "
-            "fit its parameter is exit 2, before anything starts")  # fmt: skip
-        add("--strict", action="store_true",
-            help="do not start (exit 2) when an operation that the model calls has no code (the "
-            "warnings at start list them)")  # fmt: skip
-        add("--faults-ok", action="store_true",
-            help="exit 0, not 3, when faults were recorded (experiments that expect some)")  # fmt: skip
-        add("--updates-without-token", action="store_true",
-            help="served on a loopback host without ACORDCS_TOKEN: take updates (acordcs-gen "
-            "update) all the same; any local process could then change it")  # fmt: skip
-        add("--console", type=int, metavar="PORT",
-            help="serve the browser console of this container on 127.0.0.1:PORT (0: any; "
-            "needs --clock real; serves the container on loopback if --serve is not given); "
-            "its link is printed")  # fmt: skip
-        add("--state-dir", type=_state_dir, metavar="DIR",
-            help="keep the state of the components the model tags persistent in DIR (the "
-            "run directory, as bin/<Container>-start gives it): restored at start, written as "
-            "it changes and at stop; not given: their state is not kept")  # fmt: skip
-        add("--exit-file", type=_exit_file, metavar="PATH",
-            help="at exit, write 'EXIT_CODE FAULTS' (one line, mode 0600) to PATH, replacing it "
-            "at once; an existing one is removed at start")  # fmt: skip
-        return parser
+        return container_parser(self.prog, self.package, self.container)
 
     def main(self, argv: Sequence[str] | None = None) -> int:
         """Run the container as the command line ``argv`` (default: ``sys.argv[1:]``) says; the
@@ -232,13 +169,13 @@ class Launcher:
         parser = self.parser()
         try:
             args = parser.parse_args(argv)
-            _console_options(parser, args)
+            console_options(parser, args)
             if isinstance(args.context, BrokerSetting) and args.clock != "real":
                 parser.error(f"--context {args.context} needs --clock real (the broker's "
                              "documents come in wall time)")  # fmt: skip
         except SystemExit as exc:
             if exc.code not in (0, None):  # a usage error, which the exit file says if given
-                given = _exit_file_given(argv)
+                given = exit_file_given(argv)
                 if given is not None:
                     self._write_exit_file(given, EXIT_NOT_STARTED, 0)
             raise
@@ -517,41 +454,6 @@ class Launcher:
             self._say(f"cannot write the exit file {path}: {err}")
 
 
-def _console_options(parser: argparse.ArgumentParser, args: argparse.Namespace) -> None:
-    """``--console``: a port, a real clock, and the container served (on loopback unless
-    ``--serve`` and ``--host`` say otherwise)."""
-    if args.console is None:
-        return
-    if not 0 <= args.console <= 65535:
-        parser.error(f"--console {args.console}: a TCP port is 0 to 65535")
-    if args.clock != "real":
-        parser.error("--console needs --clock real (on the virtual clock the run is over at once)")
-    if args.serve is None:
-        args.serve, args.host = 0, args.host or "127.0.0.1"
-
-
-def _remote(text: str) -> tuple[str, str]:
-    name, sep, uri = text.partition("=")
-    if not sep or not name or not uri:
-        raise argparse.ArgumentTypeError(f"{text!r} is not NAME=URI")
-    return name, uri
-
-
-def _context(text: str) -> BrokerSetting | None:
-    try:
-        return parse_context(text)
-    except ValueError as err:
-        given = " (the setting $" + CONTEXT_ENV + ")" if text == os.environ.get(CONTEXT_ENV) else ""
-        raise argparse.ArgumentTypeError(f"{err}{given}") from None
-
-
-def _operation(text: str) -> RunCall:
-    try:
-        return parse_run(text)
-    except RunError as err:
-        raise argparse.ArgumentTypeError(str(err)) from None
-
-
 def _bound(application: Application, container: str, runs: list[RunCall]) -> list[RunCall]:
     """The --run calls with their arguments typed by the model's operations (see
     :mod:`acordcs.runtime.run_arguments`); RunError for a component not hosted here or an
@@ -570,38 +472,6 @@ def _bound(application: Application, container: str, runs: list[RunCall]) -> lis
         operation = next((op for op in found.operations if op.name == call.operation), None)
         out.append(bind_run(call, operation))
     return out
-
-
-def _exit_file(text: str) -> Path:
-    path = Path(text)
-    if not text or path.is_dir():
-        raise argparse.ArgumentTypeError(f"{text!r} is a directory, not a file to write")
-    if not path.parent.is_dir():
-        raise argparse.ArgumentTypeError(
-            f"{text!r}: its directory {str(path.parent)!r} does not exist (create it first)"
-        )
-    return path
-
-
-def _state_dir(text: str) -> Path:
-    path = Path(text)
-    if not path.is_dir():
-        raise argparse.ArgumentTypeError(f"{text!r} is not a directory (create it first)")
-    return path
-
-
-def _exit_file_given(argv: Sequence[str]) -> Path | None:
-    """The --exit-file of a command line argparse refused, if it names a file one can write."""
-    for i, arg in enumerate(argv):
-        text = argv[i + 1] if arg == "--exit-file" and i + 1 < len(argv) else None
-        if arg.startswith("--exit-file="):
-            text = arg.partition("=")[2]
-        if text is not None:
-            try:
-                return _exit_file(text)
-            except argparse.ArgumentTypeError:
-                return None
-    return None
 
 
 def _under(filename: str, root: Path) -> bool:
