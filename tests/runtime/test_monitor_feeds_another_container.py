@@ -90,3 +90,49 @@ def test_an_unreachable_container_is_a_fault_of_the_feed_not_of_the_monitor():
         assert wait_for(lambda: sensors.faults.of_kind("listener"), 10)
         (fault,) = sensors.faults.of_kind("listener")
         assert fault.where == "feed:Presence->Room" and "RemoteUnreachableError" in fault.error
+
+
+def stale_marks(container) -> list[tuple[bool, object]]:
+    """The ``monitor.stale`` events of the replica of Presence in ``container``: (value, cause)."""
+    seen: list[tuple[bool, object]] = []
+    container.subscribe(
+        "monitor.stale",
+        lambda e: seen.append((e.value, e.data.get("cause"))),
+        name="test:stale",
+        element="Presence",
+    )
+    return seen
+
+
+WENT_STALE = "monitor 'Presence' of container 'Sensors' went stale: the sensor bus timed out"
+
+
+def test_in_one_process_a_stale_monitor_makes_its_replica_stale_until_its_next_reading():
+    with assemble(room(), clock=VirtualClock()) as app:
+        sensors, lights = app.container("Sensors"), app.container("Room")
+        seen = stale_marks(lights)
+        sensors.monitor("Presence").mark_stale("the sensor bus timed out")
+        assert seen == [(True, WENT_STALE)]
+        assert lights.monitor("Presence").stale_since is not None
+        sensors.monitor("Presence").update(occupancy=1)
+        assert [value for value, _ in seen] == [True, False]
+        assert lights.monitor("Presence").stale_since is None
+        assert lights.get_property("Lights", "dimmer") == 80
+
+
+def test_across_processes_the_stale_mark_travels_in_order_with_the_readings():
+    with assemble(room(), only=["Room"], clock=VirtualClock()) as here:
+        lights = here.container("Room")
+        seen = stale_marks(lights)
+        server = here.serve("Room", host="127.0.0.1")
+        with assemble(room(), only=["Sensors"], remote={"Room": server.uri}) as there:
+            presence = there.container("Sensors").monitor("Presence")
+            presence.mark_stale("the sensor bus timed out")
+            assert wait_for(lambda: seen == [(True, WENT_STALE)]), seen
+            assert lights.monitor("Presence").stale_since is not None
+            presence.update(occupancy=2)
+            assert wait_for(lambda: [value for value, _ in seen] == [True, False]), seen
+            assert there.container("Sensors").faults.counts["total"] == 0
+        assert lights.monitor("Presence").stale_since is None
+        assert lights.get_property("Lights", "dimmer") == 80
+        assert lights.faults.counts["total"] == 0

@@ -526,10 +526,15 @@ class Assembler:
             )
             return
         relay: Callable[[Event], None]
+        stale: Callable[[Event], None]
         if replica is not None:
 
             def relay(event: Event, replica: Monitor = replica) -> None:
                 replica.update(**event.data)
+
+            def stale(event: Event, replica: Monitor = replica) -> None:
+                if event.value:  # fresh again comes with the monitor's next reading
+                    replica.mark_stale(stale_cause(monitor, source, event))
 
         else:
             if self.relay is None:
@@ -538,10 +543,16 @@ class Assembler:
             name = f"feed:{monitor}->{target}"  # the fault's place, as a listener's would be
             where = f"feed of monitor {monitor!r} to container {target!r}"
 
-            def send(reading: dict[str, object]) -> None:
-                connector.request(
-                    uri, "update_monitor", monitor, reading, where=where, what="a reading"
-                )
+            def send(item: tuple[str, object]) -> None:
+                kind, value = item  # a reading, or the monitor gone stale (and why)
+                if kind == "stale":
+                    connector.request(
+                        uri, "stale_monitor", monitor, value, where=where, what="a stale mark"
+                    )
+                else:
+                    connector.request(
+                        uri, "update_monitor", monitor, value, where=where, what="a reading"
+                    )
 
             def report(error: BaseException | str) -> None:
                 home.faults.record("listener", name, error, home.clock.now())
@@ -552,11 +563,16 @@ class Assembler:
             outbox = connector.one_way(name, send, report, {"lost": 0})
 
             def relay(event: Event) -> None:
-                outbox.put(dict(event.data))
+                outbox.put(("reading", dict(event.data)))
 
-        self.containers[source].subscribe(
-            ev.MONITOR_UPDATED, relay, name=f"feed:{monitor}->{target}", element=monitor
-        )
+            def stale(event: Event) -> None:
+                if event.value:  # in order with the readings: the next one is fresh again
+                    outbox.put(("stale", stale_cause(monitor, source, event)))
+
+        # one name for both: a live update takes the feed down with one unsubscribe
+        name = f"feed:{monitor}->{target}"
+        self.containers[source].subscribe(ev.MONITOR_UPDATED, relay, name=name, element=monitor)
+        self.containers[source].subscribe(ev.MONITOR_STALE, stale, name=name, element=monitor)
 
     def policy_set(self, ps: PolicySetDescription, target: Container) -> PolicySet:
         # Every monitor feeding the set is in its container, or has a replica there (see feeds).
@@ -567,3 +583,9 @@ class Assembler:
             adapts=[a.name for a in ps.adapts],
             fed_by=self.app.fed_by(ps.name),
         )
+
+
+def stale_cause(monitor: str, source: str, event: Event) -> str:
+    """Why a replica of ``monitor`` goes stale: its monitor in container ``source`` did (``event``,
+    its ``monitor.stale``), and why that one did."""
+    return f"monitor {monitor!r} of container {source!r} went stale: {event.data.get('cause')}"

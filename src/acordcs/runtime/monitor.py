@@ -16,7 +16,8 @@ True, ``data``: ``cause``, the error, and ``since``, the time of the first faile
 ``stale_since`` says since when, and its next reading emits ``monitor.stale`` again (value False,
 ``data``: ``stale_for``, seconds) before its ``monitor.updated``. No value is made up for the
 policy sets meanwhile: they do not fire on ``monitor.stale`` (a periodic one reads the last values);
-a watcher sees both events.
+a watcher sees both events. A replica of the monitor in another container goes stale with it
+(:mod:`acordcs.runtime.assembly`'s feeds).
 On a real-time clock, ``acquire`` runs in the monitor's own thread, not the clock's: a monitor
 blocking in it skips its own ticks meanwhile (counted in ``overruns``) and holds up no other monitor
 or timer; its values are published from the clock's thread, like every other update.

@@ -232,6 +232,15 @@ class ContainerEndpoint:
         except Exception as exc:
             raise fault_of(exc) from None
 
+    @serpent_only
+    def stale_monitor(self, monitor: str, cause: str) -> None:
+        """A monitor of another process went stale (``cause``: why): its replica here goes stale
+        too, keeping its last values, until the next reading (:meth:`update_monitor`)."""
+        try:
+            self._container.monitor(monitor).mark_stale(str(cause)[:500])
+        except Exception as exc:
+            raise fault_of(exc) from None
+
 
 class ContainerServer:
     """Serves a container on ``host:port`` (port 0: any free one) with a Pyro5 daemon thread, at
