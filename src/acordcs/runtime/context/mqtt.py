@@ -2,9 +2,10 @@
 
 Each publisher has a topic (``<prefix>/<publisher percent-escaped>``) carrying its documents, retained
 so that late subscribers get the latest one. A broker cannot filter on XML content, so every client
-subscribes to the topics it needs and matches locally with the embedded index. Payloads carry the
-publishing process's epoch and a per-publisher sequence number: gaps are counted as losses (mosquitto
-drops messages for slow clients beyond ``max_queued_messages``, silently, even at QoS 1).
+subscribes to the topics it needs and matches locally with the embedded index. Payloads (their
+format: :mod:`.mqtt_wire`) carry the publishing process's epoch and a per-publisher sequence
+number: gaps are counted as losses (mosquitto drops messages for slow clients beyond
+``max_queued_messages``, silently, even at QoS 1).
 
 Against hostile clients of the broker (docs/providers.md, "Security model: MQTT"): with a
 ``payload_key`` (one per application) payloads carry an HMAC-SHA256 over topic, epoch, sequence
@@ -16,8 +17,6 @@ client keeps the documents of at most ``max_publishers`` publishers (one retaine
 
 from __future__ import annotations
 
-import hashlib
-import hmac
 import logging
 import os
 import socket
@@ -31,25 +30,11 @@ from paho.mqtt.enums import CallbackAPIVersion, MQTTErrorCode
 from acordcs.runtime.context.core import ProviderCore, check_publisher
 from acordcs.runtime.context.delivery import Subscription
 from acordcs.runtime.context.errors import ContextError, PublishError
+from acordcs.runtime.context.mqtt_wire import document_payload, end_payload, read_payload
 from acordcs.runtime.context.sequences import NEW, REFUSED, SequenceBook, every_power_of_two
 from acordcs.runtime.context.xmlparse import Limits, parse_document
 
 log = logging.getLogger("acordcs.runtime.context.mqtt")
-
-_MAGIC = b"ACX1"  # header: ACX1 <epoch> <seq>
-_SIGNED = b"ACX2"  # header: ACX2 <epoch> <seq> <hmac-sha256 hex>
-# The end of a publisher's sequence, sent (not retained) by close(): <seq> is its last document's
-# number, so that subscribers count a tail lost after their last document as lost.
-_END = b"ACE1"  # header: ACE1 <epoch> <seq>
-_END_SIGNED = b"ACE2"  # header: ACE2 <epoch> <seq> <hmac-sha256 hex>
-_END_BODY = b"\x00end"  # what an end marker's signature covers: no document has this body
-_MAX_SEQ_DIGITS = 19  # a sequence number fits 63 bits; longer is not ours
-
-
-def _mac(key: bytes, topic: str, epoch: bytes, seq: int, body: bytes) -> bytes:
-    mac = hmac.new(key, b"%s\n%s %d\n" % (topic.encode(), epoch, seq), hashlib.sha256)
-    mac.update(body)
-    return mac.hexdigest().encode()
 
 
 def publisher_topic(publisher: str, prefix: str = "acordcs/ctx") -> str:
@@ -348,17 +333,8 @@ class MqttContextProvider(ProviderCore):
                 self._latest.pop(publisher, None)
             self.sequences.forget(publisher)
             return
-        header, _, body = payload.partition(b"\n")
-        parts = header.split(b" ")
-        end = parts[0] in (_END, _END_SIGNED)
-        signed = len(parts) == 4 and parts[0] in (_SIGNED, _END_SIGNED)
-        if (
-            not (signed or (len(parts) == 3 and parts[0] in (_MAGIC, _END)))
-            or (end and body)
-            or not parts[2].isdigit()
-            or len(parts[2]) > _MAX_SEQ_DIGITS
-            or not 0 < len(parts[1]) <= 64
-        ):
+        read = read_payload(payload)
+        if read is None:
             self.malformed += 1
             if every_power_of_two(self.malformed):
                 log.warning(
@@ -367,13 +343,7 @@ class MqttContextProvider(ProviderCore):
                     self.malformed,
                 )
             return
-        epoch, seq = parts[1], int(parts[2])
-        if self._key is not None and not (
-            signed
-            and hmac.compare_digest(
-                parts[3], _mac(self._key, topic, epoch, seq, _END_BODY if end else body)
-            )
-        ):
+        if self._key is not None and not read.signed_by(self._key, topic):
             self.forged += 1
             if every_power_of_two(self.forged):
                 log.warning(
@@ -383,7 +353,8 @@ class MqttContextProvider(ProviderCore):
                     self.forged,
                 )
             return
-        if end:
+        epoch, seq, body = read.epoch, read.seq, read.body
+        if read.end:
             self.sequences.ended_at(publisher, epoch, seq)
             return
         admitted = self.sequences.admit(publisher, epoch, seq)
@@ -453,11 +424,7 @@ class MqttContextProvider(ProviderCore):
         data, _ = self._parse(publisher, document)
         with self._mqtt_lock:
             seq = self._seq.get(publisher, 0) + 1
-            if self._key is None:
-                payload = b"%s %s %d\n%s" % (_MAGIC, self._epoch, seq, data)
-            else:
-                mac = _mac(self._key, topic, self._epoch, seq, data)
-                payload = b"%s %s %d %s\n%s" % (_SIGNED, self._epoch, seq, mac, data)
+            payload = document_payload(self._key, topic, self._epoch, seq, data)
             info = self._client.publish(topic, payload, qos=self.qos, retain=True)
             if info.rc == MQTTErrorCode.MQTT_ERR_SUCCESS or (
                 info.rc == MQTTErrorCode.MQTT_ERR_NO_CONN and self.qos > 0
@@ -529,11 +496,7 @@ class MqttContextProvider(ProviderCore):
         with self._mqtt_lock:
             for publisher, seq in self._seq.items():
                 topic = publisher_topic(publisher, self.prefix)
-                if self._key is None:
-                    payload = b"%s %s %d" % (_END, self._epoch, seq)
-                else:
-                    mac = _mac(self._key, topic, self._epoch, seq, _END_BODY)
-                    payload = b"%s %s %d %s" % (_END_SIGNED, self._epoch, seq, mac)
+                payload = end_payload(self._key, topic, self._epoch, seq)
                 info = self._client.publish(topic, payload, qos=self.qos, retain=False)
                 if info.rc in (MQTTErrorCode.MQTT_ERR_SUCCESS, MQTTErrorCode.MQTT_ERR_NO_CONN):
                     self._sent(info.mid, False)
