@@ -7,10 +7,12 @@
    same server process (serpent both; target: at most 1.2 at p50 and p90, issue 33), with a
    control: a second bare proxy to a second object, whose ratio to the first shows this run's
    noise. Each round makes the three calls in an order rotated through all six orders
-   (``--fixed-order``: ours then bare, as first designed).
+   (``--fixed-order``: ours then bare, as first designed). The caller and the server each run on
+   a CPU of their own (``--no-pin``: where the scheduler puts them). ``--calibrate`` adds two bare
+   calls with 15 us of CPU spent in the server or in the caller: what that much more code costs.
 3. Virtual-time speed-up of an idle container with 10 monitors at 10 Hz (simulated s per wall s).
 
-Usage: python benchmarks/bench_runtime.py [--quick] [--fixed-order]
+Usage: python benchmarks/bench_runtime.py [--quick] [--fixed-order] [--no-pin] [--calibrate]
 """
 
 from __future__ import annotations
@@ -161,6 +163,18 @@ class Echo(CtxComponent):
     def echo(self, x: Any) -> Any:
         return x
 
+    def echo_after(self, us: float, x: Any) -> Any:
+        """``x``, after ``us`` microseconds of this process's CPU (``--calibrate``)."""
+        spin(us)
+        return x
+
+
+def spin(us: float) -> None:
+    """Spend ``us`` microseconds of CPU (a busy loop: the cost of that much more code)."""
+    end = time.perf_counter() + us / 1e6
+    while time.perf_counter() < end:
+        pass
+
 
 def serve(port: int, cpu: int | None) -> None:
     """The server process: one container, plus its component object registered bare, and a second
@@ -173,7 +187,8 @@ def serve(port: int, cpu: int | None) -> None:
     server = ContainerServer(container, port=port)
     bare = server.daemon.register(ref.instance, "bare.echo")
     control = server.daemon.register(container.create("Echo", "echo2").instance, "control.echo")
-    print("READY", server.uri, bare, control, flush=True)
+    more = [server.daemon.register(container.create("Echo", f"echo{i}").instance, f"more{i}.echo") for i in (3, 4)]  # fmt: skip
+    print("READY", server.uri, bare, control, *more, flush=True)
     sys.stdin.read()
     server.close()
     container.close()
@@ -182,6 +197,14 @@ def serve(port: int, cpu: int | None) -> None:
 ORDERS = list(itertools.permutations(("ours", "bare", "control")))
 """The order of a round's three calls, taken in turn: each kind is first, second and third
 equally often, since a call's place in the round changes its time."""
+
+SPIN_US = 15.0
+CALIBRATION = list(
+    itertools.permutations(("ours", "bare", "control", "server+spin", "caller+spin"))
+)
+"""``--calibrate``: two more bare calls, one spending :data:`SPIN_US` of CPU in the server before it
+answers, one spending it in the caller before it calls: what that much more code on either side
+costs in the ratio, against what ours costs (all 120 orders, taken in turn)."""
 
 Calls = dict[str, Callable[[Any], Any]]
 
@@ -225,7 +248,7 @@ def cores_apart(pin: bool) -> tuple[int, int] | None:
     return (cpus[0], cpus[1]) if len(cpus) >= 2 else None
 
 
-def remote_ratio(n: int, rounds: int, fixed_order: bool, pin: bool) -> None:
+def remote_ratio(n: int, rounds: int, fixed_order: bool, pin: bool, calibrate: bool) -> None:
     with socket.socket() as s:
         s.bind(("127.0.0.1", 0))
         port = s.getsockname()[1]
@@ -245,7 +268,7 @@ def remote_ratio(n: int, rounds: int, fixed_order: bool, pin: bool) -> None:
         line = proc.stdout.readline() if ready else ""
         if not line.startswith("READY"):
             raise SystemExit(f"server did not start: {line!r}")
-        _, uri, bare_uri, control_uri = line.split()
+        _, uri, bare_uri, control_uri, *more_uris = line.split()
         with Container("client", clock=VirtualClock()) as c:
 
             class Caller(CtxComponent):
@@ -257,11 +280,23 @@ def remote_ratio(n: int, rounds: int, fixed_order: bool, pin: bool) -> None:
                 "caller.out", RemotePort(uri, "echo", "api"), connector=RemoteConnector(timeout=5.0)
             )
             out = c.find("caller").instance.port("out")
-            proxies = [bare_proxy(bare_uri), bare_proxy(control_uri)]
-            bare, control = (p.echo for p in proxies)
-            calls: Calls = {"ours": lambda x: out.call("echo", x), "bare": bare, "control": control}
-            timed(calls, ORDERS, 300)  # connect and warm up every one
-            if fixed_order:
+            proxies = [bare_proxy(u) for u in (bare_uri, control_uri, *more_uris)]
+            bare, control, in_server, in_caller = proxies
+            calls: Calls = {
+                "ours": lambda x: out.call("echo", x),
+                "bare": bare.echo,
+                "control": control.echo,
+                "server+spin": lambda x: in_server.echo_after(SPIN_US, x),
+                "caller+spin": lambda x: (spin(SPIN_US), in_caller.echo(x))[1],
+            }
+            timed(calls, CALIBRATION, 300)  # connect and warm up every one
+            if calibrate:
+                main = same = timed(calls, CALIBRATION, rounds * n)
+                design = (
+                    f"each round's order rotated through all 120 of ours, bare, control, and bare "
+                    f"with {SPIN_US:g} us of CPU in the server or in the caller (--calibrate)"
+                )
+            elif fixed_order:
                 # the first design (ours, then bare, in every round), and the same design with
                 # the control in our place
                 main = timed(calls, [("ours", "bare")], rounds * n)
@@ -283,11 +318,16 @@ def remote_ratio(n: int, rounds: int, fixed_order: bool, pin: bool) -> None:
             "   control, a second bare proxy to a second object of the same class, against the "
             f"first (1 but for this host's noise): {ratios(same, 'control', 'bare')}"
         )
-        if not fixed_order:
+        if calibrate:
+            for kind in ("server+spin", "caller+spin"):
+                print(
+                    f"   calibration, {kind} ({SPIN_US:g} us of CPU): {ratios(main, kind, 'bare')}"
+                )
+        elif not fixed_order:
             places = "; ".join(
                 f"{kind} "
                 + "/".join(f"{percentile(main[f'{kind}@{i}'], 0.5):.0f}" for i in range(3))
-                for kind in calls
+                for kind in ("ours", "bare", "control")
             )
             print(f"   median by place in the round (first/second/third), us: {places}")
     finally:
@@ -344,6 +384,11 @@ def main() -> None:
         action="store_true",
         help="part 2 without the caller and the server pinned to CPUs of their own",
     )
+    parser.add_argument(
+        "--calibrate",
+        action="store_true",
+        help=f"part 2 with two more calls: bare with {SPIN_US:g} us of CPU in the server or caller",
+    )
     parser.add_argument("--serve", type=int, help=argparse.SUPPRESS)
     parser.add_argument("--serve-cpu", type=int, help=argparse.SUPPRESS)
     args = parser.parse_args()
@@ -354,7 +399,11 @@ def main() -> None:
     print(f"acordcs runtime benchmarks, python {sys.version.split()[0]}, pid {os.getpid()}")
     adaptation_latency(2000 if args.quick else 20000)
     remote_ratio(
-        500 if args.quick else 2000, 3 if args.quick else 7, args.fixed_order, not args.no_pin
+        500 if args.quick else 2000,
+        3 if args.quick else 7,
+        args.fixed_order,
+        not args.no_pin,
+        args.calibrate,
     )
     virtual_speedup(600.0 if args.quick else 3600.0)
     print(f"total {time.perf_counter() - started:.1f} s")
