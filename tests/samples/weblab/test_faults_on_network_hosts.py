@@ -235,7 +235,10 @@ def test_the_cycle_rate_orders_the_profiles_on_real_links_with_context_over_the_
         # the lab's own view, every 5 s of its run: what its monitor measured, its policies set
         for pair in pairs:
             assert wait_for(lambda pair=pair: adapted(pair) is not None, 15), (
-                pair.lab_log.read_text()
+                f"{pair.profile}: the lab measured no cycle rate\n--- the lab's log:\n"
+                + pair.lab_log.read_text()
+                + "\n--- the user's log:\n"
+                + pair.user_log.read_text()[-6000:]
             )
         adaptation = {pair.profile: adapted(pair) for pair in pairs}
     finally:
