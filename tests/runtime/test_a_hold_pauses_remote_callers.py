@@ -19,7 +19,8 @@ from acordcs.runtime.component import CtxComponent
 from acordcs.runtime.connectors.remote import RemoteConnector, container_uri
 from acordcs.runtime.errors import RemoteCallError
 from acordcs.runtime.live.apply_update import GivenClasses
-from acordcs.runtime.live.management import HOLD_PATIENCE, MANAGE_OBJECT, manage
+from acordcs.runtime.live.management import HOLD_PATIENCE
+from acordcs.runtime.live.management_server import MANAGE_OBJECT, manage
 from acordcs.runtime.ports import sync_port
 from tests.support.descriptors import application, component, container, op, port, ref
 from tests.support.services import wait_for

@@ -20,7 +20,8 @@ from acordcs.runtime.clock import VirtualClock
 from acordcs.runtime.connectors.remote import RemoteConnector
 from acordcs.runtime.errors import RemoteCallError, RemoteUnreachableError
 from acordcs.runtime.live.apply_update import GivenClasses
-from acordcs.runtime.live.management import MANAGE_OBJECT, digest, manage
+from acordcs.runtime.live.management import digest
+from acordcs.runtime.live.management_server import MANAGE_OBJECT, manage
 from tests.support.descriptors import (
     application,
     component,

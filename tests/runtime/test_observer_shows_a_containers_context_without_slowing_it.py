@@ -23,7 +23,7 @@ from acordcs.runtime.component import CtxComponent
 from acordcs.runtime.connectors.remote import RemoteConnector, bytes_back, container_uri
 from acordcs.runtime.errors import ConfigurationError, RemoteCallError, RemoteUnreachableError
 from acordcs.runtime.live.apply_update import GivenClasses
-from acordcs.runtime.live.management import manage
+from acordcs.runtime.live.management_server import manage
 from acordcs.runtime.live.observer import MAX_BATCH, OBSERVE_OBJECT, Observer
 from acordcs.runtime.ports import sync_port
 from tests.support.descriptors import (

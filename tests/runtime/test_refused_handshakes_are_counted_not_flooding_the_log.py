@@ -16,7 +16,7 @@ import pytest
 from Pyro5 import protocol, serializers
 
 from acordcs.runtime.connectors.remote import RemoteConnector
-from acordcs.runtime.live.management import MANAGE_OBJECT
+from acordcs.runtime.live.management_server import MANAGE_OBJECT
 from acordcs.runtime.live.observer import OBSERVE_OBJECT
 from tests.support.managed_container import served_house
 

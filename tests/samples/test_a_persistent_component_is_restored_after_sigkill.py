@@ -16,7 +16,7 @@ from pathlib import Path
 import pytest
 
 from acordcs.runtime.connectors.remote import RemoteConnector
-from acordcs.runtime.live.management import MANAGE_OBJECT
+from acordcs.runtime.live.management_server import MANAGE_OBJECT
 from tests.support.generator import build
 from tests.support.scripts import alive, environment, script, wait_until
 from tests.support.services import free_port

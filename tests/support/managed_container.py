@@ -23,7 +23,7 @@ from acordcs.descriptor import to_xml
 from acordcs.runtime.assembly import assemble
 from acordcs.runtime.clock import VirtualClock
 from acordcs.runtime.live.apply_update import GivenClasses
-from acordcs.runtime.live.management import manage
+from acordcs.runtime.live.management_server import manage
 from tests.support.descriptors import application, component, container, prop, ref
 from tests.support.toolchain import ROOT
 

@@ -32,7 +32,7 @@ def reach(found: Settings, *, timeout: float) -> list[Reached]:
     """Ask each container of ``found`` which descriptor it runs (see :class:`Reached`)."""
     from acordcs.runtime.connectors.remote import RemoteConnector
     from acordcs.runtime.errors import RuntimeFailure
-    from acordcs.runtime.live.management import MANAGE_OBJECT
+    from acordcs.runtime.live.management_server import MANAGE_OBJECT
 
     connector = RemoteConnector(timeout=timeout, token=found.token or None)
     out = []

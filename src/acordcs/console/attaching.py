@@ -25,7 +25,7 @@ from acordcs.descriptor import DescriptorError, from_xml
 from acordcs.runtime.connectors.remote import RemoteConnector, bytes_back, container_uri
 from acordcs.runtime.errors import RuntimeFailure
 from acordcs.runtime.live.app_settings import NotFound, settings
-from acordcs.runtime.live.management import MANAGE_OBJECT
+from acordcs.runtime.live.management_server import MANAGE_OBJECT
 from acordcs.runtime.live.observer import OBSERVE_OBJECT
 
 if TYPE_CHECKING:

@@ -331,7 +331,7 @@ class Launcher:
         try:  # from here on, an interrupt stops it as a run's end does
             management = None
             if server is not None:
-                from acordcs.runtime.live.management import manage
+                from acordcs.runtime.live.management_server import manage
                 from acordcs.runtime.live.reloading import PackageClasses
 
                 classes = PackageClasses(self.package)
@@ -406,7 +406,7 @@ class Launcher:
     def _announce(self, uri: str, digest: str, runs: _Runs) -> None:
         """The lines saying the container serves, at the end of its start-up (what its start
         script waits for), then those of the --run calls that returned before."""
-        from acordcs.runtime.live.management import say_digest
+        from acordcs.runtime.live.management_server import say_digest
 
         print(f"{self.container}: serving at {uri}", flush=True)
         say_digest(self.container, digest, "runs")

@@ -31,7 +31,7 @@ import pytest
 from acordcs.descriptor import from_xml
 from acordcs.engines.fuzzy import MAMDANI
 from acordcs.runtime.connectors.remote import RemoteConnector, container_uri
-from acordcs.runtime.live.management import MANAGE_OBJECT
+from acordcs.runtime.live.management_server import MANAGE_OBJECT
 from tests.generator.test_shell_scripts_parse_quote_and_run import free_ports
 from tests.samples.weblab.conftest import APP_DIR, SAMPLE_DIR
 from tests.samples.weblab.test_live_mode import alive
