@@ -193,10 +193,10 @@ def test_a_trusted_stylesheet_reads_what_the_user_can(tmp_path: Path, secret: Pa
 
 
 def test_without_landlock_a_users_stylesheet_is_refused_not_run(tmp_path: Path, monkeypatch):
-    from acordcs.generator import xslt
+    from acordcs.generator import stylesheet_worker
 
     monkeypatch.setattr(sandbox, "abi", lambda: 0)
-    monkeypatch.setattr(xslt, "_WORKERS", {})  # no confined child already running
+    monkeypatch.setattr(stylesheet_worker, "_WORKERS", {})  # no confined child already running
     sheet = _sheet(tmp_path / "sheet", "<xsl:value-of select=\"'x'\"/>")
     refused = build(WEBLAB, tmp_path / "out", "-t", str(sheet))
     no_crash(refused)

@@ -37,7 +37,6 @@ descriptor of file 2 is redirected while Saxon runs) and become part of the :cla
 
 from __future__ import annotations
 
-import atexit
 import codecs
 import contextlib
 import hashlib
@@ -57,6 +56,7 @@ from acordcs.generator import sandbox
 from acordcs.generator.errors import BuildError
 from acordcs.generator.paths import path_problem
 from acordcs.generator.regions import PREFIXES
+from acordcs.generator.stylesheet_worker import DRIVER, check_address_space, worker_for
 
 if TYPE_CHECKING:
     from lxml.etree import _Element
@@ -83,9 +83,6 @@ BASE_OUTPUT = "file:///acordcs-output/"
 """The base output URI the stylesheets run with: the output directory as they see it. A fixed URI
 (nothing is written there), so that a stylesheet's output does not depend on where it is built."""
 
-DRIVER = "transform-target.xsl"
-"""The stylesheet (beside this module) that runs a target's stylesheet with ``fn:transform`` and
-returns its outputs' URIs and serializations (:func:`_outputs` reads them)."""
 
 # Static errors: the stylesheet did not compile (the others happen while it runs).
 _STATIC = re.compile(r"\b(?:XTSE|XPST|XQST)\d{4}\b")
@@ -97,7 +94,7 @@ _XML_DECLARATION = re.compile(r"<\?xml[^>]*?\sencoding\s*=\s*[\"']([A-Za-z0-9._-
 def _saxon():
     """The processor and the compiled driver of this process, for the stylesheets the user trusts
     (``--trust-stylesheet``: Saxon as it comes, every protocol allowed; made once per process)."""
-    _check_address_space()
+    check_address_space()
     return sandbox.start(str(resources.files("acordcs.transforms") / DRIVER), None)
 
 
@@ -236,7 +233,9 @@ def run_stylesheet(
     if trusted:
         answer = _run_here(request, context.descriptor_xml)
     else:
-        answer = _worker(target).run(request, context.descriptor_xml)
+        answer = worker_for(
+            readable(target), target.name, str(target.stylesheet), target.origin
+        ).run(request, context.descriptor_xml)
     messages = answer["messages"]
     caught = [answer["said"]] if answer.get("said") else []
     if answer["framed"] is None:
@@ -282,149 +281,6 @@ def readable(target: Target) -> tuple[str, ...]:
     assert target.stylesheet is not None
     schema = Path(str(resources.files("acordcs.descriptor") / "acordcs-descriptor.xsd"))
     return (os.path.realpath(target.stylesheet.parent), os.path.realpath(schema))
-
-
-def _worker(target: Target) -> _Worker:
-    """The confined child process that runs ``target`` (one per set of readable paths, kept for
-    the next build of this process: a few at most)."""
-    key = readable(target)
-    worker = _WORKERS.pop(key, None)
-    if worker is None or not worker.alive():
-        _check_address_space()
-        confine = sandbox.abi() >= 1
-        if not confine and target.origin != "acordcs":
-            raise BuildError(
-                f"target {target.name}: the stylesheet cannot be run confined here: this system "
-                "has no Linux Landlock (Linux 5.13 or later, enabled), which keeps it to reading "
-                "its own directory",
-                file=str(target.stylesheet),
-                hint="run it with --trust-stylesheet if you trust it: it then has your rights "
-                "(every file you can read, the network, your environment variables)",
-                exit_code=2,
-            )
-        worker = _Worker(key, confine)
-    _WORKERS[key] = worker
-    while len(_WORKERS) > _MAX_WORKERS:
-        _WORKERS.pop(next(iter(_WORKERS))).close()
-    return worker
-
-
-_MAX_WORKERS = 3
-_WORKERS: dict[tuple[str, ...], _Worker] = {}
-
-
-class _Worker:
-    """A child process of :mod:`acordcs.generator.sandbox`: Saxon, without environment, with
-    ``allowedProtocols=file``, reading only ``readable`` (when ``confine``: Landlock)."""
-
-    def __init__(self, readable: tuple[str, ...], confine: bool) -> None:
-        import subprocess
-
-        self.log = tempfile.TemporaryFile()  # noqa: SIM115  (what the child prints at start)
-        self.descriptor = ""  # the digest of the descriptor the child holds
-        self.process = subprocess.Popen(
-            [sys.executable, "-I", "-S", sandbox.__file__],
-            stdin=subprocess.PIPE,
-            stdout=subprocess.PIPE,
-            stderr=self.log,
-            env={},
-            cwd="/",
-        )
-        setup = {
-            "path": [p for p in sys.path if p],
-            "driver": str(resources.files("acordcs.transforms") / DRIVER),
-            "readable": list(readable),
-            "confine": confine,
-        }
-        try:
-            sandbox.send(self.process.stdin, setup)
-            ready = sandbox.receive(self.process.stdout)
-        except OSError:
-            ready = None
-        if not ready or not ready.get("ready"):
-            said = (ready or {}).get("error") or self._log()
-            self.close()
-            raise _engine_failed(said)
-
-    def alive(self) -> bool:
-        return self.process.poll() is None
-
-    def run(self, request: dict, descriptor: bytes) -> dict:
-        if request["descriptor"] != self.descriptor:
-            request = {**request, "descriptor_text": descriptor.decode("utf-8")}
-        try:
-            sandbox.send(self.process.stdin, request)
-            answer = sandbox.receive(self.process.stdout)
-        except OSError:
-            answer = None
-        if answer is None:
-            said = self._log()
-            self.close()
-            raise _engine_failed(said or "its process ended while running the stylesheet")
-        self.descriptor = request["descriptor"]
-        return answer
-
-    def _log(self) -> str:
-        self.log.seek(0)
-        return self.log.read().decode("utf-8", "replace").strip()
-
-    def close(self) -> None:
-        import subprocess
-
-        for stream in (self.process.stdin, self.process.stdout):
-            with contextlib.suppress(OSError):
-                stream.close()  # type: ignore[union-attr]
-        try:
-            self.process.wait(timeout=5)
-        except subprocess.TimeoutExpired:
-            self.process.kill()
-            self.process.wait()
-        self.log.close()
-
-
-@atexit.register
-def _close_workers() -> None:
-    while _WORKERS:
-        _WORKERS.popitem()[1].close()
-
-
-def _engine_failed(said: str) -> BuildError:
-    """The XSLT engine could not start or ended (what it said: ``said``)."""
-    if "graal_create_isolate" in said or "IsolateThread" in said:
-        return _address_space_error()
-    return BuildError(
-        f"the XSLT engine (Saxon) failed: {said or 'it said nothing'}",
-        hint="nothing was written; build again, and report it if it happens again",
-        exit_code=2,
-    )
-
-
-# Saxon is a GraalVM native image: its isolate reserves 32 GiB of address space when it starts,
-# and a process limited below that (ulimit -v) is ended by it with "graal_create_isolate error".
-_ADDRESS_SPACE = 34 * 1024**3  # bytes: the reservation and the interpreter beside it
-
-
-def _check_address_space() -> None:
-    """A BuildError, before Saxon starts, when ``ulimit -v`` leaves it too little address space."""
-    try:
-        import resource
-    except ImportError:  # not on a POSIX system: no such limit
-        return
-    soft, _hard = resource.getrlimit(resource.RLIMIT_AS)
-    if soft != resource.RLIM_INFINITY and soft < _ADDRESS_SPACE:
-        raise _address_space_error(soft)
-
-
-def _address_space_error(limit: int | None = None) -> BuildError:
-    now = f" (it is {limit // 1024} KiB)" if limit is not None else ""
-    return BuildError(
-        "the XSLT engine (Saxon, a GraalVM native image) could not reserve its address space: it "
-        "reserves 32 GiB of virtual memory when it starts (not memory it uses), and this process's "
-        f"address-space limit, ulimit -v{now}, is below that",
-        hint=f"raise the limit: ulimit -v unlimited, or at least ulimit -v {_ADDRESS_SPACE // 1024} "
-        "(KiB), then build again; nothing was written",
-        exit_code=2,
-    )
 
 
 def _outputs(framed: str) -> dict[str, str]:
