@@ -211,7 +211,7 @@ Calls = dict[str, Callable[[Any], Any]]
 
 def timed(calls: Calls, orders: list[tuple[str, ...]], rounds: int) -> dict[str, list[float]]:
     """Each kind's call times in us (sorted), ``rounds`` rounds taking ``orders`` in turn; and
-    the medians by place in the round, under ``(kind, place)``."""
+    the times by place in the round, under ``"<kind>@<place>"``."""
     payload = {"angle": 12.5, "speed": 80}
     times: dict[str, list[float]] = {}
     clock = time.perf_counter_ns
@@ -241,7 +241,7 @@ def cores_apart(pin: bool) -> tuple[int, int] | None:
     """Two CPUs this process may use, for the caller and the server (None: not pinned). Two hosts
     never share a core; on one machine the scheduler moves the two processes' threads between
     cores differently from run to run, and that placement, not the code, made most of the spread
-    of this ratio (1.1 to 1.5 unpinned, in one session)."""
+    of this ratio (1.07 to 1.60 unpinned, in one session)."""
     if not pin or not hasattr(os, "sched_getaffinity"):
         return None
     cpus = sorted(os.sched_getaffinity(0))
@@ -377,7 +377,7 @@ def main() -> None:
     parser.add_argument(
         "--fixed-order",
         action="store_true",
-        help="part 2 as first designed: ours then bare in every round, no control",
+        help="part 2 as first designed: ours then bare in every round (then the control then bare)",
     )
     parser.add_argument(
         "--no-pin",

@@ -25,8 +25,7 @@ def worker_for(
     """The confined child process that runs target ``name``'s ``stylesheet`` (from ``origin``),
     reading only ``readable``: one per set of readable paths, kept for the next build of this
     process (a few at most)."""
-    key = readable
-    worker = _WORKERS.pop(key, None)
+    worker = _WORKERS.pop(readable, None)
     if worker is None or not worker.alive():
         check_address_space()
         confine = sandbox.abi() >= 1
@@ -40,8 +39,8 @@ def worker_for(
                 "(every file you can read, the network, your environment variables)",
                 exit_code=2,
             )
-        worker = StylesheetWorker(key, confine)
-    _WORKERS[key] = worker
+        worker = StylesheetWorker(readable, confine)
+    _WORKERS[readable] = worker
     while len(_WORKERS) > _MAX_WORKERS:
         _WORKERS.pop(next(iter(_WORKERS))).close()
     return worker

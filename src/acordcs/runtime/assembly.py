@@ -525,6 +525,9 @@ class Assembler:
                 target,
             )
             return
+        # the feed's name: its two subscriptions' (a live update takes both down with one
+        # unsubscribe) and its faults' place, as a listener's would be
+        name = f"feed:{monitor}->{target}"
         relay: Callable[[Event], None]
         stale: Callable[[Event], None]
         if replica is not None:
@@ -540,19 +543,13 @@ class Assembler:
             if self.relay is None:
                 self.relay = RemoteConnector(timeout=self.remote_timeout, token=self.token)
             uri, connector, home = self.remote[target], self.relay, self.containers[source]
-            name = f"feed:{monitor}->{target}"  # the fault's place, as a listener's would be
             where = f"feed of monitor {monitor!r} to container {target!r}"
 
             def send(item: tuple[str, object]) -> None:
-                kind, value = item  # a reading, or the monitor gone stale (and why)
-                if kind == "stale":
-                    connector.request(
-                        uri, "stale_monitor", monitor, value, where=where, what="a stale mark"
-                    )
-                else:
-                    connector.request(
-                        uri, "update_monitor", monitor, value, where=where, what="a reading"
-                    )
+                # ("update_monitor", a reading) or ("stale_monitor", why it went stale)
+                method, value = item
+                what = "a reading" if method == "update_monitor" else "a stale mark"
+                connector.request(uri, method, monitor, value, where=where, what=what)
 
             def report(error: BaseException | str) -> None:
                 home.faults.record("listener", name, error, home.clock.now())
@@ -563,14 +560,12 @@ class Assembler:
             outbox = connector.one_way(name, send, report, {"lost": 0})
 
             def relay(event: Event) -> None:
-                outbox.put(("reading", dict(event.data)))
+                outbox.put(("update_monitor", dict(event.data)))
 
             def stale(event: Event) -> None:
                 if event.value:  # in order with the readings: the next one is fresh again
-                    outbox.put(("stale", stale_cause(monitor, source, event)))
+                    outbox.put(("stale_monitor", stale_cause(monitor, source, event)))
 
-        # one name for both: a live update takes the feed down with one unsubscribe
-        name = f"feed:{monitor}->{target}"
         self.containers[source].subscribe(ev.MONITOR_UPDATED, relay, name=name, element=monitor)
         self.containers[source].subscribe(ev.MONITOR_STALE, stale, name=name, element=monitor)
 

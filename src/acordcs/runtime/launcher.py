@@ -51,7 +51,6 @@ from acordcs.runtime.launch_options import (
     EXIT_NOT_STARTED,
     EXIT_OK,
     EXIT_RUN_FAILED,
-    EXIT_STATUS,
     console_options,
     container_parser,
     exit_file_given,
@@ -504,4 +503,4 @@ def _unknown_run(container: Container, runs: list[RunCall]) -> str | None:
     return None
 
 
-__all__ = ["EXIT_STATUS", "Launcher"]
+__all__ = ["Launcher"]
